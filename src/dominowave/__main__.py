@@ -1,0 +1,5 @@
+"""``python -m dominowave`` runs the command line."""
+
+from dominowave.cli import main
+
+main()
