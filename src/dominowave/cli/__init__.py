@@ -40,23 +40,13 @@ _register_all()
 
 
 def main() -> None:
-    """Entry point of the ``dominowave`` console script."""
+    """Entry point of the ``dominowave`` console script.
+
+    Typer handles usage errors itself (exit code 2). Bad physical input raises
+    ``ValueError`` deep inside the package; it is shown as one line, exit code 2.
+    """
     try:
-        app(standalone_mode=False)
-    except (ValueError, FileNotFoundError, PermissionError) as exc:
+        app()
+    except (ValueError, FileNotFoundError, PermissionError, NotADirectoryError) as exc:
         typer.echo(f"dominowave: error: {exc}", err=True)
         sys.exit(2)
-    except KeyboardInterrupt:
-        typer.echo("dominowave: interrupted", err=True)
-        sys.exit(130)
-    except typer.Exit as exc:
-        sys.exit(exc.exit_code)
-    except typer.Abort:
-        sys.exit(1)
-    except Exception as exc:  # click usage errors and friends
-        import click
-
-        if isinstance(exc, click.ClickException):
-            exc.show()
-            sys.exit(exc.exit_code)
-        raise
