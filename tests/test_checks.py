@@ -40,3 +40,9 @@ def test_units_round_trip_and_scales():
     assert speed_scale(0.05, g=9.81) == pytest.approx(math.sqrt(9.81 * 0.05))
     with pytest.raises(ValueError, match="d_over_l"):
         beta_from_spacing(1.0)
+
+
+def test_first_bad_element_of_a_2d_array_is_reported():
+    grid = np.array([[0.5, 0.2], [1.5, -1.0]])
+    with pytest.raises(ValueError, match=r"d_over_l = 1\.5 is outside the valid range \(0, 1\)"):
+        check_in_range("d_over_l", grid, 0.0, 1.0)

@@ -21,7 +21,7 @@ def _first_bad(value, bad_mask):
     arr = np.asarray(value, dtype=float)
     if arr.ndim == 0:
         return float(arr)
-    return float(arr[np.argmax(bad_mask)])
+    return float(arr.reshape(-1)[np.argmax(np.asarray(bad_mask).reshape(-1))])
 
 
 def _fmt(x: float) -> str:
