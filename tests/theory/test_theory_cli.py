@@ -1,0 +1,120 @@
+"""The ``theory`` and ``figures`` commands, run as a user runs them."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from dominowave import theory as th
+
+
+def run(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "dominowave", *args], capture_output=True, text=True, timeout=120
+    )
+
+
+def test_theory_json_matches_library():
+    result = run(
+        "theory",
+        "--d-over-l",
+        "0.4",
+        "--k-ratio",
+        "1e4",
+        "--s-over-l",
+        "0.1",
+        "--mu",
+        "0.3",
+        "--format",
+        "json",
+    )
+    assert result.returncode == 0, result.stderr
+    (row,) = json.loads(result.stdout)
+    beta = np.arcsin(0.4)
+    # l = g = m = 1: k* = 1 and every quantity is dimensionless
+    assert row["beta"] == pytest.approx(beta, rel=1e-14)
+    assert row["omega"] == pytest.approx(th.omega_limit(beta, 1, 1), rel=1e-14)
+    assert row["v"] == pytest.approx(th.wave_speed(beta, 1, 1, 1e4, 1), rel=1e-14)
+    assert row["v_s"] == pytest.approx(row["v"] * 0.5 / 0.4, rel=1e-14)
+    assert row["collision_time"] == pytest.approx(th.collision_time(1e4, 1, beta), rel=1e-14)
+    assert row["fm_over_mg"] == pytest.approx(th.peak_contact_force(beta, 1, 1, 1e4, 1), rel=1e-14)
+    assert row["pair_regime"] is True
+    assert row["regime"] == "II forward rotation + slip"
+
+
+def test_theory_csv_grid_and_rigid_limit():
+    result = run("theory", "--d-over-l", "0.1:0.8:3", "--k-ratio", "inf,1e8", "--format", "csv")
+    assert result.returncode == 0, result.stderr
+    rows = list(csv.DictReader(io.StringIO(result.stdout)))
+    assert len(rows) == 6
+    assert [float(r["d_over_l"]) for r in rows[::2]] == pytest.approx([0.1, 0.45, 0.8])
+    rigid = rows[0]
+    assert float(rigid["collision_time"]) == 0 and rigid["v_w"] == "inf"
+    assert float(rigid["v"]) == pytest.approx(th.mclachlan_G(0.1), rel=1e-12)
+
+
+def test_theory_table_default():
+    result = run("theory")
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.strip().splitlines()
+    assert lines[0].startswith("# dimensionless")
+    assert "F_m/mg" in lines[1] and "pair(T>T_c/2)" in lines[1]
+    assert len(lines) == 2 + 9  # 3 spacings x 3 stiffnesses
+
+
+@pytest.mark.parametrize(
+    ("args", "fragment"),
+    [
+        (["--d-over-l", "1.2"], "d_over_l = 1.2 is outside the valid range (0, 1)"),
+        (["--d-over-l", "0,0.5"], "d_over_l = 0 is outside the valid range (0, 1)"),
+        (["--k-ratio", "-1"], "k_ratio = -1 is outside the valid range (0, inf]"),
+        (["--k-ratio", "0"], "k_ratio = 0 is outside the valid range (0, inf]"),
+        (["--mu", "-0.1"], "mu = -0.1 is outside the valid range [0, inf)"),
+        (["--s-over-l", "-0.1"], "s_over_l = -0.1 is outside the valid range [0, 1)"),
+        (["--d-over-l", "abc"], "d_over_l = 'abc' is not a list"),
+        (["--format", "xml"], "format = 'xml' is not one of table, csv, json"),
+        (["--convention", "yade"], "convention = 'yade' is not one of paper, contact"),
+    ],
+)
+def test_theory_bad_input_one_line_exit_2(args, fragment):
+    result = run("theory", *args)
+    assert result.returncode == 2
+    assert result.stdout == ""
+    (line,) = result.stderr.strip().splitlines()
+    assert line.startswith(f"dominowave: error: {fragment}")
+    assert "Traceback" not in result.stderr
+
+
+def test_figures_written_with_their_data(tmp_path):
+    result = run("figures", "--out", str(tmp_path / "figs"))
+    assert result.returncode == 0, result.stderr
+    for name in ("fig1d", "fig4a", "fig4b", "fig5b"):
+        png = tmp_path / "figs" / f"{name}.png"
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
+        assert (tmp_path / "figs" / f"{name}.csv").exists()
+    data = np.genfromtxt(tmp_path / "figs" / "fig4a.csv", delimiter=",", names=True)
+    np.testing.assert_allclose(data["v_k1e4"], th.wave_speed(data["beta"], 1, 1, 1e4, 1), rtol=1e-9)
+    np.testing.assert_array_equal(
+        data["pair_k1e8"].astype(bool), th.pair_regime_holds(data["beta"], 1, 1, 1e8, 1)
+    )
+    fig5 = np.genfromtxt(tmp_path / "figs" / "fig5b.csv", delimiter=",", names=True)
+    np.testing.assert_allclose(
+        fig5["fm_over_mg_k1e1"], th.peak_contact_force(fig5["beta"], 1, 1, 10, 1), rtol=1e-9
+    )
+    fig1 = np.genfromtxt(tmp_path / "figs" / "fig1d.csv", delimiter=",", names=True)
+    assert fig1["omega_beta07_push05"][-1] == pytest.approx(fig1["omega_limit_beta07"][0], rel=1e-6)
+
+
+def test_figures_bad_directory(tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a directory")
+    result = run("figures", "--out", str(blocker / "sub"))
+    assert result.returncode == 2
+    assert len(result.stderr.strip().splitlines()) == 1
+    assert result.stderr.startswith("dominowave: error:")

@@ -1,0 +1,211 @@
+"""Validation of the compliant-domino theory (eqs 15-35)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.integrate import solve_ivp
+
+from dominowave import theory as th
+from dominowave.units import k_star
+
+L, M, G = 0.05, 0.008, 9.81
+K_STAR = float(k_star(M, L, G))
+
+
+def simulate_contact(omega_f, beta, k_r, m=M, l=L):
+    """Newton's law for the two dominoes of Fig 3 during a linear-spring contact.
+
+    Frozen geometry (rotations during the contact are small, as the paper assumes):
+    domino n (I = m l^2) turns by ``phi``, its tip moving l*phi along xi (perpendicular to
+    it); domino n+1 turns by ``psi``, its struck point (height l cos b) moving
+    l cos(b) psi horizontally, i.e. l cos^2(b) psi along xi. Overlap
+    ``delta = l phi - l cos^2(b) psi``; force ``F = k_r delta`` along xi, with moment arm
+    ``l`` about hinge n and ``l cos^2 b`` about hinge n+1. Integrated until the contact opens.
+
+    Returns (duration, omega_n_after, omega_next, psi_at_end, peak_force).
+    """
+    c = np.cos(beta) ** 2
+    inertia = m * l**2
+
+    def rhs(_t, y):
+        phi, psi, dphi, dpsi = y
+        force = k_r * max(l * phi - l * c * psi, 0.0)
+        return [dphi, dpsi, -force * l / inertia, force * l * c / inertia]
+
+    def opens(t, y):
+        return (l * y[0] - l * c * y[1]) if t > 0 else 1.0
+
+    opens.terminal, opens.direction = True, -1
+    t_guess = np.pi * np.sqrt(M / k_r)
+    sol = solve_ivp(
+        rhs,
+        (0, 10 * t_guess),
+        [0.0, 0.0, omega_f, 0.0],
+        method="DOP853",
+        rtol=1e-12,
+        atol=1e-16,
+        events=opens,
+        dense_output=True,
+    )
+    duration = sol.t_events[0][0]
+    _phi, psi, dphi, dpsi = sol.y_events[0][0]
+    t = np.linspace(0, duration, 4001)
+    phi_t, psi_t = sol.sol(t)[:2]
+    peak_force = k_r * np.max(l * phi_t - l * c * psi_t)
+    return duration, dphi, dpsi, psi, peak_force
+
+
+@pytest.mark.parametrize("beta", [0.1, 0.5, 1.0, 1.4])
+@pytest.mark.parametrize("convention", ["paper", "contact"])
+def test_validate_collision_against_integrated_contact(beta, convention):
+    """Integrated spring contact: duration T_c (eq 31), outgoing velocities (eq 3, the
+    compliant collision reproduces EJ's rule), eq 17 (psi(T_c) = Omega_{n+1} T_c/2) and
+    the peak force F_m (eq 37) at the limit velocity."""
+    k = 1e4 * K_STAR
+    k_r = th.contact_stiffness(k, convention)
+    omega_f = th.omega_before_collision(th.omega_limit(beta, L, G), beta, L, G)
+    duration, omega_back, omega_next, psi_end, peak = simulate_contact(omega_f, beta, k_r)
+    t_c = th.collision_time(k, M, beta, convention)
+    assert duration == pytest.approx(t_c, rel=1e-9)
+    expected_next, expected_back = th.collision_map(omega_f, beta)
+    assert omega_next == pytest.approx(expected_next, rel=1e-9)
+    assert omega_back == pytest.approx(expected_back, rel=1e-8)
+    assert omega_next == pytest.approx(th.omega_limit(beta, L, G), rel=1e-9)
+    assert psi_end == pytest.approx(omega_next * t_c / 2, rel=1e-8)  # eq 17 -> eq 19
+    fm = th.peak_contact_force(beta, L, M, k, G, convention)
+    assert peak == pytest.approx(fm, rel=1e-6)
+
+
+def test_validate_eq32_equals_eq31_with_k_pi_R_E():
+    """Eq 32 is eq 31 with the per-particle stiffness k = pi R E (eq 23)."""
+    beta = np.linspace(0.05, 1.5, 20)
+    R, E = 1e-3, 3e9
+    t32 = th.collision_time_from_material(R, E, M, beta)
+    printed_32 = np.sqrt(2 * np.pi * M / (R * E * (1 + np.cos(beta) ** 4)))
+    printed_31 = np.pi * np.sqrt(2 * M / (np.pi * R * E * (1 + np.cos(beta) ** 4)))
+    np.testing.assert_allclose(t32, printed_32, rtol=1e-14)
+    np.testing.assert_allclose(t32, printed_31, rtol=1e-14)
+    np.testing.assert_allclose(t32, th.collision_time(np.pi * R * E, M, beta), rtol=1e-14)
+
+
+def test_stiffness_conventions():
+    """ "paper": k per particle, k_r = k/2; "contact": YADE k_n = 2E1R1E2R2/(E1R1+E2R2)."""
+    R, E = 2e-3, 1e8
+    yade = 2 * E * R * E * R / (E * R + E * R)
+    assert th.contact_stiffness_from_material(R, E, "contact") == pytest.approx(yade)
+    assert th.contact_stiffness_from_material(R, E) == pytest.approx(np.pi * R * E / 2)
+    assert th.contact_stiffness(10.0) == 5.0
+    assert th.contact_stiffness(10.0, "contact") == 10.0
+    assert th.collision_time(5.0, M, 0.3, "contact") == th.collision_time(10.0, M, 0.3)
+    with pytest.raises(ValueError, match="convention"):
+        th.collision_time(5.0, M, 0.3, "yade")
+
+
+def test_validate_effective_masses():
+    """m'' = m / cos^4 b (eq 29) from the constrained acceleration of eq 28, m_r (eq 30)."""
+    beta = np.linspace(0.01, 1.5, 30)
+    # eq 28: a unit force along xi moves the point at lever arm l cos b with mass m' = m/cos^2 b
+    m_prime = M / np.cos(beta) ** 2
+    a_xi = (1.0 * np.cos(beta) / m_prime) * np.cos(beta)
+    np.testing.assert_allclose(th.struck_effective_mass(M, beta), 1.0 / a_xi, rtol=1e-13)
+    m2 = th.struck_effective_mass(M, beta)
+    np.testing.assert_allclose(th.reduced_mass(M, beta), M * m2 / (M + m2), rtol=1e-13)
+
+
+def test_validate_rigid_limit_recovered():
+    """k -> inf recovers EJ: T_c -> 0, v -> d/T, with v(k) - v(inf) = O(T_c / T)."""
+    beta = np.linspace(0.02, 1.55, 40)
+    v_rigid = th.wave_speed_rigid(beta, L, G)
+    np.testing.assert_array_equal(th.wave_speed(beta, L, M, np.inf, G), v_rigid)
+    assert np.all(th.collision_time(np.inf, M, beta) == 0)
+    assert np.all(th.pair_regime_holds(beta, L, M, np.inf, G))
+    gaps = [
+        np.max(np.abs(th.wave_speed(beta, L, M, ratio * K_STAR, G) / v_rigid - 1))
+        for ratio in (1e12, 1e14, 1e16)
+    ]
+    # T_c ~ k^(-1/2): the relative gap shrinks tenfold per factor 100 in k
+    assert gaps[0] / gaps[1] == pytest.approx(10, rel=0.01)
+    assert gaps[1] / gaps[2] == pytest.approx(10, rel=0.002)
+    assert gaps[2] < 1e-4
+
+
+def test_validate_wave_slower_than_p_wave():
+    """v < v_w wherever the pair regime holds -- in fact everywhere: v/v_w < 2/pi because
+    v = d/(T + T_c/2) < 2d/T_c and v_w = pi d / T_c. The bound is reached as T/T_c -> 0."""
+    beta = np.geomspace(1e-4, 1.57, 200)
+    for ratio in (1.0, 1e4, 1e8):
+        k = ratio * K_STAR
+        v = th.wave_speed(beta, L, M, k, G)
+        v_w = th.p_wave_speed(beta, L, M, k)
+        pair = th.pair_regime_holds(beta, L, M, k, G)
+        assert np.all(v[pair] < v_w[pair])
+        assert np.all(v / v_w < 2 / np.pi)
+        np.testing.assert_allclose(
+            v_w, np.pi * L * np.sin(beta) / th.collision_time(k, M, beta), rtol=1e-13
+        )
+    tiny = th.wave_speed(1e-4, L, M, K_STAR, G) / th.p_wave_speed(1e-4, L, M, K_STAR)
+    assert tiny == pytest.approx(2 / np.pi, rel=1e-6)
+
+
+def test_validate_thickness_ratio():
+    """v^s / v = v_w^s / v_w = (d + s) / d (eqs 34, 35)."""
+    beta = np.linspace(0.05, 1.5, 20)
+    s = 0.1 * L
+    ratio = (L * np.sin(beta) + s) / (L * np.sin(beta))
+    k = 1e4 * K_STAR
+    v, vs = th.wave_speed(beta, L, M, k, G), th.wave_speed_thick(beta, L, M, k, s, G)
+    np.testing.assert_allclose(vs / v, ratio, rtol=1e-14)
+    vw, vws = th.p_wave_speed(beta, L, M, k), th.p_wave_speed_thick(beta, L, M, k, s)
+    np.testing.assert_allclose(vws / vw, ratio, rtol=1e-14)
+
+
+def test_pair_regime_boundary():
+    """T > T_c/2 fails at small beta for finite k. At small beta T ~ beta^2 sqrt(l/g) and
+    T_c = pi sqrt(m/k) = pi 1e-4 sqrt(l/g) for k = 1e8 k*: crossover at sqrt(pi/2 1e-4)."""
+    beta = np.geomspace(1e-3, 1.5, 2000)
+    k = 1e8 * K_STAR
+    pair = th.pair_regime_holds(beta, L, M, k, G)
+    t = th.fall_time_limit(beta, L, G)
+    np.testing.assert_array_equal(pair, t > th.collision_time(k, M, beta) / 2)
+    assert not pair[0] and pair[-1]
+    crossover = beta[np.argmax(pair)]
+    assert crossover == pytest.approx(np.sqrt(np.pi / 2 * 1e-4), rel=0.05)
+    assert np.all(np.diff(pair.astype(int)) >= 0)  # a single crossover
+
+
+finite_beta = st.floats(1e-3, np.pi / 2 - 1e-3)
+ratios = st.floats(1e-2, 1e12)
+
+
+@settings(max_examples=60, deadline=None)
+@given(beta=finite_beta, ratio=ratios, factor=st.floats(1.01, 100.0), s_over_l=st.floats(1e-3, 0.5))
+def test_validate_properties_monotone(beta, ratio, factor, s_over_l):
+    """Finite and positive; T_c decreases and v increases with k; v^s > v; v < v_w."""
+    k1, k2 = ratio * K_STAR, factor * ratio * K_STAR
+    t1, t2 = th.collision_time(k1, M, beta), th.collision_time(k2, M, beta)
+    v1, v2 = th.wave_speed(beta, L, M, k1, G), th.wave_speed(beta, L, M, k2, G)
+    vs = th.wave_speed_thick(beta, L, M, k1, s_over_l * L, G)
+    for x in (t1, t2, v1, v2, vs):
+        assert np.isfinite(x) and x > 0
+    assert t2 < t1
+    assert v2 > v1
+    assert v2 < th.wave_speed_rigid(beta, L, G)
+    assert vs > v1
+    assert v1 < th.p_wave_speed(beta, L, M, k1)
+
+
+@settings(max_examples=60, deadline=None)
+@given(beta=finite_beta, delta=st.floats(1e-3, 0.3))
+def test_validate_properties_rigid(beta, delta):
+    """Omega, T and v of EJ: positive, finite; T grows and v, Omega fall with beta."""
+    beta2 = min(beta + delta, np.pi / 2 - 1e-4)
+    for b in (beta, beta2):
+        for value in (th.omega_limit(b, L, G), th.fall_time_limit(b, L, G)):
+            assert np.isfinite(value) and value > 0
+    assert th.fall_time_limit(beta2, L, G) > th.fall_time_limit(beta, L, G)
+    assert th.wave_speed_rigid(beta2, L, G) < th.wave_speed_rigid(beta, L, G)
+    assert th.omega_limit(beta2, L, G) < th.omega_limit(beta, L, G)
+    assert 0 < th.f_plus(beta) < 1 and th.f_minus(beta) < 0

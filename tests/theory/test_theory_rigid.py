@@ -1,0 +1,211 @@
+"""Validation of the rigid EJ theory (eqs 2-14) against independent computations."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.integrate import quad, solve_ivp
+from scipy.optimize import brentq
+from scipy.special import ellipk, ellipkinc
+
+from dominowave import theory as th
+
+L, G = 0.05, 9.81  # a real domino: 5 cm, standard gravity
+BETAS = np.array([1e-4, 1e-3, 0.01, 0.1, 0.3, 0.6, 0.9, 1.2, 1.5, np.pi / 2 - 1e-6])
+
+
+def _quadrature_fall_time(omega_n, beta, l, g):
+    """Eq 11 integrated numerically: int_0^beta dtheta / sqrt(Omega_n^2 + (2g/l)(1 - cos theta)).
+
+    With w = Omega_n sqrt(l/g) and 1 - cos(theta) = 2 sin^2(theta/2), the substitution
+    sinh(u) = 2 sin(theta/2) / w turns the integrand into the smooth
+    sqrt(l/g) / cos(theta/2): a slowly started domino (w -> 0, beta -> pi/2) has a
+    near-logarithmic peak at theta = 0 that plain quadrature cannot resolve to 1e-10.
+    """
+    w = omega_n * np.sqrt(l / g)
+
+    def integrand(u):
+        return 1.0 / np.sqrt(1.0 - (0.5 * w * np.sinh(u)) ** 2)  # 1 / cos(theta/2)
+
+    u_max = np.arcsinh(2.0 * np.sin(beta / 2.0) / w)
+    value, _ = quad(integrand, 0.0, u_max, epsabs=0.0, epsrel=1e-13, limit=400)
+    return np.sqrt(l / g) * value
+
+
+def _solve_collision(omega_f, beta):
+    """Eq 2 solved numerically: energy + angular momentum about A_{n+1}.
+
+    Eliminating Omega_{n+1} = cos^2(b)(Omega_f - Omega_b) leaves one equation in Omega_b
+    with the trivial root Omega_b = Omega_f; the physical root lies in [-Omega_f, 0].
+    """
+    c = np.cos(beta) ** 2
+
+    def energy_residual(omega_b):
+        return omega_f**2 - omega_b**2 - (c * (omega_f - omega_b)) ** 2
+
+    omega_b = brentq(energy_residual, -omega_f, 0.0, xtol=1e-300, rtol=1e-15)
+    return c * (omega_f - omega_b), omega_b
+
+
+@pytest.mark.parametrize("omega_scale", [0.05, 0.5, 1.0, 5.0, 100.0])
+def test_validate_fall_time_against_quadrature(omega_scale):
+    """T_n (eq 12, elliptic integrals) equals direct quadrature of eq 11 to 1e-10."""
+    omega_n = omega_scale * np.sqrt(G / L)
+    exact = np.array([_quadrature_fall_time(omega_n, b, L, G) for b in BETAS])
+    rel = np.abs(th.fall_time(omega_n, BETAS, L, G) / exact - 1.0)
+    assert rel.max() < 1e-10, rel
+
+
+def test_validate_fall_time_limit_against_quadrature():
+    """T (eq 13) at the limit velocity of eq 9, over beta in (0, pi/2), to 1e-10."""
+    betas = np.concatenate([BETAS, np.linspace(0.02, 1.56, 40)])
+    exact = np.array(
+        [_quadrature_fall_time(th.omega_limit(b, L, G), b, L, G) for b in betas], dtype=float
+    )
+    rel = np.abs(th.fall_time_limit(betas, L, G) / exact - 1.0)
+    assert rel.max() < 1e-10, rel.max()
+
+
+def test_validate_eq12_literal_form_with_scipy_parameter():
+    """The printed eq 12, K(kappa) - F((pi - beta)/2, kappa) with SciPy's m = kappa^2,
+    agrees with our cancellation-free evaluation where K - F loses no precision."""
+    omega_n, l, g = 3.0, 1.0, 1.0
+    beta = np.linspace(0.2, 1.5, 14)
+    a, c = omega_n**2 + 2 * g / l, 2 * g / l
+    m = 2 * c / (a + c)  # kappa^2
+    printed = 2 / np.sqrt(a + c) * (ellipk(m) - ellipkinc((np.pi - beta) / 2, m))
+    np.testing.assert_allclose(th.fall_time(omega_n, beta, l, g), printed, rtol=1e-13)
+
+
+@pytest.mark.parametrize("beta", [0.05, 0.3, 0.7, 1.2])
+@pytest.mark.parametrize("omega_1", [0.1, 3.0])
+def test_validate_iterated_collision_map_matches_eq8(beta, omega_1):
+    """Solve eq 2 numerically and apply eq 5, 200 times: eq 8 holds for every n."""
+    l, g = 1.0, 1.0
+    omega = omega_1
+    iterated = [omega**2]
+    for _ in range(199):
+        omega_f = np.sqrt(omega**2 + 2 * g / l * (1 - np.cos(beta)))  # eq 5
+        omega, _ = _solve_collision(omega_f, beta)
+        iterated.append(omega**2)
+    n = np.arange(1, 201)
+    closed = th.omega_n_squared(n, omega_1, beta, l, g)
+    np.testing.assert_allclose(closed, iterated, rtol=1e-11)
+    # one step of eq 6 and the collision map of eq 3 give the same sequence
+    np.testing.assert_allclose(
+        th.omega_next_squared(np.sqrt(closed[:-1]), beta, l, g), closed[1:], rtol=1e-12
+    )
+
+
+@pytest.mark.parametrize("beta", [0.7, 1.0, 1.3])
+def test_validate_collision_map_converges_to_eq9(beta):
+    """The numerically iterated map converges to Omega of eq 9 from below and above."""
+    l, g = 1.0, 1.0
+    limit = th.omega_limit(beta, l, g)
+    for omega in (0.3 * limit, 2.0 * limit):
+        for _ in range(200):
+            omega_f = np.sqrt(omega**2 + 2 * g / l * (1 - np.cos(beta)))
+            omega, _ = _solve_collision(omega_f, beta)
+        assert omega == pytest.approx(limit, rel=1e-12)
+
+
+def test_validate_collision_map_solves_eq2():
+    """collision_map (eq 3-4) satisfies both conservation laws of eq 2."""
+    beta = np.linspace(0.01, 1.56, 50)
+    omega_f = 2.5
+    omega_next, omega_back = th.collision_map(omega_f, beta)
+    c = np.cos(beta) ** 2
+    np.testing.assert_allclose(omega_back**2 + omega_next**2, omega_f**2, rtol=1e-14)
+    np.testing.assert_allclose(omega_back * c + omega_next, omega_f * c, rtol=1e-13, atol=1e-15)
+    assert np.all(omega_back < 0)  # the striking domino bounces back
+    np.testing.assert_allclose(omega_next / th.f_minus(beta), omega_back, rtol=1e-13)
+    np.testing.assert_allclose(
+        th.f_plus(beta), 2 / (np.cos(beta) ** 2 + 1 / np.cos(beta) ** 2), rtol=1e-14
+    )
+
+
+def test_validate_eq9_limit_is_fixed_point_and_printed_form():
+    """Omega^2 is the fixed point of eq 6 and equals the printed right side of eq 9."""
+    beta = np.linspace(0.3, 1.5, 13)
+    omega = th.omega_limit(beta, L, G)
+    np.testing.assert_allclose(th.omega_next_squared(omega, beta, L, G), omega**2, rtol=1e-13)
+    fp = th.f_plus(beta)
+    printed = 2 * G / L * (1 - np.cos(beta)) * fp**2 / (1 - fp**2)  # eq 9, = Omega^2
+    np.testing.assert_allclose(omega**2, printed, rtol=1e-12)
+
+
+def test_validate_eq9a_energy_identity_at_the_limit():
+    """At the limit I Omega_bn^2 / 2 = m g l (1 - cos beta): domino n returns upright."""
+    beta = np.linspace(0.01, 1.56, 60)
+    m = 0.01
+    omega_f = th.omega_before_collision(th.omega_limit(beta, L, G), beta, L, G)
+    omega_next, omega_back = th.collision_map(omega_f, beta)
+    np.testing.assert_allclose(omega_next, th.omega_limit(beta, L, G), rtol=1e-12)
+    kinetic = 0.5 * m * L**2 * omega_back**2
+    potential = m * G * L * 2 * np.sin(beta / 2) ** 2
+    np.testing.assert_allclose(kinetic, potential, rtol=1e-12)
+
+
+def test_validate_small_beta_asymptotics():
+    """f+ ~ 1 - b^4/2, Omega ~ sqrt(g/l)/b, T ~ b^2 sqrt(l/g), v ~ sqrt(g l)/b (O(b^2))."""
+    s = np.sqrt(G / L)
+    for beta in (1e-1, 1e-2, 1e-3):
+        assert abs(1 - th.f_plus(beta) - beta**4 / 2) < beta**6 + 1e-16
+        assert abs(th.omega_limit(beta, L, G) * beta / s - 1) < 0.25 * beta**2
+        assert abs(th.fall_time_limit(beta, L, G) * s / beta**2 - 1) < 0.25 * beta**2
+        assert abs(th.wave_speed_rigid(beta, L, G) * beta / np.sqrt(G * L) - 1) < 0.4 * beta**2
+
+
+def test_validate_wave_speed_is_spacing_over_limit_time():
+    """Eq 14 corrected: v = d / T, and McLachlan's G = v / sqrt(g l) depends on d/l only."""
+    d_over_l = np.array([0.1, 0.4, 0.8])
+    beta = np.arcsin(d_over_l)
+    v = th.wave_speed_rigid(beta, L, G)
+    np.testing.assert_allclose(v, L * d_over_l / th.fall_time_limit(beta, L, G), rtol=1e-15)
+    np.testing.assert_allclose(v / np.sqrt(G * L), th.mclachlan_G(d_over_l), rtol=1e-13)
+    np.testing.assert_allclose(
+        th.wave_speed_rigid(beta, 2.0, 3.0) / np.sqrt(6.0), v / np.sqrt(G * L)
+    )
+
+
+def _simulate_rigid_chain(n_dominoes, omega_1, beta, l, g):
+    """Newton's law of each falling domino (theta'' = (g/l) sin theta) integrated until it
+    reaches beta, then the collision eq 2 solved numerically: the start time of each domino."""
+
+    def rhs(_t, y):
+        return [y[1], g / l * np.sin(y[0])]
+
+    def hit(_t, y):
+        return y[0] - beta
+
+    hit.terminal, hit.direction = True, 1
+    times, t, omega = [0.0], 0.0, omega_1
+    for _ in range(n_dominoes - 1):
+        sol = solve_ivp(
+            rhs, (0, 1e3), [0.0, omega], method="DOP853", rtol=1e-13, atol=1e-14, events=hit
+        )
+        t += sol.t_events[0][0]
+        omega, _ = _solve_collision(sol.y_events[0][0][1], beta)
+        times.append(t)
+    return np.array(times)
+
+
+@pytest.mark.parametrize("beta, omega_scale", [(0.6, 0.2), (1.1, 4.0)])
+def test_validate_arrival_times_against_integrated_chain(beta, omega_scale):
+    """t_n (cumulative T_n of eq 12 with Omega_n of eq 8) equals the integrated chain."""
+    omega_1 = omega_scale * np.sqrt(G / L)
+    simulated = _simulate_rigid_chain(15, omega_1, beta, L, G)
+    np.testing.assert_allclose(th.arrival_times(15, omega_1, beta, L, G), simulated, rtol=1e-9)
+
+
+def test_arrival_times_compliant_shift_and_broadcast():
+    """Each period grows by T_c/2 (eq 19); parameters broadcast to shape S + (N,)."""
+    rigid = th.arrival_times(10, 30.0, 0.5, L, G)
+    compliant = th.arrival_times(10, 30.0, 0.5, L, G, collision_time=1e-3)
+    np.testing.assert_allclose(compliant - rigid, 0.5e-3 * np.arange(10), rtol=1e-10, atol=1e-15)
+    grid = th.arrival_times(6, np.array([[10.0], [20.0]]), np.array([0.3, 0.6, 0.9]), L, G)
+    assert grid.shape == (2, 3, 6)
+    np.testing.assert_allclose(grid[1, 2], th.arrival_times(6, 20.0, 0.9, L, G))
+    # late dominoes move at the limit pace: the last interval tends to T
+    long = th.arrival_times(400, 30.0, 1.0, L, G)
+    assert np.diff(long)[-1] == pytest.approx(th.fall_time_limit(1.0, L, G), rel=1e-12)
