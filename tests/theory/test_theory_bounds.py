@@ -7,6 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import quad
+from scipy.optimize import brentq
 
 from dominowave import theory as th
 from dominowave.theory import Regime
@@ -42,41 +43,97 @@ def test_peak_force_scaling_and_rigid_limit():
 
 
 def _moment(point, force, about):
-    """z-component of (point - about) x force, in the x (forward) - y (up) plane."""
+    """Signed z-component of (point - about) x force; x forward (the wave's direction),
+    y up. Negative = clockwise = the top of the domino turns forwards."""
     r = np.subtract(point, about)
     return r[0] * force[1] - r[1] * force[0]
 
 
+def _block_moment_about_g(f, beta, mu, s_over_l, friction, x_normal):
+    """Signed moment about the centre of mass G of a block (height 1, thickness s/l,
+    weight 1, base from -s/2 to s/2) pushed on its back face at height cos(b) by the
+    horizontal part f cos(b) of the contact force; kinetic friction mu along +x
+    (friction = +1: the base slides backwards) or -x (friction = -1: forwards) on the
+    floor; normal force 1 at x_normal."""
+    s = s_over_l
+    centre = (0.0, 0.5)
+    push = _moment((-s / 2, np.cos(beta)), (f * np.cos(beta), 0.0), centre)
+    floor = _moment((x_normal, 0.0), (friction * mu, 0.0), centre)
+    normal = _moment((x_normal, 0.0), (0.0, 1.0), centre)
+    return push + floor + normal
+
+
+def _threshold(moment_of_f):
+    """The force f at which a signed moment (linear in f) changes sign."""
+    return brentq(moment_of_f, -1e7, 1e7, xtol=1e-14, rtol=1e-14)
+
+
 @pytest.mark.parametrize("beta", [0.2, 0.6, 1.2, 1.45])
 @pytest.mark.parametrize("mu, s_over_l", [(0.3, 0.1), (0.6, 0.02), (0.1, 0.3)])
-def test_validate_boundaries_from_moment_and_force_balance(beta, mu, s_over_l):
-    """Eqs 38, 39, 41, 42 re-derived with explicit cross products for a block of height l,
-    thickness s, weight m g, struck on its back face at height l cos(b) by a force of
-    horizontal part F cos(b) (eq 36); friction mu N and normal force N = m g at the base."""
-    l, m, g = 1.0, 1.0, 1.0
-    s = s_over_l * l
-    centre = (0.0, l / 2)
-    contact = (-s / 2, l * np.cos(beta))
-    push = (np.cos(beta), 0.0)  # horizontal part of a unit contact force
-    # moment of the push about the centre of mass, per unit F
-    arm_g = abs(_moment(contact, push, centre))
-    friction_moment = abs(_moment((0.0, 0.0), (mu * m * g, 0.0), centre))
-    normal_moment = abs(_moment((s / 2, 0.0), (0.0, m * g), centre))  # N at the base edge
-    bounds = th.regime_boundaries(beta, mu, s_over_l)
-    # eq 38: the push turns the block about G against friction and the shifted normal force
-    assert bounds.rotation == pytest.approx((friction_moment + normal_moment) / arm_g / (m * g))
-    # eq 39: horizontal push against sliding friction
-    assert bounds.sliding == pytest.approx(mu * m * g / push[0] / (m * g))
-    # eq 41: beyond the friction moment (contact below G only)
+def test_validate_boundaries_from_signed_moment_balance(beta, mu, s_over_l):
+    """Eqs 38, 39, 41, 42 as the force at which a signed balance (cross products, root
+    by brentq) changes sign. Eq 38 for beta > pi/3 is backward rotation of a block
+    sliding forwards (friction along -x), the normal force at the back edge. For
+    beta < pi/3 the printed eq 38 is reproduced only with friction along +x (base
+    sliding backwards, the paper's implicit assumption); with forward slip the signed
+    balance gives (s/l - mu) / (cos b (2 cos b - 1)) instead."""
+    s = s_over_l
+    b = th.regime_boundaries(beta, mu, s_over_l)
+    cos_b = np.cos(beta)
     if beta > np.pi / 3:
-        assert bounds.friction_moment == pytest.approx(friction_moment / arm_g / (m * g))
+        # eq 38: backward tipping (counter-clockwise) against the normal force at the back edge
+        eq38 = _threshold(lambda f: _block_moment_about_g(f, beta, mu, s, -1, -s / 2))
+        assert b.rotation == pytest.approx(eq38, rel=1e-10)
+        assert _block_moment_about_g(1.01 * eq38, beta, mu, s, -1, -s / 2) > 0  # backwards
+        # eq 41 lower bound: contact moment = friction moment (normal force under G)
+        eq41 = _threshold(lambda f: _block_moment_about_g(f, beta, mu, s, -1, 0.0))
+        assert b.friction_moment == pytest.approx(eq41, rel=1e-10)
     else:
-        assert np.isnan(bounds.friction_moment)
-    # eq 42: toppling moment about the front edge against gravity's restoring moment
+        assert np.isnan(b.friction_moment)
+        # forward tipping against the normal force at the front edge, friction along +x
+        paper = _threshold(lambda f: _block_moment_about_g(f, beta, mu, s, +1, s / 2))
+        assert b.rotation == pytest.approx(paper, rel=1e-10)
+        assert _block_moment_about_g(1.01 * paper, beta, mu, s, +1, s / 2) < 0  # forwards
+        signed = _threshold(lambda f: _block_moment_about_g(f, beta, mu, s, -1, s / 2))
+        assert signed == pytest.approx((s - mu) / (cos_b * (2 * cos_b - 1)), rel=1e-10)
+        assert signed < b.rotation  # forward slip tips the block at a lower force
+    # eq 39: horizontal push against kinetic friction
+    assert b.sliding == pytest.approx(_threshold(lambda f: f * cos_b - mu), rel=1e-12)
+    # eq 42: a block at rest (static friction and normal force at the front edge, no
+    # moment there) tips about its front edge when the push beats gravity's moment
     front = (s / 2, 0.0)
-    topple_arm = abs(_moment(contact, push, front))
-    gravity = abs(_moment(centre, (0.0, -m * g), front))
-    assert bounds.toppling == pytest.approx(gravity / topple_arm / (m * g))
+
+    def about_front_edge(f):
+        push = _moment((-s / 2, cos_b), (f * cos_b, 0.0), front)
+        return push + _moment((0.0, 0.5), (0.0, -1.0), front)
+
+    assert b.toppling == pytest.approx(_threshold(about_front_edge), rel=1e-10)
+    assert about_front_edge(1.01 * b.toppling) < 0  # clockwise: tips forwards
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    beta=st.floats(0.01, np.pi / 2 - 0.01),
+    f=st.floats(0.0, 1e3),
+    mu=st.floats(0.0, 2.0),
+    s_over_l=st.floats(0.0, 0.5),
+)
+def test_validate_sliding_rotation_sign_from_cross_products(beta, f, mu, s_over_l):
+    """A block sliding forwards stays upright iff some normal-force position
+    |x_N| <= s/2 cancels the moment about G; otherwise it turns the way the moment does.
+    Checked with the signed cross products, the normal force at both base edges."""
+    sign = int(th.sliding_rotation_sign(beta, f, mu, s_over_l))
+    at_back = _block_moment_about_g(f, beta, mu, s_over_l, -1, -s_over_l / 2)
+    at_front = _block_moment_about_g(f, beta, mu, s_over_l, -1, s_over_l / 2)
+    margin = 1e-9 * (1 + f)
+    if at_back < -margin and at_front < -margin:
+        assert sign == +1  # clockwise whatever the normal force does: tips forwards
+    elif at_back > margin and at_front > margin:
+        assert sign == -1
+    elif at_back * at_front < -(margin**2):
+        assert sign == 0
+    if sign == -1:  # backward tipping of a sliding block is exactly eq 38 (beta > pi/3)
+        assert beta > np.pi / 3 and f > th.regime_boundaries(beta, mu, s_over_l).rotation
 
 
 def test_validate_eq42_correction_gives_classic_slide_or_tip_rule():
@@ -94,9 +151,9 @@ def test_validate_eq42_correction_gives_classic_slide_or_tip_rule():
 def test_classification_examples_and_precedence():
     """Points of the (beta, F_m/mg) plane for mu = 0.3, s/l = 0.1 (Fig 5B)."""
     mu, s_over_l = 0.3, 0.1
-    beta = [0.3, 0.3, 1.3, 1.3, 1.3, 1.45]
-    force = [0.1, 50.0, 0.1, 2.8, 50.0, 3.0]
-    code, name = th.classify_regime(beta, force, mu, s_over_l)
+    beta = [0.3, 0.3, 1.3, 1.3, 1.3, 1.45, 0.3, 1.3, 1.1]
+    force = [0.1, 50.0, 0.1, 2.8, 50.0, 3.0, 0.35, 1.5, 6.0]
+    code, name, by_paper = th.classify_regime(beta, force, mu, s_over_l)
     expected = [
         Regime.PURE_ROTATION,
         Regime.FORWARD_ROTATION_SLIP,
@@ -104,13 +161,25 @@ def test_classification_examples_and_precedence():
         Regime.TRANSLATION,  # Case 1: eq 39 and eq 41
         Regime.BACKWARD_ROTATION_SLIP,
         Regime.TRANSLATION,  # Case 2 only: eq 39 and eq 42, below the eq 41 window
+        Regime.FORWARD_ROTATION_SLIP,  # eq 39 only: slides and tips forwards (signed)
+        Regime.FORWARD_ROTATION_SLIP,  # eq 39 only, beta > pi/3: friction moment wins
+        Regime.TRANSLATION,  # eq 39 only, beta > pi/3: normal force balances (signed)
     ]
     np.testing.assert_array_equal(code, expected)
     assert list(name) == [th.REGIME_NAMES[c] for c in expected]
+    np.testing.assert_array_equal(by_paper, [True] * 6 + [False] * 3)
     b = th.regime_boundaries(1.3, mu, s_over_l)
     assert b.friction_moment < 2.8 < b.rotation and 2.8 > b.sliding > b.toppling
+    assert b.sliding < 1.5 < b.friction_moment and 1.5 > b.toppling
+    assert 1.5 * np.cos(1.3) * (1 - 2 * np.cos(1.3)) < mu - s_over_l  # friction moment wins
     b = th.regime_boundaries(1.45, mu, s_over_l)
     assert b.sliding < 3.0 < b.friction_moment and 3.0 < b.toppling
+    b = th.regime_boundaries(0.3, mu, s_over_l)
+    assert b.sliding < 0.35 < b.rotation and 0.35 > b.toppling
+    cos_b = np.cos(1.1)  # between (mu - s/l) and mu on the scale of eq 41
+    assert mu - s_over_l < 6.0 * cos_b * (1 - 2 * cos_b) < mu
+    b = th.regime_boundaries(1.1, mu, s_over_l)
+    assert b.toppling < b.sliding < 6.0 < b.friction_moment
     # overlap of eq 38 and eq 42 (cos b (2 mu + 4 s/l) < s/l): rotation wins
     beta = 1.56
     b = th.regime_boundaries(beta, mu, s_over_l)
@@ -128,7 +197,7 @@ def test_classification_broadcasts_and_infinite_force():
     assert np.all(np.isin(result.code[:, 2], [2, 3]))  # rigid (F_m = inf): always slips
 
 
-@settings(max_examples=50, deadline=None)
+@settings(max_examples=80, deadline=None)
 @given(
     beta=st.floats(0.01, np.pi / 2 - 0.01),
     f=st.floats(0.0, 1e3),
@@ -136,15 +205,44 @@ def test_classification_broadcasts_and_infinite_force():
     s_over_l=st.floats(0.0, 0.5),
 )
 def test_validate_classification_consistent_with_criteria(beta, f, mu, s_over_l):
-    """Each code satisfies its defining inequalities; more friction never adds slip."""
-    code = int(th.classify_regime(beta, f, mu, s_over_l).code)
+    """Each code satisfies its defining inequalities; I is exactly "eq 39 fails"; more
+    friction never adds slip."""
+    result = th.classify_regime(beta, f, mu, s_over_l)
+    code, by_paper = int(result.code), bool(result.by_paper)
     b = th.regime_boundaries(beta, mu, s_over_l)
-    if code in (Regime.FORWARD_ROTATION_SLIP, Regime.BACKWARD_ROTATION_SLIP):
+    below = beta > np.pi / 3
+    assert (code == Regime.PURE_ROTATION) == (f <= b.sliding)  # eq 39
+    if not by_paper:  # eq 39 only: decided by the signed balance of a sliding block
+        assert f > b.sliding and f <= b.rotation and f >= b.toppling
+        assert not (below and f > b.friction_moment)
+        sign = int(th.sliding_rotation_sign(beta, f, mu, s_over_l))
+        assert code == (Regime.FORWARD_ROTATION_SLIP if sign > 0 else Regime.TRANSLATION)
+    elif code in (Regime.FORWARD_ROTATION_SLIP, Regime.BACKWARD_ROTATION_SLIP):
         assert f > b.rotation
-        assert (code == Regime.BACKWARD_ROTATION_SLIP) == (beta > np.pi / 3)
+        assert (code == Regime.BACKWARD_ROTATION_SLIP) == below
     elif code == Regime.TRANSLATION:
         assert f > b.sliding and f <= b.rotation
-    else:
-        assert f <= b.rotation
+        assert f < b.toppling or (below and f > b.friction_moment)
     if code == Regime.PURE_ROTATION:
         assert int(th.classify_regime(beta, f, 2 * mu + 0.1, s_over_l).code) == Regime.PURE_ROTATION
+
+
+@pytest.mark.parametrize("ratio, onset", [(1.0, 1.19513), (10.0, 1.47064), (100.0, 1.54032)])
+def test_fig5b_curves_pure_rotation_only_where_friction_holds_the_base(ratio, onset):
+    """Along the F_m/mg curves of Fig 5B (mu = 0.3, s/l = 0.1) no point with
+    F_m cos b > mu m g is labelled I (the review counted 205 of 348 for k*), and I is
+    the single band above the root of F_m cos b = mu m g (brentq)."""
+    mu, s_over_l = 0.3, 0.1
+    beta = np.linspace(0.01, np.pi / 2 - 0.005, 600)
+    fm = th.peak_contact_force(beta, 1.0, 1.0, ratio, 1.0)
+    code = th.classify_regime(beta, fm, mu, s_over_l).code
+    pure = code == Regime.PURE_ROTATION
+    assert not np.any(pure & (fm * np.cos(beta) > mu))
+    root = brentq(
+        lambda b: th.peak_contact_force(b, 1.0, 1.0, ratio, 1.0) * np.cos(b) - mu,
+        0.5,
+        np.pi / 2 - 1e-9,
+        xtol=1e-14,
+    )
+    assert root == pytest.approx(onset, abs=1e-5)
+    np.testing.assert_array_equal(pure, beta > root)

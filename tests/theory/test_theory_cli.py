@@ -12,6 +12,8 @@ import numpy as np
 import pytest
 
 from dominowave import theory as th
+from dominowave.cli import main
+from dominowave.cli.theory import parse_values, theory_table
 
 
 def run(*args: str) -> subprocess.CompletedProcess:
@@ -48,6 +50,14 @@ def test_theory_json_matches_library():
     assert row["regime"] == "II forward rotation + slip"
 
 
+def test_theory_table_accepts_scalars():
+    """The public theory_table takes scalars as one-element lists."""
+    (row,) = theory_table(0.4, 1e4, 0.1, 0.3)
+    assert row == theory_table([0.4], [1e4], 0.1, 0.3)[0]
+    assert row["v"] == pytest.approx(th.wave_speed(np.arcsin(0.4), 1, 1, 1e4, 1), rel=1e-14)
+    assert len(theory_table(0.4, [1.0, 10.0], 0.1, 0.3)) == 2
+
+
 def test_theory_csv_grid_and_rigid_limit():
     result = run("theory", "--d-over-l", "0.1:0.8:3", "--k-ratio", "inf,1e8", "--format", "csv")
     assert result.returncode == 0, result.stderr
@@ -78,17 +88,33 @@ def test_theory_table_default():
         (["--mu", "-0.1"], "mu = -0.1 is outside the valid range [0, inf)"),
         (["--s-over-l", "-0.1"], "s_over_l = -0.1 is outside the valid range [0, 1)"),
         (["--d-over-l", "abc"], "d_over_l = 'abc' is not a list"),
+        (["--k-ratio", "0:1:3"], "k_ratio = 0 is outside the valid range (0, inf)"),
         (["--format", "xml"], "format = 'xml' is not one of table, csv, json"),
         (["--convention", "yade"], "convention = 'yade' is not one of paper, contact"),
     ],
 )
-def test_theory_bad_input_one_line_exit_2(args, fragment):
-    result = run("theory", *args)
-    assert result.returncode == 2
-    assert result.stdout == ""
-    (line,) = result.stderr.strip().splitlines()
+def test_theory_bad_input_one_line_exit_2(args, fragment, monkeypatch, capsys):
+    """In process through the console-script entry point (a subprocess per case would
+    re-import every command module): one line on stderr, exit code 2."""
+    monkeypatch.setattr(sys, "argv", ["dominowave", "theory", *args])
+    with pytest.raises(SystemExit) as info:
+        main()
+    assert info.value.code == 2
+    out, err = capsys.readouterr()
+    assert out == ""
+    (line,) = err.strip().splitlines()
     assert line.startswith(f"dominowave: error: {fragment}")
-    assert "Traceback" not in result.stderr
+    assert "Traceback" not in err
+
+
+def test_parse_values_ranges():
+    """In process (no subprocess): geometric ranges need finite positive ends."""
+    np.testing.assert_allclose(parse_values("1:100:3", "k_ratio", geometric=True), [1, 10, 100])
+    np.testing.assert_allclose(parse_values("0:1:3", "d_over_l"), [0, 0.5, 1])
+    with pytest.raises(ValueError, match=r"k_ratio = inf is outside the valid range \(0, inf\)"):
+        parse_values("1:inf:3", "k_ratio", geometric=True)
+    with pytest.raises(ValueError, match="k_ratio = '1:10:x' is not a list"):
+        parse_values("1:10:x", "k_ratio", geometric=True)
 
 
 def test_figures_written_with_their_data(tmp_path):
@@ -107,6 +133,10 @@ def test_figures_written_with_their_data(tmp_path):
     np.testing.assert_allclose(
         fig5["fm_over_mg_k1e1"], th.peak_contact_force(fig5["beta"], 1, 1, 10, 1), rtol=1e-9
     )
+    for tag in ("1", "1e1", "1e2"):  # no pure rotation where the base slides (eq 39)
+        pure = fig5["regime_k" + tag] == 1
+        assert not np.any(pure & (fig5["fm_over_mg_k" + tag] * np.cos(fig5["beta"]) > 0.3))
+    assert not np.all(fig5["by_paper_k1"])  # the curves cross the set the paper leaves open
     fig1 = np.genfromtxt(tmp_path / "figs" / "fig1d.csv", delimiter=",", names=True)
     assert fig1["omega_beta07_push05"][-1] == pytest.approx(fig1["omega_limit_beta07"][0], rel=1e-6)
 

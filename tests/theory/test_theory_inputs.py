@@ -33,6 +33,11 @@ CASES = [
     ("omega_1", lambda: th.arrival_times(5, -1.0, BETA, L, G), "-1", "(0, inf)"),
     ("collision_time", lambda: th.arrival_times(5, 1.0, BETA, L, G, -1.0), "-1", "[0, inf)"),
     ("n", lambda: th.omega_n_squared(0, 1.0, BETA, L, G), "0", "[1, inf)"),
+    ("omega_f", lambda: th.collision_map(np.nan, BETA), "nan", "[0, inf)"),
+    ("omega_f", lambda: th.collision_map([1.0, -2.0], BETA), "-2", "[0, inf)"),
+    ("omega_f", lambda: th.collision_map(np.inf, BETA), "inf", "[0, inf)"),
+    ("fm_over_mg", lambda: th.sliding_rotation_sign(BETA, np.nan, 0.3, 0.1), "nan", "[0, inf]"),
+    ("s_over_l", lambda: th.sliding_rotation_sign(BETA, 1.0, 0.3, -0.1), "-0.1", "[0, 1)"),
 ]
 
 

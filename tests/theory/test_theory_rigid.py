@@ -156,8 +156,8 @@ def test_validate_small_beta_asymptotics():
         assert abs(th.wave_speed_rigid(beta, L, G) * beta / np.sqrt(G * L) - 1) < 0.4 * beta**2
 
 
-def test_validate_wave_speed_is_spacing_over_limit_time():
-    """Eq 14 corrected: v = d / T, and McLachlan's G = v / sqrt(g l) depends on d/l only."""
+def test_wave_speed_scaling_and_mclachlan_G():
+    """Unit test: v = d / T; G = v / sqrt(g l) depends on d/l only (rescaled l, g)."""
     d_over_l = np.array([0.1, 0.4, 0.8])
     beta = np.arcsin(d_over_l)
     v = th.wave_speed_rigid(beta, L, G)
@@ -166,6 +166,24 @@ def test_validate_wave_speed_is_spacing_over_limit_time():
     np.testing.assert_allclose(
         th.wave_speed_rigid(beta, 2.0, 3.0) / np.sqrt(6.0), v / np.sqrt(G * L)
     )
+
+
+def test_validate_eq14_literal_form_and_reference_values():
+    """Corrected eq 14 in its literal form, v = d sqrt(a+c) / (2 [K(m) - F((pi-beta)/2, m)]),
+    SciPy's ellipk/ellipkinc with m = kappa^2, at moderate beta where K - F is well
+    conditioned; and McLachlan's G pinned to values computed independently with mpmath."""
+    l, g = 1.0, 1.0
+    beta = np.linspace(0.2, 1.3, 12)
+    a = th.omega_limit(beta, l, g) ** 2 + 2 * g / l
+    c = 2 * g / l
+    m = 2 * c / (a + c)  # kappa^2
+    literal = (
+        l * np.sin(beta) * np.sqrt(a + c) / (2 * (ellipk(m) - ellipkinc((np.pi - beta) / 2, m)))
+    )
+    np.testing.assert_allclose(th.wave_speed_rigid(beta, l, g), literal, rtol=1e-12)
+    reference = {0.1: 9.9457571, 0.4: 2.2781026, 0.8: 0.75865848}  # mpmath, by the referee
+    for d_over_l, value in reference.items():
+        assert th.mclachlan_G(d_over_l) == pytest.approx(value, rel=1e-7)
 
 
 def _simulate_rigid_chain(n_dominoes, omega_1, beta, l, g):
@@ -209,3 +227,20 @@ def test_arrival_times_compliant_shift_and_broadcast():
     # late dominoes move at the limit pace: the last interval tends to T
     long = th.arrival_times(400, 30.0, 1.0, L, G)
     assert np.diff(long)[-1] == pytest.approx(th.fall_time_limit(1.0, L, G), rel=1e-12)
+
+
+def test_validate_eq8_near_pi_over_2():
+    """Eq 8 stays finite and exact as beta -> pi/2 (f_+ -> 0, 1 - f_+ rounds to 1): it
+    equals eq 6 iterated from Omega_1 (f_plus**2, no logarithms) for n = 1 .. 6."""
+    omega_1 = 2.0
+    for beta in (np.pi / 2 - 1e-5, np.pi / 2 - 1e-8, np.pi / 2 - 1e-9, np.pi / 2 - 1e-12):
+        n = np.arange(1, 7)
+        closed = th.omega_n_squared(n, omega_1, beta, 1.0, 1.0)
+        iterated = [omega_1**2]
+        for _ in n[1:]:
+            iterated.append(th.omega_next_squared(np.sqrt(iterated[-1]), beta, 1.0, 1.0))
+        np.testing.assert_allclose(closed, iterated, rtol=1e-13)
+        assert closed[0] == omega_1**2
+    t = th.arrival_times(3, 2.0, np.pi / 2 - 1e-9, 1.0, 1.0)  # raised "omega_n = nan" before
+    assert np.all(np.isfinite(t)) and np.all(np.diff(t) > 0)
+    assert t[1] == pytest.approx(th.fall_time(2.0, np.pi / 2 - 1e-9, 1.0, 1.0), rel=1e-14)

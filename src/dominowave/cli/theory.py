@@ -43,25 +43,34 @@ COLUMNS = (
 def parse_values(text: str, name: str, geometric: bool = False) -> np.ndarray:
     """Parse ``"0.1,0.4"`` (a list) or ``"start:stop:count"`` (a range) into floats.
 
-    Ranges are linear, or geometric when ``geometric`` (used for ``k/k*``).
+    Ranges are linear, or geometric when ``geometric`` (used for ``k/k*``); the ends of
+    a geometric range must be in (0, inf), else a range error naming ``name``.
     """
     try:
         if ":" in text:
             start, stop, count = text.split(":")
-            count = int(count)
+            start, stop, count = float(start), float(stop), int(count)
             if count < 1:
                 raise ValueError
-            spacing = np.geomspace if geometric else np.linspace
-            return spacing(float(start), float(stop), count)
-        return np.array([float(part) for part in text.split(",")])
+        else:
+            return np.array([float(part) for part in text.split(",")])
     except ValueError:
         raise ValueError(
             f"{name} = {text!r} is not a list 'a,b,c' or a range 'start:stop:count' of numbers"
         ) from None
+    if geometric:  # outside the try: the range error must not become a parse error
+        check_in_range(name, [start, stop], 0.0, np.inf)
+        return np.geomspace(start, stop, count)
+    return np.linspace(start, stop, count)
 
 
 def theory_table(d_over_l, k_ratio, s_over_l, mu, convention="paper") -> list[dict]:
-    """One row per (d/l, k/k*) pair: every quantity of section 2, dimensionless."""
+    """One row per (d/l, k/k*) pair: every quantity of section 2, dimensionless.
+
+    ``d_over_l`` and ``k_ratio`` are scalars or 1-D sequences; rows run over ``d/l``
+    first, then ``k/k*``.
+    """
+    d_over_l, k_ratio = np.atleast_1d(d_over_l), np.atleast_1d(k_ratio)
     beta = beta_from_spacing(d_over_l)  # validated on the 1-D input, before the grid
     beta_grid, k_grid = np.meshgrid(beta, k_ratio, indexing="ij")
     d_grid = np.broadcast_to(np.asarray(d_over_l, dtype=float)[:, None], beta_grid.shape)

@@ -112,15 +112,23 @@ def fig4(out: Path, thick: bool) -> list[Path]:
 
 
 def fig5b(out: Path) -> list[Path]:
-    """Fig 5B: regimes of Fig 5A in the (beta, F_m/mg) plane, with F_m (eq 37) in blue."""
+    """Fig 5B: regimes of Fig 5A in the (beta, F_m/mg) plane, with F_m (eq 37) in blue.
+
+    Hatched: the base slides (eq 39) but the paper's eqs 38, 41, 42 do not say how the
+    block moves; shaded there by :func:`dominowave.theory.sliding_rotation_sign`.
+    """
     mu, s_over_l = FIG5B_MU, FIG5B_THICKNESS
     beta = np.linspace(0.01, np.pi / 2 - 0.005, 600)
     force = np.geomspace(1e-2, 1e3, 400)
-    regimes = th.classify_regime(beta[None, :], force[:, None], mu, s_over_l).code
+    regimes = th.classify_regime(beta[None, :], force[:, None], mu, s_over_l)
     colours = ("#e8f4e8", "#fde2c8", "#f8d0d8", "#dcd4f0")
     fig = Figure(figsize=(6.8, 4.8), layout="constrained")
     ax = fig.add_subplot()
-    ax.pcolormesh(beta, force, regimes, cmap=ListedColormap(colours), vmin=0.5, vmax=4.5)
+    ax.pcolormesh(beta, force, regimes.code, cmap=ListedColormap(colours), vmin=0.5, vmax=4.5)
+    # hatched: the base slides (eq 39) but eqs 38, 41, 42 leave the motion open; decided
+    # by the signed moment balance of a sliding block (sliding_rotation_sign)
+    open_set = (~regimes.by_paper).astype(float)
+    ax.contourf(beta, force, open_set, levels=[0.5, 1.5], colors="none", hatches=["////"])
     b = th.regime_boundaries(beta, mu, s_over_l)
     ax.plot(beta, b.rotation, "k-", lw=1, label="eq 38 (rotation)")
     ax.plot(beta, b.sliding, "k--", lw=1, label="eq 39 (sliding)")
@@ -137,7 +145,9 @@ def fig5b(out: Path) -> list[Path]:
         fm = th.peak_contact_force(beta, 1.0, 1.0, ratio, 1.0)  # = F_m / (m g)
         ax.plot(beta, fm, color="tab:blue", lw=lw, label=f"$F_m/mg$, {_stiffness_label(ratio)}")
         columns[f"fm_over_mg_k{_ratio_tag(ratio)}"] = fm
-        columns[f"regime_k{_ratio_tag(ratio)}"] = th.classify_regime(beta, fm, mu, s_over_l).code
+        on_curve = th.classify_regime(beta, fm, mu, s_over_l)
+        columns[f"regime_k{_ratio_tag(ratio)}"] = on_curve.code
+        columns[f"by_paper_k{_ratio_tag(ratio)}"] = on_curve.by_paper
     ax.axvline(np.pi / 3, color="grey", lw=0.6)
     ax.set_yscale("log")
     ax.set_ylim(force[0], force[-1])
@@ -149,6 +159,9 @@ def fig5b(out: Path) -> list[Path]:
     ax.set_title(rf"Fig 5B: base-slip regimes, $\mu$ = {mu:g}, $s/l$ = {s_over_l:g}")
     handles, _ = ax.get_legend_handles_labels()
     handles += [Patch(color=c, label=th.REGIME_NAMES[i + 1]) for i, c in enumerate(colours)]
+    handles.append(
+        Patch(facecolor="white", edgecolor="grey", hatch="////", label="not classified by paper")
+    )
     ax.legend(handles=handles, fontsize=6.5, loc="upper left", ncol=2)
     return _save(fig, out, "fig5b", columns)
 

@@ -15,6 +15,7 @@ from dominowave.theory.bounds import (
     classify_regime,
     peak_contact_force,
     regime_boundaries,
+    sliding_rotation_sign,
 )
 from dominowave.theory.compliant import (
     StiffnessConvention,
@@ -75,6 +76,7 @@ __all__ = [
     "peak_contact_force",
     "reduced_mass",
     "regime_boundaries",
+    "sliding_rotation_sign",
     "struck_effective_mass",
     "wave_speed",
     "wave_speed_rigid",

@@ -6,21 +6,32 @@ floor can hold the base. Section 2.4 models the struck domino as a uniform block
 height ``l``, thickness ``s`` and mass ``m`` (centre of mass at ``l/2``), struck at
 height ``l cos(beta)`` by a force whose horizontal part is ``F cos(beta)`` (eq 36).
 The contact is above the centre of mass for ``beta < pi/3`` and below it for
-``beta > pi/3``.
+``beta > pi/3``. ``f = F_m / (m g)`` below.
 
 Regimes of the paper's Fig 5A (integer codes of :class:`Regime`):
 
-* I   pure rotation, no slip (the theory's assumption): no criterion below holds;
+* I   pure rotation, no slip (the theory's assumption): eq 39 fails, ``f <= mu/cos b``.
+  Eq 38 implies eq 39 (``|2 cos b - 1| <= 1``) and Cases 1, 2 require it, so I is
+  exactly where no criterion of section 2.4 holds;
 * II  forward rotation with base slip: eq 38 and ``beta < pi/3``;
 * III backward rotation with base slip: eq 38 and ``beta > pi/3``;
 * IV  translation (sliding): eq 39 and ((``beta > pi/3`` and eq 41) or eq 42).
 
-Precedence (our choice, the paper does not state one): II/III before IV before I.
-Eq 38 says the contact moment about the centre of mass beats every resisting moment,
-so the block rotates whatever the translational criteria say; the paper's own Case 1
-(eq 41) excludes eq 38 explicitly, and only Case 2 can overlap with it (for
-``cos(beta) (2 mu + 4 s/l) < s/l``). Eq 42 is used with ``cos^2(beta)`` (typo in the
-paper, which prints ``cos(beta)``): see ``docs/theory.md``.
+Precedence (our choice, the paper does not state one): II/III before IV. Eq 38 says the
+contact moment about the centre of mass beats every resisting moment, so the block
+rotates whatever the translational criteria say; Case 1 (eq 41) excludes eq 38
+explicitly, and only Case 2 can overlap with it (``cos(beta) (2 mu + 4 s/l) < s/l``).
+
+The paper leaves a set unclassified: eq 39 holds (the base slides) but neither eq 38
+nor Case 1 nor Case 2 does. There we decide with the signed moment balance about the
+centre of mass of a block sliding forwards (:func:`sliding_rotation_sign`): II if it
+tips forwards, IV if it translates (it never tips backwards there, that is eq 38).
+:attr:`RegimeClassification.by_paper` is False on that set.
+
+The paper's eq 38 for ``beta < pi/3`` counts friction as resisting the forward moment,
+i.e. assumes friction acting forwards (base sliding backwards), while eq 39 is forward
+slip. We keep the printed eq 38 (see ``docs/theory.md`` for the signed derivation).
+Eq 42 is used with ``cos^2(beta)`` (typo in the paper, which prints ``cos(beta)``).
 """
 
 from __future__ import annotations
@@ -44,6 +55,7 @@ __all__ = [
     "classify_regime",
     "peak_contact_force",
     "regime_boundaries",
+    "sliding_rotation_sign",
 ]
 
 
@@ -99,10 +111,17 @@ class RegimeBoundaries:
 
 
 class RegimeClassification(NamedTuple):
-    """Result of :func:`classify_regime`: integer codes (:class:`Regime`) and names."""
+    """Result of :func:`classify_regime`, arrays of one shape.
+
+    code : integer :class:`Regime` values; name : the matching names;
+    by_paper : True where the paper's criteria (eqs 38-42) decide the regime, False on
+        the set they leave open (eq 39 holds, eq 38, Case 1 and Case 2 do not), decided
+        by :func:`sliding_rotation_sign`.
+    """
 
     code: np.ndarray
     name: np.ndarray
+    by_paper: np.ndarray
 
 
 def _check_friction_geometry(mu, s_over_l):
@@ -134,6 +153,38 @@ def regime_boundaries(beta, mu, s_over_l) -> RegimeBoundaries:
     return RegimeBoundaries(rotation, sliding, friction_moment, toppling)
 
 
+def sliding_rotation_sign(beta, fm_over_mg, mu, s_over_l) -> np.ndarray:
+    """Rotation of a block whose base slides forwards: +1 forwards, -1 backwards, 0 none.
+
+    Signed moment balance about the centre of mass ``G`` (forward = top moving in the
+    direction of the wave), in units of ``m g l / 2``, with ``f = F_m / (m g)``:
+
+    * push, horizontal part ``f cos b`` at height ``l cos b``: ``f cos b (2 cos b - 1)``
+      (forwards above ``G``, ``beta < pi/3``; backwards below it);
+    * kinetic friction ``mu m g`` acting backwards at the base, ``l/2`` below ``G``: ``+mu``
+      (it always turns the top forwards);
+    * the normal force ``m g`` can sit anywhere on the base, ``|x_N| <= s/2``, so it
+      balances any net moment up to ``s/l`` in either direction.
+
+    Hence forward rotation iff ``f cos b (2 cos b - 1) + mu > s/l``, backward rotation iff
+    ``f cos b (1 - 2 cos b) > mu + s/l`` (= eq 38 for ``beta > pi/3``), translation
+    otherwise (for ``beta > pi/3``: ``mu - s/l <= f cos b (1 - 2 cos b) <= mu + s/l``,
+    eq 41 with ``mu - s/l`` as lower bound). Like the paper we neglect the vertical
+    part ``F sin b`` of the contact force. Meaningful where eq 39 holds (the base slides);
+    all arguments broadcast; returns an integer array.
+    """
+    check_in_range("fm_over_mg", fm_over_mg, 0.0, np.inf, lo_inclusive=True, hi_inclusive=True)
+    beta = check_beta(beta)
+    _check_friction_geometry(mu, s_over_l)
+    cos_b = np.cos(beta)
+    arm = 2.0 * cos_b - 1.0  # signed arm of the push about G, in units of l/2
+    with np.errstate(invalid="ignore"):  # F_m = inf exactly at the level of G: no moment
+        push = np.where(arm == 0.0, 0.0, np.asarray(fm_over_mg, dtype=float) * cos_b * arm)
+    net = push + np.asarray(mu, dtype=float)  # forward moment of push and friction
+    s_over_l = np.asarray(s_over_l, dtype=float)
+    return (np.sign(net) * (np.abs(net) > s_over_l)).astype(int)[()]
+
+
 def classify_regime(beta, fm_over_mg, mu, s_over_l) -> RegimeClassification:
     """Classify the motion the peak contact force starts (Fig 5A), vectorised.
 
@@ -146,8 +197,9 @@ def classify_regime(beta, fm_over_mg, mu, s_over_l) -> RegimeClassification:
 
     Returns
     -------
-    RegimeClassification(code, name): integer array of :class:`Regime` values and the
-    matching names, of the broadcast shape. Precedence: eq 38 (II/III), then IV, then I.
+    RegimeClassification(code, name, by_paper) of the broadcast shape. I exactly where
+    eq 39 fails; eq 38 gives II/III; eq 39 with Case 1 or Case 2 gives IV; the rest of
+    eq 39 (not classified by the paper) is II or IV by :func:`sliding_rotation_sign`.
     """
     check_in_range("fm_over_mg", fm_over_mg, 0.0, np.inf, lo_inclusive=True, hi_inclusive=True)
     check_beta(beta)
@@ -157,14 +209,21 @@ def classify_regime(beta, fm_over_mg, mu, s_over_l) -> RegimeClassification:
     )
     bounds = regime_boundaries(beta, mu, s_over_l)
     below = beta > np.pi / 3
-    rotates = f > bounds.rotation  # eq. 38
+    slides = f > bounds.sliding  # eq. 39; eq 38 implies it
+    rotates = f > bounds.rotation  # eq. 38 (as printed)
     # eq. 41; its upper bound is eq 38, enforced by the precedence below
     case_1 = below & (f > np.nan_to_num(bounds.friction_moment, nan=np.inf))
     case_2 = f < bounds.toppling  # eq. 42
-    slides = (f > bounds.sliding) & (case_1 | case_2)  # eq. 39 and (case 1 or case 2)
+    translates = slides & (case_1 | case_2)
+    by_paper = ~slides | rotates | translates
     code = np.full(f.shape, int(Regime.PURE_ROTATION))
-    code[slides] = Regime.TRANSLATION
+    # the set the paper leaves open: the base slides; does the block tip?
+    tips_forward = sliding_rotation_sign(beta, f, mu, s_over_l) > 0
+    code[~by_paper] = np.where(
+        tips_forward[~by_paper], Regime.FORWARD_ROTATION_SLIP, Regime.TRANSLATION
+    )
+    code[translates] = Regime.TRANSLATION
     code[rotates & ~below] = Regime.FORWARD_ROTATION_SLIP
     code[rotates & below] = Regime.BACKWARD_ROTATION_SLIP
     names = np.vectorize(REGIME_NAMES.__getitem__, otypes=[object])(code)
-    return RegimeClassification(code, names)
+    return RegimeClassification(code, names, by_paper)

@@ -108,8 +108,8 @@ def collision_map(omega_f, beta):
 
     Parameters
     ----------
-    omega_f : angular velocity ``Omega_fn`` of the striking domino just before the
-        collision [rad/s], any shape.
+    omega_f : angular velocity ``Omega_fn`` >= 0 of the striking domino just before the
+        collision [rad/s] (finite; it moves towards domino n+1), any shape.
     beta : collision angle [rad] in (0, pi/2), broadcast against ``omega_f``.
 
     Returns
@@ -118,6 +118,7 @@ def collision_map(omega_f, beta):
         ``Omega_bn = Omega_{n+1} / f_- = Omega_fn (cos^4 b - 1) / (cos^4 b + 1)`` of the
         striking one (negative: it rotates backwards), both [rad/s] (eq 3).
     """
+    check_in_range("omega_f", omega_f, 0.0, np.inf, lo_inclusive=True)
     omega_f = np.asarray(omega_f, dtype=float)
     beta = check_beta(beta)
     omega_next = f_plus(beta) * omega_f  # eq. 3
@@ -160,7 +161,8 @@ def omega_n_squared(n, omega_1, beta, l, g=G_STANDARD):
 
     ``Omega_n^2 = f_+^{2(n-1)} Omega_1^2 + b (1 - f_+^{2(n-1)}) / (1 - f_+^2)``.
     Evaluated with ``log1p``/``expm1`` and the exact ``1 - f_+^2`` so that it stays
-    accurate when ``f_+ -> 1`` (small ``beta``). ``n`` >= 1 (integers, any shape),
+    accurate when ``f_+ -> 1`` (small ``beta``), and with ``log f_+`` where ``f_+ < 1/2``
+    (finite up to ``beta -> pi/2``, where ``f_+ -> 0``). ``n`` >= 1 (integers, any shape),
     ``omega_1`` [rad/s] >= 0, ``beta`` [rad], ``l`` [m], ``g`` [m/s^2]; all broadcast.
     """
     check_in_range("n", n, 1.0, np.inf, lo_inclusive=True)
@@ -169,7 +171,11 @@ def omega_n_squared(n, omega_1, beta, l, g=G_STANDARD):
         raise ValueError(f"n = {n!r} must be integers >= 1 (domino numbers)")
     check_in_range("omega_1", omega_1, 0.0, np.inf, lo_inclusive=True)
     beta = check_beta(beta)
-    log_f_plus = np.log1p(-_one_minus_f_plus(beta))
+    # log f_+: log1p keeps full precision where f_+ -> 1 (small beta); near pi/2,
+    # f_+ -> 0 and 1 - f_+ rounds to 1 (log1p(-1) = -inf), so take log f_+ directly there
+    one_minus_f = _one_minus_f_plus(beta)
+    with np.errstate(divide="ignore"):  # the branch not taken may hit log1p(-1)
+        log_f_plus = np.where(one_minus_f > 0.5, np.log(f_plus(beta)), np.log1p(-one_minus_f))
     power = 2.0 * (n - 1.0) * log_f_plus
     f_plus_2n = np.exp(power)  # f_+^{2(n-1)}
     geometric = -np.expm1(power) / _one_minus_f_plus_squared(beta)  # (1-f^{2(n-1)})/(1-f^2)
