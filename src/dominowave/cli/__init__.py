@@ -42,11 +42,26 @@ _register_all()
 def main() -> None:
     """Entry point of the ``dominowave`` console script.
 
-    Typer handles usage errors itself (exit code 2). Bad physical input raises
-    ``ValueError`` deep inside the package; it is shown as one line, exit code 2.
+    Every error a user can cause is one line on stderr with exit code 2: usage
+    errors (unknown option, missing argument) and bad physical input, which raises
+    ``ValueError`` deep inside the package. No traceback.
     """
     try:
-        app()
+        result = app(standalone_mode=False)
+    except typer.TyperException as exc:  # click usage errors
+        message = exc.format_message().strip()
+        if "\n" in message:  # called without arguments: the message is the help text
+            typer.echo(message, err=True)
+        elif message:  # (an empty message: typer has already shown the help)
+            typer.echo(f"dominowave: error: {message}", err=True)
+        sys.exit(getattr(exc, "exit_code", 2))
     except (ValueError, FileNotFoundError, PermissionError, NotADirectoryError) as exc:
         typer.echo(f"dominowave: error: {exc}", err=True)
         sys.exit(2)
+    except typer.Abort:
+        typer.echo("dominowave: aborted", err=True)
+        sys.exit(1)
+    # In non-standalone mode typer returns the code of an explicit typer.Exit
+    # (130 after Ctrl-C); a command's own return value is never an int here.
+    if isinstance(result, int):
+        sys.exit(result)
