@@ -1,0 +1,34 @@
+"""A general discrete-element engine: spheres, rigid clumps of spheres, plane walls,
+linear contacts with Cundall-Strack friction, YADE-style local damping, blocked DOFs,
+and a numba-compiled time loop with recorders.  Knows nothing about dominoes.
+
+See docs/dem.md for the equations and the validation.
+"""
+
+from dominowave.dem.contact import END, ONSET
+from dominowave.dem.energy import ENERGY_NAMES
+from dominowave.dem.scene import Scene
+from dominowave.dem.simulation import (
+    ContactEvents,
+    PairStats,
+    RunResult,
+    Simulation,
+    StopCondition,
+)
+from dominowave.dem.state import Material, clump_mass_properties
+from dominowave.dem.timestep import critical_timestep
+
+__all__ = [
+    "END",
+    "ENERGY_NAMES",
+    "ONSET",
+    "ContactEvents",
+    "Material",
+    "PairStats",
+    "RunResult",
+    "Scene",
+    "Simulation",
+    "StopCondition",
+    "clump_mass_properties",
+    "critical_timestep",
+]

@@ -1,0 +1,560 @@
+"""Contact detection and contact laws.
+
+Each contact law is a small pure function of one pair (jax-md style); the driver
+:func:`compute_forces` maps it over the Verlet list.
+
+Laws (Cundall & Strack 1979, Geotechnique 29:47; YADE's Law2_ScGeom_FrictPhys_CundallStrack):
+
+* normal: ``F_n = k_n * delta`` (linear spring, delta = overlap) plus an optional viscous
+  dashpot ``-c_n * v_n``;
+* tangential: elastic shear displacement ``u_s`` accumulated from the tangential relative
+  velocity, ``F_s = -k_t u_s``, Coulomb limit ``|F_s| <= mu k_n delta``; on sliding ``u_s`` is
+  shortened to the limit and the slip work ``(|F_trial| - |F_s|) |F_s| / k_t`` is dissipated
+  (YADE's plasticDissipation).  When the contact frame moves, ``u_s`` is projected onto the
+  new tangent plane with its length kept, then turned about the normal by the mean spin of
+  the two bodies (as YADE's ScGeom::rotate, but norm preserving).
+
+Sign convention: the unit normal ``n`` points from sphere ``i`` to its partner ``j``; the
+returned force acts on ``j`` (``-F`` on ``i``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+__all__ = [
+    "RULE_PAPER",
+    "RULE_YADE",
+    "build_verlet_list",
+    "compute_forces",
+    "needs_rebuild",
+    "pair_stiffness",
+    "viscous_coefficient",
+]
+
+RULE_PAPER = 0
+RULE_YADE = 1
+
+ONSET = 1
+END = 0
+
+
+@njit(cache=True)
+def particle_stiffness(modulus, radius, given_kn, rule):
+    """Stiffness of one particle [N/m]: pi R E ("paper", eq. 20), E R ("yade") or kn."""
+    if given_kn:
+        return modulus
+    if rule == RULE_PAPER:
+        return math.pi * radius * modulus
+    return modulus * radius
+
+
+@njit(cache=True)
+def pair_stiffness(k1, k2, given_kn, rule):
+    """Contact stiffness of two particles [N/m].
+
+    "paper": springs in series ``k1 k2 / (k1 + k2)`` (eq. 21, equal spheres: pi R E / 2);
+    "yade" and given kn: ``2 k1 k2 / (k1 + k2)`` (Ip2_FrictMat_FrictMat_FrictPhys).
+    """
+    if k1 <= 0.0 or k2 <= 0.0:
+        return 0.0
+    series = k1 * k2 / (k1 + k2)
+    if rule == RULE_PAPER and not given_kn:
+        return series
+    return 2.0 * series
+
+
+@njit(cache=True)
+def viscous_coefficient(restitution, m_eff, kn):
+    """Dashpot coefficient c_n [N s/m] giving restitution ``e`` for a linear spring-dashpot.
+
+    Damped oscillator ``m x'' + c x' + k x = 0`` released at zero overlap, contact ended when
+    the overlap returns to zero: ``e = exp(-zeta pi / sqrt(1 - zeta^2))`` with
+    ``zeta = c / (2 sqrt(m k))``, i.e. ``zeta = -ln e / sqrt(pi^2 + ln^2 e)``
+    (e.g. Schwager & Poeschel, Phys. Rev. E 75, 051304 (2007), eq. 2-5; Antypov & Elliott,
+    EPL 94, 50004 (2011)).
+    """
+    if restitution >= 1.0:
+        return 0.0
+    log_e = math.log(restitution)
+    zeta = -log_e / math.sqrt(math.pi * math.pi + log_e * log_e)
+    return 2.0 * zeta * math.sqrt(m_eff * kn)
+
+
+@njit(cache=True)
+def pair_properties(si, sj_or_wall, spheres, walls, bodies, mats, out):
+    """kn, kt, mu, cn of a candidate pair into ``out[0:4]``."""
+    rule = mats.rule[0]
+    mi = spheres.material[si]
+    Ri = spheres.radius[si]
+    bi = spheres.body[si]
+    if sj_or_wall >= 0:
+        mj = spheres.material[sj_or_wall]
+        Rj = spheres.radius[sj_or_wall]
+        bj = spheres.body[sj_or_wall]
+        m_eff = bodies.mass[bi] * bodies.mass[bj] / (bodies.mass[bi] + bodies.mass[bj])
+    else:
+        mj = walls.material[-sj_or_wall - 1]
+        Rj = Ri  # a wall takes the radius of the sphere touching it
+        m_eff = bodies.mass[bi]
+    given = mats.given_kn[mi] == 1
+    ki = particle_stiffness(mats.stiffness[mi], Ri, given, rule)
+    kj = particle_stiffness(mats.stiffness[mj], Rj, given, rule)
+    kn = pair_stiffness(ki, kj, given, rule)
+    kt = pair_stiffness(ki * mats.kt_ratio[mi], kj * mats.kt_ratio[mj], given, rule)
+    out[0] = kn
+    out[1] = kt
+    out[2] = min(mats.friction[mi], mats.friction[mj])
+    out[3] = viscous_coefficient(min(mats.restitution[mi], mats.restitution[mj]), m_eff, kn)
+
+
+# --------------------------------------------------------------------------- neighbours
+
+
+@njit(cache=True)
+def needs_rebuild(spheres, skin, n_candidates):
+    """True if any sphere moved more than skin/2 since the last Verlet-list build."""
+    if n_candidates < 0:
+        return True
+    limit = 0.25 * skin * skin
+    for s in range(spheres.pos.shape[0]):
+        dx = spheres.pos[s, 0] - spheres.pos_at_build[s, 0]
+        dy = spheres.pos[s, 1] - spheres.pos_at_build[s, 1]
+        dz = spheres.pos[s, 2] - spheres.pos_at_build[s, 2]
+        if dx * dx + dy * dy + dz * dz > limit:
+            return True
+    return False
+
+
+@njit(cache=True)
+def _candidate_pairs(spheres, walls, skin):
+    """All sphere-sphere (different bodies) and sphere-wall pairs closer than the skin.
+
+    Linked-cell search with cells of edge >= 2 R_max + skin.  Returns sorted int64 keys
+    ``i * (ns + nw) + jj`` with ``jj = j`` for spheres and ``ns + w`` for walls.
+    """
+    pos = spheres.pos
+    ns = pos.shape[0]
+    nw = walls.point.shape[0]
+    stride = ns + nw
+    rmax = 0.0
+    lo = np.empty(3)
+    hi = np.empty(3)
+    for d in range(3):
+        lo[d] = np.inf
+        hi[d] = -np.inf
+    for s in range(ns):
+        rmax = max(rmax, spheres.radius[s])
+        for d in range(3):
+            lo[d] = min(lo[d], pos[s, d])
+            hi[d] = max(hi[d], pos[s, d])
+    cell = 2.0 * rmax + skin
+    ncell = np.empty(3, np.int64)
+    total = 1
+    for d in range(3):
+        ncell[d] = max(1, min(int(min((hi[d] - lo[d]) / cell, 1e9)), 8 * ns + 64))
+        total *= ncell[d]
+    # keep memory proportional to the number of spheres in sparse scenes
+    while total > 8 * ns + 64:
+        for d in range(3):
+            ncell[d] = max(1, ncell[d] // 2)
+        total = ncell[0] * ncell[1] * ncell[2]
+    width = np.empty(3)
+    for d in range(3):
+        width[d] = max((hi[d] - lo[d]) / ncell[d], 1e-300)
+    head = -np.ones(total, np.int64)
+    nxt = -np.ones(ns, np.int64)
+    cidx = np.empty((ns, 3), np.int64)
+    for s in range(ns):
+        for d in range(3):
+            c = int((pos[s, d] - lo[d]) / width[d])
+            cidx[s, d] = min(max(c, 0), ncell[d] - 1)
+        flat = (cidx[s, 0] * ncell[1] + cidx[s, 1]) * ncell[2] + cidx[s, 2]
+        nxt[s] = head[flat]
+        head[flat] = s
+    keys = np.empty(16 * ns + 16, np.int64)
+    n = 0
+    for s in range(ns):
+        for ox in range(-1, 2):
+            cx = cidx[s, 0] + ox
+            if cx < 0 or cx >= ncell[0]:
+                continue
+            for oy in range(-1, 2):
+                cy = cidx[s, 1] + oy
+                if cy < 0 or cy >= ncell[1]:
+                    continue
+                for oz in range(-1, 2):
+                    cz = cidx[s, 2] + oz
+                    if cz < 0 or cz >= ncell[2]:
+                        continue
+                    t = head[(cx * ncell[1] + cy) * ncell[2] + cz]
+                    while t >= 0:
+                        if t > s and spheres.body[t] != spheres.body[s]:
+                            dx = pos[t, 0] - pos[s, 0]
+                            dy = pos[t, 1] - pos[s, 1]
+                            dz = pos[t, 2] - pos[s, 2]
+                            reach = spheres.radius[s] + spheres.radius[t] + skin
+                            if dx * dx + dy * dy + dz * dz < reach * reach:
+                                if n == keys.shape[0]:
+                                    keys = _grow(keys)
+                                keys[n] = s * stride + t
+                                n += 1
+                        t = nxt[t]
+        for w in range(nw):
+            dist = 0.0
+            for d in range(3):
+                dist += (pos[s, d] - walls.point[w, d]) * walls.normal[w, d]
+            if dist < spheres.radius[s] + skin:
+                if n == keys.shape[0]:
+                    keys = _grow(keys)
+                keys[n] = s * stride + ns + w
+                n += 1
+    return np.sort(keys[:n])
+
+
+@njit(cache=True)
+def _grow(a):
+    b = np.empty(2 * a.shape[0], a.dtype)
+    b[: a.shape[0]] = a
+    return b
+
+
+@njit(cache=True)
+def build_verlet_list(spheres, walls, bodies, mats, contacts, skin):
+    """Rebuild the Verlet list, carrying the history of every existing pair over.
+
+    Returns the number of pairs, or ``-needed`` if the contact arrays are too short (the
+    caller grows them and calls again; nothing has been changed then).
+    """
+    ns = spheres.pos.shape[0]
+    nw = walls.point.shape[0]
+    stride = ns + nw
+    keys = _candidate_pairs(spheres, walls, skin)
+    n_new = keys.shape[0]
+    if n_new > contacts.i.shape[0]:
+        return -n_new
+    n_old = contacts.n[0]
+    old_key = np.empty(max(n_old, 0), np.int64)
+    old_active = np.empty(max(n_old, 0), np.uint8)
+    old_shear = np.empty((max(n_old, 0), 3))
+    for c in range(n_old):
+        j = contacts.j[c]
+        jj = j if j >= 0 else ns - j - 1
+        old_key[c] = contacts.i[c] * stride + jj
+        old_active[c] = contacts.active[c]
+        for d in range(3):
+            old_shear[c, d] = contacts.shear[c, d]
+    props = np.empty(4)
+    o = 0
+    for c in range(n_new):
+        k = keys[c]
+        i = k // stride
+        jj = k - i * stride
+        j = jj if jj < ns else -(jj - ns) - 1
+        contacts.i[c] = i
+        contacts.j[c] = j
+        while o < n_old and old_key[o] < k:
+            o += 1  # old pairs now out of range: their contacts have ended already
+        if o < n_old and old_key[o] == k:
+            contacts.active[c] = old_active[o]
+            for d in range(3):
+                contacts.shear[c, d] = old_shear[o, d]
+        else:
+            contacts.active[c] = 0
+            for d in range(3):
+                contacts.shear[c, d] = 0.0
+        pair_properties(i, j, spheres, walls, bodies, mats, props)
+        contacts.kn[c] = props[0]
+        contacts.kt[c] = props[1]
+        contacts.mu[c] = props[2]
+        contacts.cn[c] = props[3]
+    contacts.n[0] = n_new
+    for s in range(ns):
+        for d in range(3):
+            spheres.pos_at_build[s, d] = spheres.pos[s, d]
+    return n_new
+
+
+# --------------------------------------------------------------------------- contact law
+
+
+@njit(cache=True, inline="always")
+def rotate_shear(shear, n, spin):
+    """Carry the shear displacement into the new tangent plane (norm kept), then turn it
+    about ``n`` by the angle ``spin`` [rad] (mean rotation of the two bodies about n)."""
+    old = math.sqrt(shear[0] ** 2 + shear[1] ** 2 + shear[2] ** 2)
+    if old == 0.0:
+        return
+    un = shear[0] * n[0] + shear[1] * n[1] + shear[2] * n[2]
+    for d in range(3):
+        shear[d] -= un * n[d]
+    new = math.sqrt(shear[0] ** 2 + shear[1] ** 2 + shear[2] ** 2)
+    if new > 0.0:
+        for d in range(3):
+            shear[d] *= old / new
+    if spin != 0.0:
+        # Rodrigues for a vector perpendicular to n: u cos + (n x u) sin, with the Cayley
+        # (rational) cos/sin of the small angle: an exact rotation (norm kept) by
+        # 2 atan(spin/2) = spin (1 - spin^2/12 + ...), without trigonometric calls
+        h = 0.25 * spin * spin
+        c = (1.0 - h) / (1.0 + h)
+        s = spin / (1.0 + h)
+        x = n[1] * shear[2] - n[2] * shear[1]
+        y = n[2] * shear[0] - n[0] * shear[2]
+        z = n[0] * shear[1] - n[1] * shear[0]
+        shear[0] = shear[0] * c + x * s
+        shear[1] = shear[1] * c + y * s
+        shear[2] = shear[2] * c + z * s
+
+
+@njit(cache=True, inline="always")
+def kick_averaged_overlap(overlap, vn, dt, new_contact):
+    """Contact onset/end inside a kick interval: the overlap averaged over the interval.
+
+    Leapfrog applies the force at t_n for the whole interval [t_n - dt/2, t_n + dt/2].
+    When the contact starts or ends inside it (``overlap < |vn| dt``), the force law has a
+    kink (elastic) or a jump (dashpot) there and the midpoint rule errs by O(dt^2) resp.
+    O(dt) per collision.  With the overlap linear in time, ``delta(t) = delta_n -+
+    |vn| (t - t_n)``, the part of the interval spent in contact is ``w = 1/2 + delta_n /
+    (|vn| dt)``, including the part of the neighbouring interval whose step sees no
+    overlap, and the average elastic overlap is ``|vn| dt w^2 / 2``.  Returns ``(w,
+    averaged overlap)``; ``(1, delta_n)`` for contacts well inside their duration.
+    A contact still approaching but not new is left alone (its earlier part was applied).
+    """
+    ramp = abs(vn) * dt
+    if overlap >= ramp or (vn < 0.0 and not new_contact):
+        return 1.0, overlap
+    w = 0.5 + overlap / ramp
+    return w, 0.5 * ramp * w * w
+
+
+@njit(cache=True, inline="always")
+def cundall_strack(shear, previous, kt, mu, fn_elastic, out_force):
+    """Tangential force ``-kt u_s`` with Coulomb limit ``mu fn_elastic``.
+
+    ``shear`` is the trial displacement ``t = a + du`` (``a`` = ``previous``, the last
+    step's displacement carried into the new tangent plane); on sliding it is shortened
+    in place to ``b = s t`` with ``s = limit / |t|``.  Writes the force on partner j into
+    ``out_force``; returns the energy dissipated in this step [J]:
+
+        D = mean force . du - change of stored energy
+          = kt/2 [(a + b) . (t - a) - |b|^2 + |a|^2] = kt/2 (1 - s) (a . t + s |t|^2).
+
+    D is exactly 0 while sticking and equals YADE's plastic work ``(|t| - |b|) kt |b|``
+    in steady sliding; unlike the latter (force at the end of the step times the slip)
+    it uses the trapezoidal mean force, so the energy balance closes to O(dt^2) when the
+    normal force varies during sliding.
+    """
+    tt = shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2]
+    trial = kt * math.sqrt(tt)
+    limit = mu * fn_elastic
+    dissipated = 0.0
+    if trial > limit:
+        s = limit / trial
+        at = previous[0] * shear[0] + previous[1] * shear[1] + previous[2] * shear[2]
+        dissipated = 0.5 * kt * (1.0 - s) * (at + s * tt)
+        for d in range(3):
+            shear[d] *= s
+    for d in range(3):
+        out_force[d] = -kt * shear[d]
+    return dissipated
+
+
+@njit(cache=True, inline="always")
+def _point_velocity(bodies, b, point, out):
+    """Velocity of the material point ``point`` of body b: v + omega x (point - x)."""
+    rx = point[0] - bodies.pos[b, 0]
+    ry = point[1] - bodies.pos[b, 1]
+    rz = point[2] - bodies.pos[b, 2]
+    w = bodies.omega
+    out[0] = bodies.vel[b, 0] + w[b, 1] * rz - w[b, 2] * ry
+    out[1] = bodies.vel[b, 1] + w[b, 2] * rx - w[b, 0] * rz
+    out[2] = bodies.vel[b, 2] + w[b, 0] * ry - w[b, 1] * rx
+
+
+@njit(cache=True, inline="always")
+def _apply(bodies, b, point, f, sign):
+    bodies.force[b, 0] += sign * f[0]
+    bodies.force[b, 1] += sign * f[1]
+    bodies.force[b, 2] += sign * f[2]
+    rx = point[0] - bodies.pos[b, 0]
+    ry = point[1] - bodies.pos[b, 1]
+    rz = point[2] - bodies.pos[b, 2]
+    bodies.torque[b, 0] += sign * (ry * f[2] - rz * f[1])
+    bodies.torque[b, 1] += sign * (rz * f[0] - rx * f[2])
+    bodies.torque[b, 2] += sign * (rx * f[1] - ry * f[0])
+
+
+@njit(cache=True, inline="always")
+def _separate(contacts, c):
+    """End contact c; returns its tangential elastic energy, which the Coulomb limit
+    (-> 0 with the normal force) releases by slip at separation: friction dissipation."""
+    u = contacts.shear[c]
+    released = 0.5 * contacts.kt[c] * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+    contacts.active[c] = 0
+    contacts.shear[c, :] = 0.0
+    return released
+
+
+@njit(cache=True)
+def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_step):
+    """Contact forces and torques on all bodies for the current positions.
+
+    ``ledger[0]`` += friction slip work (the viscous work is booked after the kick, from
+    :func:`viscous_power` with the full-step velocities).  Every contact that
+    starts or ends is appended to ``changes`` as ``(c, kind)`` rows; returns their count.
+    ``first_step``: the initial configuration, no shear increment (no previous step).
+    """
+    bodies.force[:, :] = 0.0
+    bodies.torque[:, :] = 0.0
+    n = np.empty(3)
+    point = np.empty(3)
+    vi = np.empty(3)
+    vj = np.zeros(3)
+    fs = np.empty(3)
+    f = np.empty(3)
+    previous = np.empty(3)
+    n_changes = 0
+    for c in range(contacts.n[0]):
+        i = contacts.i[c]
+        j = contacts.j[c]
+        bi = spheres.body[i]
+        Ri = spheres.radius[i]
+        if j >= 0:
+            bj = spheres.body[j]
+            dx = spheres.pos[j, 0] - spheres.pos[i, 0]
+            dy = spheres.pos[j, 1] - spheres.pos[i, 1]
+            dz = spheres.pos[j, 2] - spheres.pos[i, 2]
+            rsum = Ri + spheres.radius[j]
+            d2 = dx * dx + dy * dy + dz * dz
+            if d2 >= rsum * rsum:
+                if contacts.active[c]:
+                    ledger[0] += _separate(contacts, c)
+                    changes[n_changes, 0] = c
+                    changes[n_changes, 1] = END
+                    n_changes += 1
+                continue
+            dist = math.sqrt(d2)
+            n[0] = dx / dist
+            n[1] = dy / dist
+            n[2] = dz / dist
+            overlap = rsum - dist
+        else:
+            bj = -1
+            w = -j - 1
+            dist = 0.0
+            for d in range(3):
+                dist += (spheres.pos[i, d] - walls.point[w, d]) * walls.normal[w, d]
+            if dist >= Ri:
+                if contacts.active[c]:
+                    ledger[0] += _separate(contacts, c)
+                    changes[n_changes, 0] = c
+                    changes[n_changes, 1] = END
+                    n_changes += 1
+                continue
+            for d in range(3):
+                n[d] = -walls.normal[w, d]
+            overlap = Ri - dist
+        new_contact = not contacts.active[c]
+        if new_contact:
+            contacts.active[c] = 1
+            contacts.shear[c, :] = 0.0
+            changes[n_changes, 0] = c
+            changes[n_changes, 1] = ONSET
+            n_changes += 1
+        # contact point midway through the overlap (as YADE's ScGeom)
+        for d in range(3):
+            point[d] = spheres.pos[i, d] + (Ri - 0.5 * overlap) * n[d]
+        _point_velocity(bodies, bi, point, vi)
+        spin = 0.0
+        if bj >= 0:
+            _point_velocity(bodies, bj, point, vj)
+            for d in range(3):
+                spin += 0.5 * n[d] * (bodies.omega[bi, d] + bodies.omega[bj, d])
+        else:
+            for d in range(3):
+                vj[d] = 0.0  # walls are fixed
+                spin += 0.5 * n[d] * bodies.omega[bi, d]
+        vn = 0.0
+        for d in range(3):
+            vn += (vj[d] - vi[d]) * n[d]
+        # tangential: rotate history, add the tangential relative displacement of this step
+        shear = contacts.shear[c]
+        rotate_shear(shear, n, spin * dt)
+        # (none at the first step: the initial positions have no previous step)
+        increment = 0.0 if first_step else dt
+        for d in range(3):
+            previous[d] = shear[d]
+            shear[d] += (vj[d] - vi[d] - vn * n[d]) * increment
+        weight, overlap_kick = kick_averaged_overlap(overlap, vn, dt, new_contact)
+        fn_elastic = contacts.kn[c] * overlap_kick
+        ledger[0] += cundall_strack(shear, previous, contacts.kt[c], contacts.mu[c], fn_elastic, fs)
+        # dashpot: the normal velocity at t_n, extrapolated from the last two half steps
+        cn = contacts.cn[c]
+        vn_dashpot = vn if new_contact else 1.5 * vn - 0.5 * contacts.vn[c]
+        contacts.vn[c] = vn
+        fn = fn_elastic - cn * vn_dashpot * weight
+        contacts.overlap[c] = overlap
+        contacts.fn[c] = fn
+        for d in range(3):
+            f[d] = fn * n[d] + fs[d]
+        if bj >= 0:
+            _apply(bodies, bj, point, f, 1.0)
+        _apply(bodies, bi, point, f, -1.0)
+    return n_changes
+
+
+@njit(cache=True)
+def viscous_power(bodies, spheres, walls, contacts):
+    """Power [W] of the dashpot forces at t_n: ``F_dashpot . vn_n`` (<= 0 mostly).
+
+    The dashpot force ``fn - k_n delta`` times the full-step normal velocity ``vn_n``,
+    the velocity in which the kinetic-energy change of velocity Verlet is exact; the
+    caller integrates it with the trapezoidal rule.
+    """
+    n = np.empty(3)
+    point = np.empty(3)
+    vi = np.empty(3)
+    power = 0.0
+    for c in range(contacts.n[0]):
+        cn = contacts.cn[c]
+        if cn == 0.0 or not contacts.active[c]:
+            continue
+        i = contacts.i[c]
+        j = contacts.j[c]
+        bi = spheres.body[i]
+        if j >= 0:
+            dist = 0.0
+            for d in range(3):
+                n[d] = spheres.pos[j, d] - spheres.pos[i, d]
+                dist += n[d] * n[d]
+            dist = math.sqrt(dist)
+            for d in range(3):
+                n[d] /= dist
+        else:
+            for d in range(3):
+                n[d] = -walls.normal[-j - 1, d]
+        for d in range(3):
+            point[d] = spheres.pos[i, d] + (spheres.radius[i] - 0.5 * contacts.overlap[c]) * n[d]
+        _point_velocity_full(bodies, bi, point, vi)
+        vn_full = -(vi[0] * n[0] + vi[1] * n[1] + vi[2] * n[2])
+        if j >= 0:
+            _point_velocity_full(bodies, spheres.body[j], point, vi)
+            vn_full += vi[0] * n[0] + vi[1] * n[1] + vi[2] * n[2]
+        power += (contacts.fn[c] - contacts.kn[c] * contacts.overlap[c]) * vn_full
+    return power
+
+
+@njit(cache=True, inline="always")
+def _point_velocity_full(bodies, b, point, out):
+    """Full-step velocity of the material point ``point`` of body b."""
+    rx = point[0] - bodies.pos[b, 0]
+    ry = point[1] - bodies.pos[b, 1]
+    rz = point[2] - bodies.pos[b, 2]
+    w = bodies.omega_full
+    out[0] = bodies.vel_full[b, 0] + w[b, 1] * rz - w[b, 2] * ry
+    out[1] = bodies.vel_full[b, 1] + w[b, 2] * rx - w[b, 0] * rz
+    out[2] = bodies.vel_full[b, 2] + w[b, 0] * ry - w[b, 1] * rx

@@ -1,0 +1,76 @@
+"""Energy bookkeeping.
+
+At a full step ``t_n`` (positions ``x_n``, velocities ``v_n = (v_{n-1/2} + v_{n+1/2}) / 2``):
+
+* kinetic translational ``sum m |v|^2 / 2``; rotational ``omega . L / 2``;
+* gravitational ``- sum m g . x`` (zero at the origin);
+* elastic normal ``sum k_n delta^2 / 2`` and tangential ``sum k_t |u_s|^2 / 2`` over active
+  contacts;
+* dissipated by Coulomb slip, by the viscous dashpots and by local damping, accumulated
+  every step in the ledger (see contact.py and integrate.py).
+
+``total`` is the sum of all of them and is constant up to the integration error.
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+__all__ = ["ENERGY_NAMES", "energies"]
+
+ENERGY_NAMES = (
+    "kinetic_translational",
+    "kinetic_rotational",
+    "gravitational",
+    "elastic_normal",
+    "elastic_tangential",
+    "dissipated_friction",
+    "dissipated_viscous",
+    "dissipated_damping",
+    "total",
+)
+LEDGER_FRICTION = 0
+LEDGER_VISCOUS = 1
+LEDGER_DAMPING = 2
+
+
+@njit(cache=True)
+def kinetic_energy(bodies, out):
+    """Translational and rotational kinetic energy [J] at the last full step into out[0:2]."""
+    et = 0.0
+    er = 0.0
+    for b in range(bodies.mass.shape[0]):
+        v = bodies.vel_full[b]
+        w = bodies.omega_full[b]
+        L = bodies.angmom_full[b]
+        et += 0.5 * bodies.mass[b] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+        er += 0.5 * (w[0] * L[0] + w[1] * L[1] + w[2] * L[2])
+    out[0] = et
+    out[1] = er
+
+
+@njit(cache=True)
+def energies(bodies, contacts, gravity, ledger, out):
+    """All entries of ``ENERGY_NAMES`` [J] into ``out`` (length 9)."""
+    kinetic_energy(bodies, out)
+    eg = 0.0
+    for b in range(bodies.mass.shape[0]):
+        x = bodies.pos[b]
+        eg -= bodies.mass[b] * (gravity[0] * x[0] + gravity[1] * x[1] + gravity[2] * x[2])
+    en = 0.0
+    es = 0.0
+    for c in range(contacts.n[0]):
+        if contacts.active[c]:
+            en += 0.5 * contacts.kn[c] * contacts.overlap[c] ** 2
+            u = contacts.shear[c]
+            es += 0.5 * contacts.kt[c] * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+    out[2] = eg
+    out[3] = en
+    out[4] = es
+    out[5] = ledger[LEDGER_FRICTION]
+    out[6] = ledger[LEDGER_VISCOUS]
+    out[7] = ledger[LEDGER_DAMPING]
+    total = 0.0
+    for k in range(8):
+        total += out[k]
+    out[8] = total

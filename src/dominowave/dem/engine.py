@@ -1,0 +1,299 @@
+"""The compiled time loop, its recorders and stop conditions.
+
+:func:`run_loop` advances the scene step by step entirely in numba-compiled code.  It
+returns to Python only when it is done, when a stop condition fires, when a recorder
+buffer or the Verlet list needs more room (Python grows it and calls again, the state
+being untouched by the interrupted step), or when the run must be aborted.
+
+One step (see integrate.py for the scheme):
+rebuild the Verlet list if a sphere moved more than skin/2 -> contact forces -> contact
+onset/end bookkeeping (held bodies, events, pair statistics) -> kick -> recorders at t_n
+-> drift -> stop conditions.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+
+from dominowave.dem.contact import (
+    ONSET,
+    build_verlet_list,
+    compute_forces,
+    needs_rebuild,
+    viscous_power,
+)
+from dominowave.dem.energy import energies, kinetic_energy
+from dominowave.dem.integrate import drift, kick, update_sphere_positions
+
+__all__ = ["Recorder", "Settings", "run_loop"]
+
+# return codes of run_loop
+DONE_STEPS = 0
+DONE_TIME = 1
+STOP_NO_ONSET = 2
+STOP_TOUCHED = 3
+STOP_KINETIC = 4
+GROW_CONTACTS = 10
+GROW_EVENTS = 11
+GROW_TRAJECTORY = 12
+GROW_ENERGY = 13
+ABORT_NAN = 20
+ABORT_RUNAWAY = 21
+
+Settings = namedtuple(
+    "Settings",
+    [
+        "gravity",  # (3,) [m/s^2]
+        "dt",  # [s]
+        "damping",  # local damping coefficient
+        "damp_gravity",  # bool
+        "skin",  # Verlet skin [m]
+        "record_pairs",  # bool: body-pair statistics and the event log
+        "record_peak_force",  # bool
+        "check_every",  # steps between stop/energy checks
+        "viscous",  # bool: some material has restitution < 1
+    ],
+)
+
+Recorder = namedtuple(
+    "Recorder",
+    [
+        "clock",  # (2,) time [s], energy scale for the runaway test [J]
+        "ledger",  # (3,) dissipated by friction, viscous dashpots, local damping [J]
+        "power",  # (2,) power of the dashpots and of local damping at the last step [W]
+        "step",  # (1,) int64 steps done since build
+        "n_rebuilds",  # (1,) int64 Verlet-list builds since build
+        "last_onset",  # (1,) time of the last body-body contact onset [s]
+        "touched",  # (nb,) uint8: body had a body-body onset in this run
+        "changes",  # (C, 2) int64 scratch: contacts that started/ended in this step
+        "pair_count",  # (nb, nb) int32 active sphere contacts per body pair (i < j)
+        "wall_count",  # (nb, nw) int32 active sphere contacts per body-wall pair
+        "first_contact",  # (nb, nb) [s], nan
+        "last_separation",  # (nb, nb) [s], nan
+        "n_contacts",  # (nb, nb) int64 distinct body-body contacts
+        "peak_force",  # (nb, nb) largest sphere-contact normal force [N]
+        "ev_n",  # (1,) int64 events logged
+        "ev_time",  # (E,)
+        "ev_i",  # (E,) int64
+        "ev_j",  # (E,) int64 body, or -(wall + 1)
+        "ev_kind",  # (E,) int8 ONSET / END
+        "traj_every",  # (1,) int64, 0 = off
+        "traj_n",  # (1,) int64
+        "traj_t",  # (F,)
+        "traj_pos",  # (F, nb, 3)
+        "traj_quat",  # (F, nb, 4)
+        "traj_vel",  # (F, nb, 3)
+        "traj_omega",  # (F, nb, 3)
+        "energy_every",  # (1,) int64, 0 = off
+        "energy_n",  # (1,) int64
+        "energy_t",  # (G,)
+        "energy_val",  # (G, 9)
+        "energy_now",  # (9,) energies at the last step
+        "energy_ref",  # (9,) energies at the start of the run
+    ],
+)
+
+
+@njit(cache=True)
+def _release(bodies, spheres, contacts, b, t):
+    """Free a held body, and (transitively) held bodies it already touches."""
+    bodies.held[b] = 0
+    bodies.fresh[b] = 1  # starts from rest at t: velocity-Verlet half kick
+    bodies.release_time[b] = t
+    changed = True
+    while changed:
+        changed = False
+        for c in range(contacts.n[0]):
+            j = contacts.j[c]
+            if not contacts.active[c] or j < 0:
+                continue
+            bi = spheres.body[contacts.i[c]]
+            bj = spheres.body[j]
+            if bodies.held[bi] != bodies.held[bj]:
+                held = bi if bodies.held[bi] else bj
+                bodies.held[held] = 0
+                bodies.fresh[held] = 1
+                bodies.release_time[held] = t
+                changed = True
+
+
+@njit(cache=True)
+def _log_event(rec, t, bi, bj, kind):
+    k = rec.ev_n[0]
+    rec.ev_time[k] = t
+    rec.ev_i[k] = bi
+    rec.ev_j[k] = bj
+    rec.ev_kind[k] = kind
+    rec.ev_n[0] = k + 1
+
+
+@njit(cache=True)
+def _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t):
+    """Held-body release, body-level onsets/ends, event log and pair statistics."""
+    for k in range(n_changes):
+        c = rec.changes[k, 0]
+        kind = rec.changes[k, 1]
+        bi = spheres.body[contacts.i[c]]
+        j = contacts.j[c]
+        if j >= 0:
+            bj = spheres.body[j]
+            if kind == ONSET:
+                if bodies.held[bi] and not bodies.held[bj]:
+                    _release(bodies, spheres, contacts, bi, t)
+                elif bodies.held[bj] and not bodies.held[bi]:
+                    _release(bodies, spheres, contacts, bj, t)
+            if not settings.record_pairs:
+                continue
+            a = min(bi, bj)
+            b = max(bi, bj)
+            if kind == ONSET:
+                rec.pair_count[a, b] += 1
+                if rec.pair_count[a, b] == 1:
+                    _log_event(rec, t, a, b, ONSET)
+                    rec.n_contacts[a, b] += 1
+                    if math.isnan(rec.first_contact[a, b]):
+                        rec.first_contact[a, b] = t
+                    rec.last_onset[0] = t
+                    rec.touched[a] = 1
+                    rec.touched[b] = 1
+            else:
+                rec.pair_count[a, b] -= 1
+                if rec.pair_count[a, b] == 0:
+                    _log_event(rec, t, a, b, kind)
+                    rec.last_separation[a, b] = t
+        elif settings.record_pairs:
+            w = -j - 1
+            if kind == ONSET:
+                rec.wall_count[bi, w] += 1
+                if rec.wall_count[bi, w] == 1:
+                    _log_event(rec, t, bi, j, ONSET)
+            else:
+                rec.wall_count[bi, w] -= 1
+                if rec.wall_count[bi, w] == 0:
+                    _log_event(rec, t, bi, j, kind)
+
+
+@njit(cache=True)
+def _record_peak_force(spheres, contacts, rec):
+    for c in range(contacts.n[0]):
+        j = contacts.j[c]
+        if contacts.active[c] and j >= 0:
+            bi = spheres.body[contacts.i[c]]
+            bj = spheres.body[j]
+            a = min(bi, bj)
+            b = max(bi, bj)
+            if contacts.fn[c] > rec.peak_force[a, b]:
+                rec.peak_force[a, b] = contacts.fn[c]
+
+
+@njit(cache=True)
+def _record_frame(bodies, rec, t):
+    f = rec.traj_n[0]
+    rec.traj_t[f] = t
+    for b in range(bodies.mass.shape[0]):
+        for k in range(3):
+            rec.traj_pos[f, b, k] = bodies.pos[b, k]
+            rec.traj_vel[f, b, k] = bodies.vel_full[b, k]
+            rec.traj_omega[f, b, k] = bodies.omega_full[b, k]
+        for k in range(4):
+            rec.traj_quat[f, b, k] = bodies.quat[b, k]
+    rec.traj_n[0] = f + 1
+
+
+@njit(cache=True)
+def _finite(bodies):
+    for b in range(bodies.mass.shape[0]):
+        for k in range(3):
+            if not math.isfinite(bodies.pos[b, k]) or not math.isfinite(bodies.vel[b, k]):
+                return False
+    return True
+
+
+@njit(cache=True)
+def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_end, stop):
+    """Advance up to ``n_steps`` steps or until ``time >= t_end`` or a stop condition.
+
+    ``stop`` = (no_onset_for [s] or inf, touched_body or -1, kinetic_below [J] or -1,
+    start time of the run [s]).  Returns ``(code, steps_done)``; see the module constants.
+    ``rec.energy_now`` holds the energies of the last step done (time ``clock[0] - dt``).
+    """
+    dt = settings.dt
+    kin = np.empty(2)
+    touched_body = int(stop[1])
+    for done in range(n_steps):
+        t = rec.clock[0]
+        if t >= t_end - 0.5 * dt:
+            return DONE_TIME, done
+        last = done == n_steps - 1 or t + dt >= t_end - 0.5 * dt
+        # room for this step's records, otherwise hand back to Python before changing state
+        if settings.record_pairs and rec.ev_time.shape[0] - rec.ev_n[0] < contacts.i.shape[0]:
+            return GROW_EVENTS, done
+        step = rec.step[0]
+        traj_due = rec.traj_every[0] > 0 and step % rec.traj_every[0] == 0
+        energy_due = rec.energy_every[0] > 0 and step % rec.energy_every[0] == 0
+        if traj_due and rec.traj_n[0] == rec.traj_t.shape[0]:
+            return GROW_TRAJECTORY, done
+        if energy_due and rec.energy_n[0] == rec.energy_t.shape[0]:
+            return GROW_ENERGY, done
+        if needs_rebuild(spheres, settings.skin, contacts.n[0]):
+            if not _finite(bodies):
+                return ABORT_NAN, done
+            if build_verlet_list(spheres, walls, bodies, mats, contacts, settings.skin) < 0:
+                return GROW_CONTACTS, done
+            rec.n_rebuilds[0] += 1
+        n_changes = compute_forces(
+            bodies, spheres, walls, contacts, dt, rec.ledger, rec.changes, step == 0
+        )
+        if n_changes > 0:
+            _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t)
+        if settings.record_peak_force:
+            _record_peak_force(spheres, contacts, rec)
+        p_damping = kick(bodies, settings.gravity, dt, settings.damping, settings.damp_gravity)
+        p_viscous = 0.0
+        if settings.viscous:
+            p_viscous = viscous_power(bodies, spheres, walls, contacts)
+        # trapezoidal rule for the work of the non-conservative forces since t_{n-1}
+        if step > 0:
+            rec.ledger[1] -= 0.5 * dt * (rec.power[0] + p_viscous)
+            rec.ledger[2] -= 0.5 * dt * (rec.power[1] + p_damping)
+        rec.power[0] = p_viscous
+        rec.power[1] = p_damping
+        if traj_due:
+            _record_frame(bodies, rec, t)
+        if energy_due:
+            g = rec.energy_n[0]
+            rec.energy_t[g] = t
+            energies(bodies, contacts, settings.gravity, rec.ledger, rec.energy_val[g])
+            rec.energy_n[0] = g + 1
+        # stop conditions and sanity checks, all at t_n, before the drift
+        code = -1
+        if touched_body >= 0 and rec.touched[touched_body]:
+            code = STOP_TOUCHED
+        elif t + dt - max(rec.last_onset[0], stop[3]) >= stop[0]:
+            code = STOP_NO_ONSET
+        if (step + 1) % settings.check_every == 0 or last or code >= 0:
+            energies(bodies, contacts, settings.gravity, rec.ledger, rec.energy_now)
+            if not _finite(bodies):
+                return ABORT_NAN, done
+            active = 0.0
+            for k in (0, 1, 3, 4, 5, 6, 7):
+                active += abs(rec.energy_now[k])
+            rec.clock[1] = max(rec.clock[1], active)
+            slack = 0.5 * rec.clock[1] + 1e-9 * abs(rec.energy_ref[2])
+            if abs(rec.energy_now[8] - rec.energy_ref[8]) > slack:
+                return ABORT_RUNAWAY, done
+            if code < 0 and stop[2] >= 0.0:
+                kinetic_energy(bodies, kin)
+                if kin[0] + kin[1] < stop[2]:
+                    code = STOP_KINETIC
+        drift(bodies, dt)
+        update_sphere_positions(bodies, spheres)
+        rec.clock[0] = t + dt
+        rec.step[0] = step + 1
+        if code >= 0:
+            return code, done + 1
+    return DONE_STEPS, n_steps

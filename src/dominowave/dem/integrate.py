@@ -1,0 +1,274 @@
+"""Time integration of rigid bodies: leapfrog / velocity Verlet with local damping.
+
+Step ``n -> n+1`` (forces ``F_n`` already computed at positions ``x_n``):
+
+1. kick   ``v_{n+1/2} = v_{n-1/2} + dt a_n``  (``L`` likewise for rotations), with YADE's
+   local (Cundall non-viscous) damping applied to ``a_n`` component-wise;
+2. drift  ``x_{n+1} = x_n + dt v_{n+1/2}`` and the orientation update.
+
+This is YADE's NewtonIntegrator leapfrog (velocities at half steps).  The full-step
+velocity ``v_n = (v_{n-1/2} + v_{n+1/2}) / 2`` is stored for recorders and energies.
+
+Rotations (``rot_mode`` of a body):
+
+* 0 isotropic (spheres): ``omega += dt T / I``; the quaternion is turned by the exact
+  rotation ``exp(omega dt)``; any blocked rotation component is simply never changed.
+* 1 free aspherical body: angular momentum ``L`` (world) is kicked by the torque; the
+  free rotation for ``dt`` is the symmetric splitting of Dullweber, Leimkuhler & McLachlan
+  (J. Chem. Phys. 107, 5840 (1997)) into exact rotations about the principal axes
+  1(dt/2) 2(dt/2) 3(dt) 2(dt/2) 1(dt/2) — the quaternion form of NO_SQUISH (Miller et al.,
+  J. Chem. Phys. 116, 8649 (2002)).  It is symplectic and time-reversible, conserves |L|
+  exactly and the energy of a free asymmetric top without drift, which YADE's
+  Fincham-type predictor (NewtonIntegrator::leapfrogAsphericalRotate) does not guarantee.
+* 2 rotation about one fixed world axis ``e`` (two rotations blocked, e.g. the planar xz
+  model): ``omega = w e``, ``dw/dt = T.e / I_e`` with ``I_e`` the constant moment of inertia
+  about ``e`` through the COM; exact for a hinge-free planar rigid body.
+* 3 no rotation.
+
+Local damping (YADE NewtonIntegrator, ``cundallDamp2nd``; Cundall 1987; see the YADE
+documentation "Numerical damping"): each acceleration component becomes
+``a_i (1 - lambda sign(a_i (v_i + dt a_i / 2)))`` with the half-step velocity ``v_i``.
+With ``damp_gravity`` (default, YADE 2023.02a) gravity is part of ``a``; otherwise only the
+contact acceleration is damped and gravity added afterwards.  Aspherical free bodies use
+``T_i (1 - lambda sign(T_i omega_i))`` (YADE's ``cundallDamp1st`` for aspherical bodies).
+The power of the damping forces ``(F_damped - F) . v_n`` is returned and integrated
+by the trapezoidal rule, which matches the velocity-Verlet kinetic energy exactly for
+constant forces (so the energy ledger closes to O(dt^2), without an O(dt) offset).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+__all__ = ["drift", "kick", "quat_to_matrix", "update_sphere_positions"]
+
+ROT_ISOTROPIC = 0
+ROT_FREE = 1
+ROT_AXIS = 2
+ROT_NONE = 3
+
+
+@njit(cache=True, inline="always")
+def _sign(x):
+    if x > 0.0:
+        return 1.0
+    if x < 0.0:
+        return -1.0
+    return 0.0
+
+
+@njit(cache=True, inline="always")
+def damped(a, v, dt, damping):
+    """YADE's local damping of one acceleration component: a (1 - lambda sign(a (v + dt a/2)))."""
+    return a * (1.0 - damping * _sign(a * (v + 0.5 * dt * a)))
+
+
+@njit(cache=True, inline="always")
+def quat_to_matrix(q, R):
+    """Rotation matrix of the unit quaternion ``q = (w, x, y, z)`` written into ``R``."""
+    w, x, y, z = q[0], q[1], q[2], q[3]
+    R[0, 0] = 1.0 - 2.0 * (y * y + z * z)
+    R[0, 1] = 2.0 * (x * y - w * z)
+    R[0, 2] = 2.0 * (x * z + w * y)
+    R[1, 0] = 2.0 * (x * y + w * z)
+    R[1, 1] = 1.0 - 2.0 * (x * x + z * z)
+    R[1, 2] = 2.0 * (y * z - w * x)
+    R[2, 0] = 2.0 * (x * z - w * y)
+    R[2, 1] = 2.0 * (y * z + w * x)
+    R[2, 2] = 1.0 - 2.0 * (x * x + y * y)
+
+
+@njit(cache=True, inline="always")
+def _turn_world(q, wx, wy, wz, dt):
+    """q <- exp(omega dt) * q: rotate the body by the world-frame angle vector omega dt."""
+    wn = math.sqrt(wx * wx + wy * wy + wz * wz)
+    if wn == 0.0:
+        return
+    half = 0.5 * wn * dt
+    s = math.sin(half) / wn
+    a0, a1, a2, a3 = math.cos(half), wx * s, wy * s, wz * s
+    q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
+    q[0] = a0 * q0 - a1 * q1 - a2 * q2 - a3 * q3
+    q[1] = a0 * q1 + a1 * q0 + a2 * q3 - a3 * q2
+    q[2] = a0 * q2 - a1 * q3 + a2 * q0 + a3 * q1
+    q[3] = a0 * q3 + a1 * q2 - a2 * q1 + a3 * q0
+
+
+@njit(cache=True, inline="always")
+def _turn_body_axis(q, Lb, k, phi):
+    """Free rotation about principal axis k by angle phi: q <- q * (cos phi/2, sin phi/2 e_k);
+    the body components of the (fixed) world angular momentum turn by -phi."""
+    c = math.cos(0.5 * phi)
+    s = math.sin(0.5 * phi)
+    q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
+    if k == 0:
+        q[0] = q0 * c - q1 * s
+        q[1] = q1 * c + q0 * s
+        q[2] = q2 * c + q3 * s
+        q[3] = q3 * c - q2 * s
+    elif k == 1:
+        q[0] = q0 * c - q2 * s
+        q[1] = q1 * c - q3 * s
+        q[2] = q2 * c + q0 * s
+        q[3] = q3 * c + q1 * s
+    else:
+        q[0] = q0 * c - q3 * s
+        q[1] = q1 * c + q2 * s
+        q[2] = q2 * c - q1 * s
+        q[3] = q3 * c + q0 * s
+    a = (k + 1) % 3
+    b = (k + 2) % 3
+    cp = math.cos(phi)
+    sp = math.sin(phi)
+    la = Lb[a]
+    lb = Lb[b]
+    Lb[a] = cp * la + sp * lb
+    Lb[b] = -sp * la + cp * lb
+
+
+@njit(cache=True, inline="always")
+def _omega_from_angmom(R, inertia, L, out):
+    """omega = R I^-1 R^T L (world frame)."""
+    for k in range(3):
+        lb = (R[0, k] * L[0] + R[1, k] * L[1] + R[2, k] * L[2]) / inertia[k]
+        if k == 0:
+            out[0] = R[0, 0] * lb
+            out[1] = R[1, 0] * lb
+            out[2] = R[2, 0] * lb
+        else:
+            out[0] += R[0, k] * lb
+            out[1] += R[1, k] * lb
+            out[2] += R[2, k] * lb
+
+
+@njit(cache=True)
+def kick(bodies, gravity, dt, damping, damp_gravity):
+    """Half-step velocities v_{n-1/2} -> v_{n+1/2} from the current forces (module doc).
+
+    A body flagged ``fresh`` (new, released, or given a velocity) holds the full-step
+    velocity v_n instead, and gets the half kick ``v_{n+1/2} = v_n + dt/2 a_n`` of the
+    velocity-Verlet start.  Returns the power of the local damping forces at t_n [W]
+    (negative), booked by the caller with the trapezoidal rule.
+    """
+    power = 0.0
+    damping_torque = np.empty(3)
+    for b in range(bodies.mass.shape[0]):
+        if bodies.held[b]:
+            continue
+        h = 0.5 * dt if bodies.fresh[b] else dt
+        bodies.fresh[b] = 0
+        m = bodies.mass[b]
+        for k in range(3):
+            v = bodies.vel[b, k]
+            if bodies.blocked[b, k]:
+                bodies.vel_full[b, k] = v
+                continue
+            a_contact = bodies.force[b, k] / m
+            a_free = a_contact + gravity[k]
+            if damping == 0.0:
+                a = a_free
+            elif damp_gravity:
+                a = damped(a_free, v, dt, damping)
+            else:
+                a = damped(a_contact, v, dt, damping) + gravity[k]
+            v_new = v + h * a
+            bodies.vel[b, k] = v_new
+            bodies.vel_full[b, k] = v_new - 0.5 * dt * a
+            power += m * (a - a_free) * bodies.vel_full[b, k]
+        mode = bodies.rot_mode[b]
+        if mode == ROT_ISOTROPIC:
+            inertia = bodies.inertia[b, 0]
+            for k in range(3):
+                w = bodies.omega[b, k]
+                if bodies.blocked[b, 3 + k]:
+                    bodies.omega_full[b, k] = w
+                    bodies.angmom_full[b, k] = inertia * w
+                    continue
+                alpha = bodies.torque[b, k] / inertia
+                alpha_d = damped(alpha, w, dt, damping) if damping != 0.0 else alpha
+                w_new = w + h * alpha_d
+                w_full = w_new - 0.5 * dt * alpha_d
+                bodies.omega[b, k] = w_new
+                bodies.angmom[b, k] = inertia * w_new
+                bodies.omega_full[b, k] = w_full
+                bodies.angmom_full[b, k] = inertia * w_full
+                power += inertia * (alpha_d - alpha) * w_full
+        elif mode == ROT_AXIS:
+            inertia = bodies.axis_inertia[b]
+            e = bodies.axis[b]
+            w = bodies.omega[b, 0] * e[0] + bodies.omega[b, 1] * e[1] + bodies.omega[b, 2] * e[2]
+            torque = bodies.torque[b, 0] * e[0] + bodies.torque[b, 1] * e[1]
+            alpha = (torque + bodies.torque[b, 2] * e[2]) / inertia
+            alpha_d = damped(alpha, w, dt, damping) if damping != 0.0 else alpha
+            w_new = w + h * alpha_d
+            w_full = w_new - 0.5 * dt * alpha_d
+            for k in range(3):
+                bodies.omega[b, k] = w_new * e[k]
+                bodies.angmom[b, k] = inertia * w_new * e[k]
+                bodies.omega_full[b, k] = w_full * e[k]
+                bodies.angmom_full[b, k] = inertia * w_full * e[k]
+            power += inertia * (alpha_d - alpha) * w_full
+        elif mode == ROT_FREE:
+            for k in range(3):
+                t = bodies.torque[b, k]
+                w = bodies.omega[b, k]
+                t_d = t * (1.0 - damping * _sign(t * w)) if damping != 0.0 else t
+                L_new = bodies.angmom[b, k] + h * t_d
+                bodies.angmom[b, k] = L_new
+                bodies.angmom_full[b, k] = L_new - 0.5 * dt * t_d
+                damping_torque[k] = t_d - t
+            # full-step omega at the current orientation, for recorders and energies
+            _omega_from_angmom(
+                bodies.rot[b], bodies.inertia[b], bodies.angmom_full[b], bodies.omega_full[b]
+            )
+            for k in range(3):
+                power += damping_torque[k] * bodies.omega_full[b, k]
+    return power
+
+
+@njit(cache=True)
+def drift(bodies, dt):
+    """Positions and orientations n -> n+1 from the half-step velocities."""
+    Lb = np.empty(3)
+    for b in range(bodies.mass.shape[0]):
+        if bodies.held[b]:
+            continue
+        for k in range(3):
+            bodies.pos[b, k] += dt * bodies.vel[b, k]
+        mode = bodies.rot_mode[b]
+        q = bodies.quat[b]
+        if mode == ROT_NONE:
+            continue
+        if mode == ROT_FREE:
+            R = bodies.rot[b]
+            L = bodies.angmom[b]
+            inertia = bodies.inertia[b]
+            for k in range(3):
+                Lb[k] = R[0, k] * L[0] + R[1, k] * L[1] + R[2, k] * L[2]
+            _turn_body_axis(q, Lb, 0, 0.5 * dt * Lb[0] / inertia[0])
+            _turn_body_axis(q, Lb, 1, 0.5 * dt * Lb[1] / inertia[1])
+            _turn_body_axis(q, Lb, 2, dt * Lb[2] / inertia[2])
+            _turn_body_axis(q, Lb, 1, 0.5 * dt * Lb[1] / inertia[1])
+            _turn_body_axis(q, Lb, 0, 0.5 * dt * Lb[0] / inertia[0])
+        else:
+            _turn_world(q, bodies.omega[b, 0], bodies.omega[b, 1], bodies.omega[b, 2], dt)
+        norm = math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+        for k in range(4):
+            q[k] /= norm
+        quat_to_matrix(q, bodies.rot[b])
+        if mode == ROT_FREE:
+            _omega_from_angmom(bodies.rot[b], bodies.inertia[b], bodies.angmom[b], bodies.omega[b])
+
+
+@njit(cache=True)
+def update_sphere_positions(bodies, spheres):
+    """World centres of all spheres from their owners' COM and orientation."""
+    for s in range(spheres.body.shape[0]):
+        b = spheres.body[s]
+        R = bodies.rot[b]
+        u = spheres.local[s]
+        for k in range(3):
+            spheres.pos[s, k] = bodies.pos[b, k] + R[k, 0] * u[0] + R[k, 1] * u[1] + R[k, 2] * u[2]

@@ -1,0 +1,373 @@
+"""Building a scene: materials, spheres, clumps, walls -> a :class:`Simulation`."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from dominowave.checks import check_finite, check_in_range, check_positive
+from dominowave.dem.contact import RULE_PAPER, RULE_YADE
+from dominowave.dem.integrate import ROT_AXIS, ROT_FREE, ROT_ISOTROPIC, ROT_NONE
+from dominowave.dem.state import (
+    Bodies,
+    Material,
+    MaterialTable,
+    Spheres,
+    Walls,
+    clump_mass_properties,
+    quat_from_matrix,
+)
+
+__all__ = ["Scene", "parse_blocked"]
+
+DOF_NAMES = ("x", "y", "z", "rx", "ry", "rz")
+RULES = {"paper": RULE_PAPER, "yade": RULE_YADE}
+
+
+def parse_blocked(blocked) -> np.ndarray:
+    """Blocked DOFs given as "y rx rz" (or a sequence of names) -> (6,) uint8 mask."""
+    if isinstance(blocked, str):
+        names = blocked.replace(",", " ").split()
+    else:
+        names = list(blocked)
+    mask = np.zeros(6, np.uint8)
+    for name in names:
+        if name not in DOF_NAMES:
+            raise ValueError(f"blocked = {name!r} is not a degree of freedom; use {DOF_NAMES}")
+        mask[DOF_NAMES.index(name)] = 1
+    return mask
+
+
+def _vector(name, value):
+    v = np.asarray(value, dtype=float).reshape(-1)
+    if v.shape != (3,):
+        raise ValueError(f"{name} = {value!r} must have 3 components")
+    check_finite(name, v)
+    return v
+
+
+class Scene:
+    """Collects materials, bodies and walls; :meth:`build` returns a :class:`Simulation`.
+
+    Parameters
+    ----------
+    gravity : (3,) [m/s^2]
+    stiffness_rule : "paper" (k = pi R E per sphere, in series) or "yade"
+        (k_n = 2 E1 R1 E2 R2 / (E1 R1 + E2 R2)); ignored for materials that give kn.
+    """
+
+    def __init__(self, gravity=(0.0, 0.0, -9.81), stiffness_rule: str = "paper"):
+        if stiffness_rule not in RULES:
+            raise ValueError(f"stiffness_rule = {stiffness_rule!r} is not one of {tuple(RULES)}")
+        self.gravity = _vector("gravity", gravity)
+        self.stiffness_rule = stiffness_rule
+        self.materials: list[Material] = []
+        self._spheres: list[tuple] = []  # (body, centre, radius, material)
+        self._bodies: list[dict] = []
+        self._walls: list[tuple] = []  # (point, normal, material)
+
+    # ------------------------------------------------------------------ contents
+    def add_material(self, material: Material) -> int:
+        """Register a material; returns its id."""
+        if not isinstance(material, Material):
+            raise ValueError(f"material = {material!r} is not a Material")
+        self.materials.append(material)
+        return len(self.materials) - 1
+
+    def _material_id(self, name, value):
+        k = int(value)
+        if not 0 <= k < len(self.materials):
+            raise ValueError(
+                f"{name} = {value} is not a material id; valid range [0, {len(self.materials) - 1}]"
+            )
+        return k
+
+    def add_wall(self, point, normal, material: int) -> int:
+        """Infinite plane through ``point`` [m] with outward ``normal`` (bodies on its + side).
+
+        The wall is one-sided: a sphere whose centre is at signed distance ``d < R`` from
+        the plane overlaps it by ``R - d``.  Returns the wall id.
+        """
+        p = _vector("point", point)
+        n = _vector("normal", normal)
+        norm = np.linalg.norm(n)
+        check_positive("|normal|", norm)
+        self._walls.append((p, n / norm, self._material_id("material", material)))
+        return len(self._walls) - 1
+
+    def add_sphere(self, centre, radius, material: int, **options) -> int:
+        """A free sphere; ``options`` as :meth:`add_clump`.  Returns the body id."""
+        return self.add_clump([centre], [radius], material, **options)
+
+    def add_clump(
+        self,
+        centres,
+        radii,
+        materials,
+        *,
+        blocked="",
+        velocity=(0.0, 0.0, 0.0),
+        angular_velocity=(0.0, 0.0, 0.0),
+        held: bool = False,
+    ) -> int:
+        """A rigid clump of spheres; returns the body id.
+
+        Parameters
+        ----------
+        centres : (n, 3) sphere centres in world coordinates [m]
+        radii : (n,) or scalar [m]
+        materials : (n,) material ids, or one id for every sphere
+        blocked : DOFs to block, e.g. "y rx rz" (world axes x y z rx ry rz)
+        velocity, angular_velocity : initial values (world frame) [m/s], [rad/s]
+        held : keep the body fixed until a non-held body touches it
+        """
+        centres = np.asarray(centres, dtype=float).reshape(-1, 3)
+        n = centres.shape[0]
+        if n == 0:
+            raise ValueError("centres = [] must contain at least one sphere")
+        check_finite("centres", centres)
+        radii = np.broadcast_to(np.asarray(radii, dtype=float), (n,)).copy()
+        body = len(self._bodies)
+        for k, r in enumerate(radii):
+            check_positive(f"radius of sphere {k} of body {body}", r)
+        mats = np.broadcast_to(np.asarray(materials), (n,))
+        mats = np.array([self._material_id("materials", m) for m in mats])
+        self._bodies.append(
+            {
+                "blocked": parse_blocked(blocked),
+                "velocity": _vector("velocity", velocity),
+                "angular_velocity": _vector("angular_velocity", angular_velocity),
+                "held": bool(held),
+            }
+        )
+        for c, r, m in zip(centres, radii, mats, strict=True):
+            self._spheres.append((body, c, r, m))
+        return body
+
+    # ------------------------------------------------------------------ build
+    def _material_table(self):
+        given = [m.kn is not None for m in self.materials]
+        if any(given) and not all(given):
+            raise ValueError(
+                "materials mix kn and young; give every material the same kind of stiffness"
+            )
+        return MaterialTable(
+            stiffness=np.array([m.kn if m.kn is not None else m.young for m in self.materials]),
+            given_kn=np.array(given, np.uint8),
+            kt_ratio=np.array([m.kt_ratio for m in self.materials], float),
+            friction=np.array([m.friction for m in self.materials], float),
+            restitution=np.array(
+                [1.0 if m.restitution is None else m.restitution for m in self.materials]
+            ),
+            rule=np.array([RULES[self.stiffness_rule]], np.int64),
+        )
+
+    def _bodies_and_spheres(self):
+        nb = len(self._bodies)
+        ns = len(self._spheres)
+        sphere_body = np.array([s[0] for s in self._spheres], np.int64)
+        centres = np.array([s[1] for s in self._spheres]).reshape(ns, 3)
+        radii = np.array([s[2] for s in self._spheres], float)
+        materials = np.array([s[3] for s in self._spheres], np.int64)
+        density = np.array([self.materials[m].density for m in materials])
+        z3 = lambda: np.zeros((nb, 3))  # noqa: E731
+        bodies = Bodies(
+            pos=z3(),
+            vel=z3(),
+            quat=np.zeros((nb, 4)),
+            rot=np.zeros((nb, 3, 3)),
+            omega=z3(),
+            angmom=z3(),
+            mass=np.zeros(nb),
+            inertia=z3(),
+            axis=z3(),
+            axis_inertia=np.zeros(nb),
+            rot_mode=np.zeros(nb, np.int64),
+            blocked=np.zeros((nb, 6), np.uint8),
+            held=np.zeros(nb, np.uint8),
+            fresh=np.ones(nb, np.uint8),
+            release_time=np.full(nb, np.nan),
+            vel_full=z3(),
+            omega_full=z3(),
+            angmom_full=z3(),
+            force=z3(),
+            torque=z3(),
+        )
+        local = np.zeros((ns, 3))
+        for b, spec in enumerate(self._bodies):
+            members = np.flatnonzero(sphere_body == b)
+            mass, com, moments, axes, tensor = clump_mass_properties(
+                centres[members], radii[members], density[members]
+            )
+            blocked = spec["blocked"]
+            isotropic = np.ptp(moments) <= 1e-12 * moments.max()
+            n_rot_blocked = int(blocked[3:].sum())
+            if isotropic:
+                mode, axes = ROT_ISOTROPIC, np.eye(3)
+            elif n_rot_blocked == 0:
+                mode = ROT_FREE
+            elif n_rot_blocked == 2:
+                mode = ROT_AXIS
+                free = int(np.flatnonzero(blocked[3:] == 0)[0])
+                bodies.axis[b, free] = 1.0
+                bodies.axis_inertia[b] = tensor[free, free]
+            elif n_rot_blocked == 3:
+                mode = ROT_NONE
+            else:
+                raise ValueError(
+                    f"blocked rotations of body {b} = {n_rot_blocked}: an aspherical clump may "
+                    "block 0, 2 or 3 rotations (1 is not a hinge-free rigid motion)"
+                )
+            q = quat_from_matrix(axes)
+            bodies.pos[b] = com
+            bodies.quat[b] = q
+            bodies.rot[b] = axes
+            bodies.mass[b] = mass
+            bodies.inertia[b] = moments
+            bodies.rot_mode[b] = mode
+            bodies.blocked[b] = blocked
+            bodies.held[b] = spec["held"]
+            v = spec["velocity"].copy()
+            w = spec["angular_velocity"].copy()
+            if mode == ROT_AXIS:
+                w = bodies.axis[b] * (w @ bodies.axis[b])
+            elif mode == ROT_NONE:
+                w[:] = 0.0
+            if spec["held"]:
+                v, w = np.zeros(3), np.zeros(3)
+            bodies.vel[b] = v
+            bodies.vel_full[b] = v
+            bodies.omega[b] = w
+            bodies.omega_full[b] = w
+            if mode == ROT_ISOTROPIC:
+                L = moments[0] * w
+            elif mode == ROT_AXIS:
+                L = bodies.axis_inertia[b] * w
+            else:
+                L = tensor @ w
+            bodies.angmom[b] = L
+            bodies.angmom_full[b] = L
+            local[members] = (centres[members] - com) @ axes
+        spheres = Spheres(
+            body=sphere_body,
+            radius=radii,
+            local=local,
+            material=materials,
+            pos=centres.copy(),
+            pos_at_build=centres.copy(),
+        )
+        return bodies, spheres
+
+    def _walls_arrays(self):
+        nw = len(self._walls)
+        return Walls(
+            point=np.array([w[0] for w in self._walls]).reshape(nw, 3),
+            normal=np.array([w[1] for w in self._walls]).reshape(nw, 3),
+            material=np.array([w[2] for w in self._walls], np.int64),
+        )
+
+    def build(
+        self,
+        dt: float | None = None,
+        *,
+        safety: float = 0.02,
+        damping: float = 0.0,
+        damp_gravity: bool = True,
+        skin: float | None = None,
+        record_pairs: bool | None = None,
+        record_peak_force: bool = False,
+        check_every: int = 100,
+        overlap_tolerance: float = 1e-9,
+    ):
+        """Freeze the scene into a :class:`~dominowave.dem.simulation.Simulation`.
+
+        Parameters
+        ----------
+        dt : time step [s]; default ``safety * critical_dt``.  ValueError if above the
+            critical step (timestep.py).
+        safety : fraction of the critical step used when ``dt`` is None.  The default 0.02
+            keeps the energy error of an elastic chain of spheres below ~1e-5 over 1e5
+            steps; an isolated elastic collision errs by ~0.3 (omega dt)^4 in e
+            (docs/dem.md), so larger values (up to ~0.3) are fine for many purposes.
+        damping : YADE local damping coefficient in [0, 1).
+        damp_gravity : damp gravity as well (YADE 2023.02a default).
+        skin : Verlet skin [m]; default 0.3 x mean sphere radius.
+        record_pairs : body-pair statistics and the contact event log; default on for
+            up to 2000 bodies.
+        record_peak_force : also keep the peak sphere-contact normal force per body pair.
+        check_every : steps between NaN / energy-runaway / kinetic-energy checks.
+        overlap_tolerance : largest initial overlap allowed, relative to the radius.
+        """
+        from dominowave.dem.simulation import Simulation
+        from dominowave.dem.timestep import critical_timestep
+
+        if not self._spheres:
+            raise ValueError("the scene has no bodies; add spheres or clumps before build")
+        check_in_range("damping", damping, 0.0, 1.0, lo_inclusive=True)
+        check_in_range("safety", safety, 0.0, 1.0, hi_inclusive=True)
+        check_in_range("check_every", check_every, 1, math.inf, lo_inclusive=True)
+        mats = self._material_table()
+        bodies, spheres = self._bodies_and_spheres()
+        walls = self._walls_arrays()
+        _check_initial_overlaps(spheres, walls, overlap_tolerance)
+        dt_crit = critical_timestep(bodies, spheres, walls, mats)
+        if dt is None:
+            dt = safety * dt_crit
+        check_positive("dt", dt)
+        if dt > dt_crit:
+            raise ValueError(
+                f"dt = {dt:.6g} s is outside the valid range (0, {dt_crit:.6g}]: above the "
+                "critical time step of the stiffest contact (timestep.critical_timestep)"
+            )
+        if skin is None:
+            skin = 0.3 * float(spheres.radius.mean())
+        check_positive("skin", skin)
+        n_bodies = bodies.mass.shape[0]
+        if record_pairs is None:
+            record_pairs = n_bodies <= 2000
+        return Simulation(
+            bodies,
+            spheres,
+            walls,
+            mats,
+            gravity=self.gravity,
+            dt=float(dt),
+            critical_dt=dt_crit,
+            damping=float(damping),
+            damp_gravity=bool(damp_gravity),
+            skin=float(skin),
+            record_pairs=bool(record_pairs),
+            record_peak_force=bool(record_peak_force),
+            check_every=int(check_every),
+        )
+
+
+def _check_initial_overlaps(spheres, walls, tolerance):
+    """ValueError naming the first body that overlaps a wall or another body at start."""
+    from scipy.spatial import cKDTree
+
+    pos, radius, body = spheres.pos, spheres.radius, spheres.body
+    for w in range(walls.point.shape[0]):
+        dist = (pos - walls.point[w]) @ walls.normal[w]
+        bad = np.flatnonzero(dist < radius * (1.0 - tolerance))
+        if bad.size:
+            s = bad[0]
+            raise ValueError(
+                f"body {body[s]} (sphere {s}) overlaps wall {w} at start by "
+                f"{radius[s] - dist[s]:.6g} m; move it to the wall's positive side"
+            )
+    tree = cKDTree(pos)
+    pairs = tree.query_pairs(2.0 * float(radius.max()), output_type="ndarray")
+    if pairs.size:
+        i, j = pairs[:, 0], pairs[:, 1]
+        other = body[i] != body[j]
+        i, j = i[other], j[other]
+        gap = np.linalg.norm(pos[i] - pos[j], axis=1) - (radius[i] + radius[j])
+        bad = np.flatnonzero(gap < -tolerance * np.minimum(radius[i], radius[j]))
+        if bad.size:
+            k = bad[0]
+            raise ValueError(
+                f"body {body[i[k]]} (sphere {i[k]}) overlaps body {body[j[k]]} (sphere {j[k]}) "
+                f"at start by {-gap[k]:.6g} m"
+            )

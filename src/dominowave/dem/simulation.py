@@ -1,0 +1,594 @@
+"""The :class:`Simulation` object: owns the state arrays, runs the compiled loop, grows
+its buffers, returns recorded data, saves and restores checkpoints."""
+
+from __future__ import annotations
+
+import copy
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from dominowave.checks import check_finite, check_in_range, check_positive
+from dominowave.dem import engine
+from dominowave.dem.contact import build_verlet_list, compute_forces
+from dominowave.dem.energy import ENERGY_NAMES, energies
+from dominowave.dem.engine import Recorder, Settings, run_loop
+from dominowave.dem.state import Bodies, Contacts, MaterialTable, Spheres, Walls
+
+__all__ = ["ContactEvents", "PairStats", "RunResult", "Simulation", "StopCondition"]
+
+STOP_REASONS = {
+    engine.DONE_STEPS: "n_steps",
+    engine.DONE_TIME: "until",
+    engine.STOP_NO_ONSET: "no_onset",
+    engine.STOP_TOUCHED: "touched",
+    engine.STOP_KINETIC: "kinetic",
+}
+
+
+@dataclass(frozen=True)
+class StopCondition:
+    """Stop conditions evaluated inside the compiled loop (any that is not None).
+
+    no_onset_for : stop when no body-body contact has started for this long [s] (counted
+        from the last onset, or from the start of the run if none yet).
+    touched_body : stop at the first body-body contact onset involving this body.
+    kinetic_below : stop when the total kinetic energy is below this [J] (tested every
+        ``check_every`` steps).
+    """
+
+    no_onset_for: float | None = None
+    touched_body: int | None = None
+    kinetic_below: float | None = None
+
+
+@dataclass(frozen=True)
+class ContactEvents:
+    """Every onset/end of a body-body or body-wall contact, in time order.
+
+    time (E,) [s]; body_i (E,); body_j (E,) (body_i < body_j, or ``-(wall + 1)`` for a
+    wall); kind (E,) ``ONSET`` = 1 or ``END`` = 0.
+    """
+
+    time: np.ndarray
+    body_i: np.ndarray
+    body_j: np.ndarray
+    kind: np.ndarray
+
+
+@dataclass(frozen=True)
+class PairStats:
+    """Per body pair (n_bodies, n_bodies), symmetric, cumulative over all runs.
+
+    first_contact, last_separation [s] (nan: never); n_contacts: number of distinct
+    contacts; peak_normal_force [N]: largest normal force of one sphere contact of the pair
+    (only if ``record_peak_force``).
+    """
+
+    first_contact: np.ndarray
+    last_separation: np.ndarray
+    n_contacts: np.ndarray
+    peak_normal_force: np.ndarray
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """What one :meth:`Simulation.run` recorded (frames at full steps t_n)."""
+
+    stop_reason: str
+    n_steps: int
+    time: float
+    times: np.ndarray  # (F,)
+    positions: np.ndarray  # (F, nb, 3)
+    quaternions: np.ndarray  # (F, nb, 4)
+    velocities: np.ndarray  # (F, nb, 3)
+    angular_velocities: np.ndarray  # (F, nb, 3)
+    energy_times: np.ndarray  # (G,)
+    energy: dict = field(default_factory=dict)  # name -> (G,)
+    events: ContactEvents | None = None
+
+
+def _symmetric(a, fill):
+    out = a.copy()
+    lower = np.tril_indices(a.shape[0], -1)
+    out[lower] = a.T[lower]
+    np.fill_diagonal(out, fill)
+    return out
+
+
+class Simulation:
+    """A built scene.  Create with :meth:`dominowave.dem.Scene.build`."""
+
+    def __init__(
+        self,
+        bodies: Bodies,
+        spheres: Spheres,
+        walls: Walls,
+        mats: MaterialTable,
+        *,
+        gravity,
+        dt,
+        critical_dt,
+        damping,
+        damp_gravity,
+        skin,
+        record_pairs,
+        record_peak_force,
+        check_every,
+    ):
+        self.bodies = bodies
+        self.spheres = spheres
+        self.walls = walls
+        self.mats = mats
+        self.critical_dt = float(critical_dt)
+        self.settings = Settings(
+            gravity=np.asarray(gravity, float),
+            dt=dt,
+            damping=damping,
+            damp_gravity=damp_gravity,
+            skin=skin,
+            record_pairs=record_pairs,
+            record_peak_force=record_peak_force,
+            check_every=check_every,
+            viscous=bool(np.any(mats.restitution < 1.0)),
+        )
+        capacity = 8 * spheres.body.shape[0] + 64
+        self.contacts = _empty_contacts(capacity)
+        self.rec = _empty_recorder(
+            bodies.mass.shape[0], walls.point.shape[0], capacity, record_pairs
+        )
+        self._refresh_energy()
+
+    # ------------------------------------------------------------------ properties
+    @property
+    def dt(self) -> float:
+        """Time step [s]."""
+        return self.settings.dt
+
+    @property
+    def time(self) -> float:
+        """Current time [s]."""
+        return float(self.rec.clock[0])
+
+    @property
+    def n_bodies(self) -> int:
+        return int(self.bodies.mass.shape[0])
+
+    @property
+    def sphere_body(self) -> np.ndarray:
+        """(n_spheres,) owner body of each sphere, in the order added."""
+        return self.spheres.body
+
+    @property
+    def release_time(self) -> np.ndarray:
+        """(n_bodies,) time a held body was released [s]; nan: never held or still held."""
+        return self.bodies.release_time.copy()
+
+    @property
+    def pairs(self) -> PairStats:
+        """Body-pair statistics (see :class:`PairStats`)."""
+        if not self.settings.record_pairs:
+            raise ValueError("record_pairs = False: build with record_pairs=True")
+        r = self.rec
+        return PairStats(
+            first_contact=_symmetric(r.first_contact, np.nan),
+            last_separation=_symmetric(r.last_separation, np.nan),
+            n_contacts=_symmetric(r.n_contacts, 0),
+            peak_normal_force=_symmetric(r.peak_force, 0.0),
+        )
+
+    def sphere_positions(self) -> np.ndarray:
+        """(n_spheres, 3) world centres of the spheres [m]."""
+        return self.spheres.pos.copy()
+
+    def positions(self) -> np.ndarray:
+        """(n_bodies, 3) centres of mass [m]."""
+        return self.bodies.pos.copy()
+
+    def energy(self) -> dict:
+        """Energies [J] at the last step done (or the initial state), keyed by ENERGY_NAMES."""
+        return dict(zip(ENERGY_NAMES, self.rec.energy_now.tolist(), strict=True))
+
+    def set_velocity(self, body: int, velocity=None, angular_velocity=None):
+        """Set a body's linear [m/s] and/or angular [rad/s] velocity (world frame).
+
+        Blocked components are kept (a blocked DOF keeps its velocity, YADE semantics).
+        """
+        from dominowave.dem.integrate import ROT_AXIS, ROT_FREE, ROT_NONE
+
+        check_in_range("body", body, 0, self.n_bodies - 1, lo_inclusive=True, hi_inclusive=True)
+        b = self.bodies
+        if b.held[body]:
+            raise ValueError(f"body {body} is held until touched; it cannot be given a velocity")
+        if velocity is not None:
+            v = np.asarray(velocity, float)
+            check_finite("velocity", v)
+            free = b.blocked[body, :3] == 0
+            b.vel[body, free] = v[free]
+            b.vel_full[body] = b.vel[body]
+            b.fresh[body] = 1
+        if angular_velocity is not None:
+            w = np.asarray(angular_velocity, float)
+            check_finite("angular_velocity", w)
+            mode = b.rot_mode[body]
+            if mode == ROT_NONE:
+                return
+            if mode == ROT_AXIS:
+                e = b.axis[body]
+                w = e * (w @ e)
+                L = b.axis_inertia[body] * w
+            elif mode == ROT_FREE:
+                R = b.rot[body]
+                L = R @ (b.inertia[body] * (R.T @ w))
+            else:
+                w = np.where(b.blocked[body, 3:] == 1, b.omega[body], w)
+                L = b.inertia[body, 0] * w
+            b.omega[body] = w
+            b.omega_full[body] = w
+            b.angmom[body] = L
+            b.angmom_full[body] = L
+            b.fresh[body] = 1
+        self._refresh_energy()
+
+    def _refresh_energy(self):
+        """Energies of the current state into ``rec.energy_now``.
+
+        Before the first step the contacts of initially overlapping bodies are evaluated
+        on a copy (so their elastic energy counts from t = 0 and no state changes);
+        afterwards the contact state of the last step is used.
+        """
+        contacts = self.contacts
+        if self.rec.step[0] == 0:
+            while (
+                build_verlet_list(
+                    self.spheres, self.walls, self.bodies, self.mats, contacts, self.settings.skin
+                )
+                < 0
+            ):
+                contacts = _grown_contacts(contacts)
+            self.contacts = contacts
+            self.rec = self.rec._replace(changes=np.zeros((contacts.i.shape[0], 2), np.int64))
+            contacts = copy.deepcopy(contacts)
+            bodies = copy.deepcopy(self.bodies)
+            compute_forces(
+                bodies,
+                self.spheres,
+                self.walls,
+                contacts,
+                self.dt,
+                np.zeros(3),
+                self.rec.changes.copy(),
+                True,
+            )
+        energies(self.bodies, contacts, self.settings.gravity, self.rec.ledger, self.rec.energy_now)
+
+    # ------------------------------------------------------------------ running
+    def run(
+        self,
+        n_steps: int | None = None,
+        until: float | None = None,
+        stop: StopCondition | None = None,
+        *,
+        trajectory_every: int = 0,
+        energy_every: int = 0,
+    ) -> RunResult:
+        """Advance the simulation in compiled code; see the module docstring of engine.py.
+
+        Parameters
+        ----------
+        n_steps : at most this many steps.
+        until : stop when the time reaches this value [s].
+        stop : compiled stop conditions (:class:`StopCondition`).
+        trajectory_every, energy_every : record a frame every this many steps (0 = never).
+        """
+        stop = stop or StopCondition()
+        if n_steps is None and until is None and stop == StopCondition():
+            raise ValueError("run needs n_steps, until or a stop condition")
+        if n_steps is not None:
+            check_in_range("n_steps", n_steps, 0, math.inf, lo_inclusive=True)
+        if until is not None:
+            check_finite("until", until)
+        check_in_range("trajectory_every", trajectory_every, 0, math.inf, lo_inclusive=True)
+        check_in_range("energy_every", energy_every, 0, math.inf, lo_inclusive=True)
+        needs_pairs = stop.no_onset_for is not None or stop.touched_body is not None
+        if needs_pairs and not self.settings.record_pairs:
+            raise ValueError("stop conditions on contacts need record_pairs=True at build")
+        if stop.no_onset_for is not None:
+            check_positive("no_onset_for", stop.no_onset_for)
+        if stop.touched_body is not None:
+            check_in_range(
+                "touched_body",
+                stop.touched_body,
+                0,
+                self.n_bodies - 1,
+                lo_inclusive=True,
+                hi_inclusive=True,
+            )
+        if stop.kinetic_below is not None:
+            check_positive("kinetic_below", stop.kinetic_below)
+        stop_array = np.array(
+            [
+                np.inf if stop.no_onset_for is None else stop.no_onset_for,
+                -1 if stop.touched_body is None else stop.touched_body,
+                -1.0 if stop.kinetic_below is None else stop.kinetic_below,
+                self.time,
+            ]
+        )
+        remaining = np.iinfo(np.int64).max if n_steps is None else int(n_steps)
+        t_end = np.inf if until is None else float(until)
+        self._start_run(trajectory_every, energy_every)
+        done_total = 0
+        while True:
+            code, done = run_loop(
+                self.bodies,
+                self.spheres,
+                self.walls,
+                self.mats,
+                self.contacts,
+                self.settings,
+                self.rec,
+                remaining,
+                t_end,
+                stop_array,
+            )
+            done_total += done
+            remaining -= done
+            if code in STOP_REASONS:
+                break
+            if code >= engine.ABORT_NAN:
+                self._abort(code)
+            self._grow(code)
+        return self._result(STOP_REASONS[code], done_total)
+
+    def _start_run(self, trajectory_every, energy_every):
+        r = self.rec
+        r.energy_ref[:] = r.energy_now
+        active = np.abs(r.energy_now[[0, 1, 3, 4, 5, 6, 7]]).sum()
+        r.clock[1] = max(active, 1e-300)
+        r.touched[:] = 0
+        r.ev_n[0] = 0
+        r.traj_every[0] = trajectory_every
+        r.traj_n[0] = 0
+        r.energy_every[0] = energy_every
+        r.energy_n[0] = 0
+
+    def _abort(self, code):
+        if code == engine.ABORT_NAN:
+            cause = "a position or velocity became NaN/inf"
+        else:
+            e = self.energy()
+            cause = (
+                f"the energy balance broke down (total {e['total']:.6g} J, "
+                f"{self.rec.energy_ref[8]:.6g} J at the start of the run)"
+            )
+        raise RuntimeError(
+            f"DEM run aborted at t = {self.time:.6g} s: {cause}. Likely cause: the time step "
+            f"dt = {self.dt:.6g} s is too large for the contact stiffness (critical estimate "
+            f"{self.critical_dt:.6g} s) or bodies started deeply interpenetrated."
+        )
+
+    def _grow(self, code):
+        r = self.rec
+        if code == engine.GROW_CONTACTS:
+            self.contacts = _grown_contacts(self.contacts)
+            self.rec = r._replace(changes=np.zeros((self.contacts.i.shape[0], 2), np.int64))
+        elif code == engine.GROW_EVENTS:
+            need = r.ev_n[0] + 2 * self.contacts.i.shape[0]
+            self.rec = r._replace(
+                **{
+                    k: _grow_rows(getattr(r, k), need)
+                    for k in ("ev_time", "ev_i", "ev_j", "ev_kind")
+                }
+            )
+        elif code == engine.GROW_TRAJECTORY:
+            need = 2 * r.traj_t.shape[0] + 16
+            self.rec = r._replace(
+                **{
+                    k: _grow_rows(getattr(r, k), need)
+                    for k in ("traj_t", "traj_pos", "traj_quat", "traj_vel", "traj_omega")
+                }
+            )
+        elif code == engine.GROW_ENERGY:
+            need = 2 * r.energy_t.shape[0] + 16
+            self.rec = r._replace(
+                **{k: _grow_rows(getattr(r, k), need) for k in ("energy_t", "energy_val")}
+            )
+        else:  # pragma: no cover - defensive
+            raise RuntimeError(f"unknown return code {code} of run_loop")
+
+    def _result(self, reason, n_steps):
+        r = self.rec
+        f = int(r.traj_n[0])
+        g = int(r.energy_n[0])
+        e = int(r.ev_n[0])
+        events = None
+        if self.settings.record_pairs:
+            events = ContactEvents(
+                time=r.ev_time[:e].copy(),
+                body_i=r.ev_i[:e].copy(),
+                body_j=r.ev_j[:e].copy(),
+                kind=r.ev_kind[:e].copy(),
+            )
+        return RunResult(
+            stop_reason=reason,
+            n_steps=n_steps,
+            time=self.time,
+            times=r.traj_t[:f].copy(),
+            positions=r.traj_pos[:f].copy(),
+            quaternions=r.traj_quat[:f].copy(),
+            velocities=r.traj_vel[:f].copy(),
+            angular_velocities=r.traj_omega[:f].copy(),
+            energy_times=r.energy_t[:g].copy(),
+            energy={name: r.energy_val[:g, k].copy() for k, name in enumerate(ENERGY_NAMES)},
+            events=events,
+        )
+
+    # ------------------------------------------------------------------ checkpoints
+    _PER_RUN = (
+        "changes",
+        "ev_time",
+        "ev_i",
+        "ev_j",
+        "ev_kind",
+        "traj_t",
+        "traj_pos",
+        "traj_quat",
+        "traj_vel",
+        "traj_omega",
+        "energy_t",
+        "energy_val",
+    )
+
+    def get_state(self) -> dict:
+        """All state needed to resume bit-identically, as a flat dict of NumPy arrays."""
+        out = {"critical_dt": np.array(self.critical_dt)}
+        for prefix, tup in self._groups().items():
+            for name, value in tup._asdict().items():
+                if prefix == "rec" and name in self._PER_RUN:
+                    continue
+                out[f"{prefix}.{name}"] = np.array(value, copy=True)
+        return out
+
+    def set_state(self, state: dict):
+        """Restore a state from :meth:`get_state` (the scene layout must match)."""
+        groups = self._groups()
+        new = {}
+        for prefix, tup in groups.items():
+            fields = {}
+            for name, value in tup._asdict().items():
+                key = f"{prefix}.{name}"
+                if key in state:
+                    arr = np.array(state[key], copy=True)
+                    if isinstance(value, np.ndarray):
+                        if prefix != "contacts" and arr.shape != value.shape:
+                            raise ValueError(
+                                f"state[{key!r}] has shape {arr.shape}, the scene needs "
+                                f"{value.shape}"
+                            )
+                        arr = arr.astype(value.dtype)
+                    else:  # a scalar setting (float, bool, int)
+                        arr = type(value)(arr)
+                    fields[name] = arr
+                elif not (prefix == "rec" and name in self._PER_RUN):
+                    raise ValueError(f"state is missing {key!r}")
+            new[prefix] = tup._replace(**fields)
+        capacity = new["contacts"].i.shape[0]
+        new["rec"] = new["rec"]._replace(changes=np.zeros((capacity, 2), np.int64))
+        self.bodies, self.spheres, self.walls = new["bodies"], new["spheres"], new["walls"]
+        self.mats, self.contacts, self.settings = new["mats"], new["contacts"], new["settings"]
+        self.rec = new["rec"]
+        self.critical_dt = float(state["critical_dt"])
+
+    def save(self, path):
+        """Write :meth:`get_state` to an ``.npz`` file."""
+        np.savez(path, **self.get_state())
+
+    @classmethod
+    def load(cls, path) -> Simulation:
+        """A Simulation restored from :meth:`save` output."""
+        with np.load(path) as data:
+            state = {k: data[k] for k in data.files}
+        return cls.from_state(state)
+
+    @classmethod
+    def from_state(cls, state: dict) -> Simulation:
+        """A Simulation restored from a :meth:`get_state` dict."""
+
+        def group(prefix, kind):
+            missing = [n for n in kind._fields if f"{prefix}.{n}" not in state]
+            if missing:
+                raise ValueError(f"state is missing {prefix}.{missing[0]}")
+            return kind(**{n: np.array(state[f"{prefix}.{n}"]) for n in kind._fields})
+
+        s = group("settings", Settings)
+        settings = {k: (v.item() if np.ndim(v) == 0 else v) for k, v in s._asdict().items()}
+        settings.pop("viscous")
+        sim = cls(
+            group("bodies", Bodies),
+            group("spheres", Spheres),
+            group("walls", Walls),
+            group("mats", MaterialTable),
+            critical_dt=float(state["critical_dt"]),
+            **settings,
+        )
+        sim.set_state(state)
+        return sim
+
+    def _groups(self):
+        return {
+            "bodies": self.bodies,
+            "spheres": self.spheres,
+            "walls": self.walls,
+            "mats": self.mats,
+            "contacts": self.contacts,
+            "settings": self.settings,
+            "rec": self.rec,
+        }
+
+
+def _grow_rows(a, n):
+    out = np.zeros((n, *a.shape[1:]), a.dtype)
+    out[: a.shape[0]] = a
+    return out
+
+
+def _empty_contacts(capacity):
+    return Contacts(
+        n=np.array([-1], np.int64),  # -1: the Verlet list has never been built
+        i=np.zeros(capacity, np.int64),
+        j=np.zeros(capacity, np.int64),
+        active=np.zeros(capacity, np.uint8),
+        shear=np.zeros((capacity, 3)),
+        kn=np.zeros(capacity),
+        kt=np.zeros(capacity),
+        mu=np.zeros(capacity),
+        cn=np.zeros(capacity),
+        overlap=np.zeros(capacity),
+        vn=np.zeros(capacity),
+        fn=np.zeros(capacity),
+    )
+
+
+def _grown_contacts(c):
+    capacity = 2 * c.i.shape[0]
+    return c._replace(**{k: _grow_rows(getattr(c, k), capacity) for k in c._fields if k != "n"})
+
+
+def _empty_recorder(nb, nw, capacity, record_pairs):
+    npair = nb if record_pairs else 0
+    nwall = nw if record_pairs else 0
+    return Recorder(
+        clock=np.zeros(2),
+        ledger=np.zeros(3),
+        power=np.zeros(2),
+        step=np.zeros(1, np.int64),
+        n_rebuilds=np.zeros(1, np.int64),
+        last_onset=np.array([-np.inf]),
+        touched=np.zeros(nb, np.uint8),
+        changes=np.zeros((capacity, 2), np.int64),
+        pair_count=np.zeros((npair, npair), np.int32),
+        wall_count=np.zeros((npair, nwall), np.int32),
+        first_contact=np.full((npair, npair), np.nan),
+        last_separation=np.full((npair, npair), np.nan),
+        n_contacts=np.zeros((npair, npair), np.int64),
+        peak_force=np.zeros((npair, npair)),
+        ev_n=np.zeros(1, np.int64),
+        ev_time=np.zeros(0),
+        ev_i=np.zeros(0, np.int64),
+        ev_j=np.zeros(0, np.int64),
+        ev_kind=np.zeros(0, np.int8),
+        traj_every=np.zeros(1, np.int64),
+        traj_n=np.zeros(1, np.int64),
+        traj_t=np.zeros(0),
+        traj_pos=np.zeros((0, nb, 3)),
+        traj_quat=np.zeros((0, nb, 4)),
+        traj_vel=np.zeros((0, nb, 3)),
+        traj_omega=np.zeros((0, nb, 3)),
+        energy_every=np.zeros(1, np.int64),
+        energy_n=np.zeros(1, np.int64),
+        energy_t=np.zeros(0),
+        energy_val=np.zeros((0, 9)),
+        energy_now=np.zeros(9),
+        energy_ref=np.zeros(9),
+    )

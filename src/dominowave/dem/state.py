@@ -1,0 +1,213 @@
+"""State of a DEM scene as struct-of-arrays (float64 NumPy arrays) and materials.
+
+The compiled kernels receive these namedtuples; their fields are NumPy arrays that the
+kernels update in place.  Conventions used throughout ``dominowave.dem``:
+
+* SI units; world frame with gravity given explicitly (usually ``(0, 0, -g)``).
+* Quaternions ``(w, x, y, z)`` rotate the body's principal frame into the world frame:
+  ``x_world = x_com + R(q) @ x_body``.
+* Body velocities are the leapfrog half-step values ``v(t - dt/2)`` between steps
+  (as in YADE's NewtonIntegrator), except for ``fresh`` bodies (new, just released or
+  given a velocity) whose values are full-step ones; recorders report full-step values.
+* A contact's second partner ``j >= 0`` is a sphere index, ``j < 0`` is the wall ``-(j + 1)``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import namedtuple
+from dataclasses import dataclass
+
+import numpy as np
+
+from dominowave.checks import check_finite, check_in_range, check_nonnegative, check_positive
+
+__all__ = [
+    "Bodies",
+    "Contacts",
+    "Material",
+    "MaterialTable",
+    "Spheres",
+    "Walls",
+    "clump_mass_properties",
+]
+
+Bodies = namedtuple(
+    "Bodies",
+    [
+        "pos",  # (nb, 3) centre of mass [m]
+        "vel",  # (nb, 3) half-step velocity [m/s]
+        "quat",  # (nb, 4) orientation (w, x, y, z)
+        "rot",  # (nb, 3, 3) rotation matrix R(quat), body -> world
+        "omega",  # (nb, 3) half-step angular velocity, world frame [rad/s]
+        "angmom",  # (nb, 3) half-step angular momentum, world frame [kg m^2/s]
+        "mass",  # (nb,) [kg]
+        "inertia",  # (nb, 3) principal moments [kg m^2]
+        "axis",  # (nb, 3) hinge-free rotation axis for rot_mode 2 (world unit vector)
+        "axis_inertia",  # (nb,) moment of inertia about `axis` through the COM [kg m^2]
+        "rot_mode",  # (nb,) int: 0 isotropic, 1 free aspherical, 2 fixed axis, 3 no rotation
+        "blocked",  # (nb, 6) uint8: x y z rx ry rz blocked
+        "held",  # (nb,) uint8: 1 while held in place until touched
+        "fresh",  # (nb,) uint8: 1 if vel/omega hold full-step values (velocity-Verlet start)
+        "release_time",  # (nb,) time the body was released [s], nan otherwise
+        "vel_full",  # (nb, 3) full-step velocity v(t) of the last step [m/s]
+        "omega_full",  # (nb, 3) full-step angular velocity of the last step [rad/s]
+        "angmom_full",  # (nb, 3) full-step angular momentum of the last step [kg m^2/s]
+        "force",  # (nb, 3) contact force of the current step [N]
+        "torque",  # (nb, 3) contact torque about the COM, world frame [N m]
+    ],
+)
+
+Spheres = namedtuple(
+    "Spheres",
+    [
+        "body",  # (ns,) int owner body
+        "radius",  # (ns,) [m]
+        "local",  # (ns, 3) centre in the owner's principal frame [m]
+        "material",  # (ns,) int material id
+        "pos",  # (ns, 3) world centre [m]
+        "pos_at_build",  # (ns, 3) world centre at the last neighbour-list build [m]
+    ],
+)
+
+Walls = namedtuple("Walls", ["point", "normal", "material"])
+
+MaterialTable = namedtuple(
+    "MaterialTable",
+    [
+        "stiffness",  # (nm,) E [Pa] (rules paper/yade) or kn [N/m] (given)
+        "given_kn",  # (nm,) uint8: 1 if `stiffness` is a contact stiffness kn
+        "kt_ratio",  # (nm,)
+        "friction",  # (nm,)
+        "restitution",  # (nm,)  1 = elastic
+        "rule",  # (1,) int: 0 paper, 1 yade
+    ],
+)
+
+Contacts = namedtuple(
+    "Contacts",
+    [
+        "n",  # (1,) int number of candidate pairs in the Verlet list
+        "i",  # (C,) sphere index
+        "j",  # (C,) sphere index, or -(wall + 1)
+        "active",  # (C,) uint8: 1 while the spheres overlap
+        "shear",  # (C, 3) Cundall-Strack shear displacement [m]
+        "kn",  # (C,) [N/m]
+        "kt",  # (C,) [N/m]
+        "mu",  # (C,)
+        "cn",  # (C,) viscous normal damping [N s/m]
+        "overlap",  # (C,) current overlap [m]
+        "vn",  # (C,) normal relative velocity at the last half step [m/s]
+        "fn",  # (C,) current normal force (elastic + viscous) [N]
+    ],
+)
+
+
+@dataclass(frozen=True)
+class Material:
+    """Contact material of a sphere or wall.
+
+    Parameters
+    ----------
+    density : float
+        Mass density [kg/m^3] (spheres only; ignored for walls).
+    young : float, optional
+        Young's modulus E [Pa]; the pair stiffness follows the scene's ``stiffness_rule``.
+    kn : float, optional
+        Contact normal stiffness [N/m]; pair value ``2 kn1 kn2 / (kn1 + kn2)``.
+        Give exactly one of ``young`` and ``kn``.
+    kt_ratio : float
+        Tangential to normal stiffness ratio k_t / k_n.
+    friction : float
+        Coulomb coefficient mu >= 0; a contact uses min(mu_1, mu_2) (paper, section 3).
+    restitution : float, optional
+        Normal restitution coefficient in (0, 1]; None means elastic (1).
+    """
+
+    density: float = 1000.0
+    young: float | None = None
+    kn: float | None = None
+    kt_ratio: float = 1.0
+    friction: float = 0.0
+    restitution: float | None = None
+
+    def __post_init__(self):
+        check_positive("density", self.density)
+        if (self.young is None) == (self.kn is None):
+            raise ValueError(
+                f"Material needs exactly one of young and kn, got young = {self.young}, "
+                f"kn = {self.kn}"
+            )
+        if self.young is not None:
+            check_positive("young", self.young)
+            check_finite("young", self.young)
+        if self.kn is not None:
+            check_positive("kn", self.kn)
+            check_finite("kn", self.kn)
+        check_nonnegative("kt_ratio", self.kt_ratio)
+        check_nonnegative("friction", self.friction)
+        if self.restitution is not None:
+            check_in_range("restitution", self.restitution, 0.0, 1.0, hi_inclusive=True)
+
+
+def sphere_mass(density, radius):
+    """Mass of a solid sphere [kg] from density [kg/m^3] and radius [m]."""
+    return density * 4.0 / 3.0 * math.pi * np.asarray(radius) ** 3
+
+
+def clump_mass_properties(centres, radii, densities):
+    """Mass, centre of mass, principal moments and axes of a rigid clump of spheres.
+
+    Member masses are summed without subtracting overlaps (as YADE's clumps do by
+    default).  Inertia tensor about the COM: sum of ``2/5 m_i R_i^2 1`` plus the parallel
+    axis term ``m_i (|r_i|^2 1 - r_i r_i^T)``.
+
+    Parameters
+    ----------
+    centres : (n, 3) array [m]
+    radii, densities : (n,) arrays [m], [kg/m^3]
+
+    Returns
+    -------
+    mass : float [kg]
+    com : (3,) [m]
+    moments : (3,) principal moments, ascending [kg m^2]
+    axes : (3, 3) rotation matrix whose columns are the principal axes (det +1)
+    inertia_tensor : (3, 3) world-frame inertia tensor about the COM [kg m^2]
+    """
+    centres = np.asarray(centres, dtype=float).reshape(-1, 3)
+    m = sphere_mass(np.asarray(densities, dtype=float), radii)
+    mass = float(m.sum())
+    com = (m[:, None] * centres).sum(axis=0) / mass
+    r = centres - com
+    tensor = np.zeros((3, 3))
+    for mi, ri, Ri in zip(m, r, np.asarray(radii, dtype=float), strict=True):
+        tensor += 0.4 * mi * Ri**2 * np.eye(3) + mi * (ri @ ri * np.eye(3) - np.outer(ri, ri))
+    moments, axes = np.linalg.eigh(tensor)
+    # Snap near-degenerate round-off so that symmetric bodies keep world-aligned axes.
+    axes[np.abs(axes) < 1e-14] = 0.0
+    if np.linalg.det(axes) < 0:
+        axes[:, 2] *= -1.0
+    return mass, com, moments, axes, tensor
+
+
+def quat_from_matrix(R):
+    """Unit quaternion (w, x, y, z) of the rotation matrix ``R`` (Shepperd's method)."""
+    R = np.asarray(R, dtype=float)
+    tr = np.trace(R)
+    candidates = np.array([tr, R[0, 0], R[1, 1], R[2, 2]])
+    k = int(np.argmax(candidates))
+    if k == 0:
+        s = 2.0 * math.sqrt(1.0 + tr)
+        q = [0.25 * s, (R[2, 1] - R[1, 2]) / s, (R[0, 2] - R[2, 0]) / s, (R[1, 0] - R[0, 1]) / s]
+    elif k == 1:
+        s = 2.0 * math.sqrt(1.0 + R[0, 0] - R[1, 1] - R[2, 2])
+        q = [(R[2, 1] - R[1, 2]) / s, 0.25 * s, (R[0, 1] + R[1, 0]) / s, (R[0, 2] + R[2, 0]) / s]
+    elif k == 2:
+        s = 2.0 * math.sqrt(1.0 + R[1, 1] - R[0, 0] - R[2, 2])
+        q = [(R[0, 2] - R[2, 0]) / s, (R[0, 1] + R[1, 0]) / s, 0.25 * s, (R[1, 2] + R[2, 1]) / s]
+    else:
+        s = 2.0 * math.sqrt(1.0 + R[2, 2] - R[0, 0] - R[1, 1])
+        q = [(R[1, 0] - R[0, 1]) / s, (R[0, 2] + R[2, 0]) / s, (R[1, 2] + R[2, 1]) / s, 0.25 * s]
+    q = np.array(q)
+    return q / np.linalg.norm(q)

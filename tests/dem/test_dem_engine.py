@@ -1,0 +1,279 @@
+"""Engine behaviour: contact events, held bodies, stop conditions, neighbour search,
+checkpoints, bad input and aborts."""
+
+import numpy as np
+import pytest
+from dem_scenes import RHO, R, column
+from scipy.spatial import cKDTree
+
+from dominowave.dem import END, ONSET, Material, Scene, Simulation, StopCondition
+
+
+def _box_scene(n=60, seed=0, friction=0.3, damping=0.0, restitution=0.5):
+    """Spheres dropped into a box of 5 walls (settling packing)."""
+    rng = np.random.default_rng(seed)
+    scene = Scene()
+    m = scene.add_material(
+        Material(density=RHO, kn=1e4, friction=friction, restitution=restitution)
+    )
+    L = 0.06
+    scene.add_wall((0, 0, 0), (0, 0, 1), m)
+    scene.add_wall((0, 0, 0), (1, 0, 0), m)
+    scene.add_wall((L, 0, 0), (-1, 0, 0), m)
+    scene.add_wall((0, 0, 0), (0, 1, 0), m)
+    scene.add_wall((0, L, 0), (0, -1, 0), m)
+    grid = np.stack(np.meshgrid(*[np.arange(5)] * 3, indexing="ij"), -1).reshape(-1, 3)
+    for k in range(n):
+        radius = R * rng.uniform(0.7, 1.0)
+        centre = (grid[k] + 0.5) * 2.4 * R + np.array([0.0, 0.0, 0.001])
+        scene.add_sphere(centre, radius, m, velocity=rng.normal(size=3) * 0.05)
+    return scene.build(safety=0.1, damping=damping)
+
+
+def test_validate_neighbour_list_finds_every_contact():
+    """During settling, the active contacts equal the brute-force overlaps.
+
+    Contacts refer to the positions before the last drift; pairs whose gap is within the
+    last step's relative displacement are left out of the comparison."""
+    sim = _box_scene(n=100, damping=0.2)
+    compared = 0
+    for k in range(5):
+        sim.run(until=0.1 * (k + 1))
+        pos = sim.sphere_positions()
+        r = sim.spheres.radius
+        pairs = cKDTree(pos).query_pairs(2.5 * r.max(), output_type="ndarray")
+        gap = np.linalg.norm(pos[pairs[:, 0]] - pos[pairs[:, 1]], axis=1) - r[pairs].sum(axis=1)
+        speed = np.linalg.norm(sim.bodies.vel, axis=1)[sim.sphere_body]
+        margin = 2.0 * speed[pairs].sum(axis=1) * sim.dt
+        clear = np.abs(gap) > margin
+        overlapping = {tuple(p) for p in pairs[clear & (gap < 0)]}
+        c = sim.contacts
+        n = c.n[0]
+        active = {
+            (int(i), int(j))
+            for i, j, a in zip(c.i[:n], c.j[:n], c.active[:n], strict=True)
+            if a and j >= 0
+        }
+        assert overlapping <= active
+        assert not ({tuple(p) for p in pairs[clear & (gap > 0)]} & active)
+        compared += len(overlapping)
+    assert compared > 50
+
+
+def test_validate_energy_balance_with_friction_and_damping():
+    """Settling with friction, dashpots and local damping: kinetic + potential + elastic
+    + dissipated stays constant to 1e-4 of the dissipated energy at safety 0.05, and the
+    error is second order in dt."""
+    errors = []
+    for safety in (0.1, 0.05):
+        sim = _box_scene(damping=0.1)
+        sim.settings = sim.settings._replace(dt=safety * sim.critical_dt)
+        res = sim.run(until=0.2, energy_every=50)
+        e = res.energy
+        assert e["dissipated_friction"][-1] > 0 and e["dissipated_damping"][-1] > 0
+        assert e["dissipated_viscous"][-1] > 0
+        dissipated = sum(
+            e[k][-1] for k in ("dissipated_friction", "dissipated_viscous", "dissipated_damping")
+        )
+        errors.append(np.max(np.abs(e["total"] - e["total"][0])) / dissipated)
+    assert errors[1] < 1e-4
+    assert errors[0] / errors[1] > 3.0  # ~4 for a second-order balance
+
+
+@pytest.mark.parametrize("seed", [3, 4, 5])
+def test_validate_energy_conserved_elastic_chain(seed):
+    """A row of 10 spheres between two walls, no friction, no damping, 1e5 steps at the
+    default time step: the total energy changes by less than 1e-5."""
+    rng = np.random.default_rng(seed)
+    scene = Scene(gravity=(0, 0, 0))
+    m = scene.add_material(Material(density=RHO, kn=1e4))
+    n = 10
+    L = n * 3 * R
+    scene.add_wall((0, 0, 0), (1, 0, 0), m)
+    scene.add_wall((L, 0, 0), (-1, 0, 0), m)
+    for k in range(n):
+        scene.add_sphere(((k + 0.5) * 3 * R, 0, 0), R, m, velocity=(rng.normal() * 0.1, 0, 0))
+    sim = scene.build()
+    res = sim.run(n_steps=100_000, energy_every=1000)
+    assert res.events.time.size > 40
+    e = res.energy["total"]
+    assert abs(e[-1] / e[0] - 1) < 1e-5
+
+
+def test_event_log_sees_repeated_collisions_and_pair_stats():
+    """A ball bouncing between two walls and a second ball: every onset/end is logged."""
+    scene = Scene(gravity=(0, 0, 0))
+    m = scene.add_material(Material(density=RHO, kn=1e4))
+    scene.add_wall((0, 0, 0), (1, 0, 0), m)
+    scene.add_sphere((0.02, 0, 0), R, m, velocity=(-0.2, 0, 0))
+    scene.add_sphere((0.05, 0, 0), R, m)
+    scene.add_wall((0.07, 0, 0), (-1, 0, 0), m)
+    sim = scene.build(safety=0.1, record_peak_force=True)
+    res = sim.run(until=1.0)
+    ev = res.events
+    body_pair = (ev.body_i == 0) & (ev.body_j == 1)
+    onsets = np.flatnonzero(body_pair & (ev.kind == ONSET))
+    ends = np.flatnonzero(body_pair & (ev.kind == END))
+    assert onsets.size >= 3 and onsets.size == ends.size
+    assert np.all(np.diff(ev.time) >= 0)
+    assert np.any(ev.body_j == -1) and np.any(ev.body_j == -2)
+    p = sim.pairs
+    assert p.n_contacts[0, 1] == p.n_contacts[1, 0] == onsets.size
+    assert p.first_contact[0, 1] == ev.time[onsets[0]]
+    assert p.last_separation[1, 0] == ev.time[ends[-1]]
+    assert np.isnan(p.first_contact[0, 0])
+    # elastic head-on impact of equal masses: peak force = v sqrt(k m_r)
+    m_r = RHO * 4 / 3 * np.pi * R**3 / 2
+    assert p.peak_normal_force[0, 1] == pytest.approx(0.2 * np.sqrt(1e4 * m_r), rel=1e-3)
+
+
+def test_held_body_released_when_touched():
+    """A held single-sphere column stays put (it would topple) until a moving body hits it."""
+    scene = Scene()
+    floor = scene.add_material(Material(density=RHO, kn=1e5, friction=0.5))
+    scene.add_wall((0, 0, 0), (0, 0, 1), floor)
+    standing = scene.add_clump(
+        column(5, base=(0.05, 0, R), tilt=0.01), R, floor, blocked="y rx rz", held=True
+    )
+    other = scene.add_clump(
+        column(5, base=(0.08, 0, R), tilt=0.01), R, floor, blocked="y rx rz", held=True
+    )
+    ball = scene.add_sphere((0.0, 0, 0.03), R, floor, velocity=(0.5, 0, 0), blocked="y rx rz")
+    sim = scene.build(safety=0.1)
+    with pytest.raises(ValueError, match="held"):
+        sim.set_velocity(standing, velocity=(1, 0, 0))
+    start = sim.positions()
+    res = sim.run(until=0.05, trajectory_every=100)
+    np.testing.assert_array_equal(
+        res.positions[:, standing],
+        np.broadcast_to(start[standing], res.positions[:, standing].shape),
+    )
+    res = sim.run(until=1.0, stop=StopCondition(touched_body=standing))
+    assert res.stop_reason == "touched"
+    t_touch = sim.pairs.first_contact[standing, ball]
+    assert sim.release_time[standing] == t_touch
+    assert np.isnan(sim.release_time[other]) and sim.bodies.held[other] == 1
+    sim.run(n_steps=2000)
+    assert np.linalg.norm(sim.positions()[standing] - start[standing]) > 0
+    np.testing.assert_array_equal(sim.positions()[other], start[other])
+
+
+def test_stop_when_no_new_onset():
+    scene = Scene(gravity=(0, 0, 0))
+    m = scene.add_material(Material(density=RHO, kn=1e4))
+    scene.add_sphere((0, 0, 0), R, m, velocity=(0.1, 0, 0))
+    scene.add_sphere((0.012, 0, 0), R, m)
+    sim = scene.build(safety=0.1)
+    res = sim.run(until=10.0, stop=StopCondition(no_onset_for=0.05))
+    assert res.stop_reason == "no_onset"
+    onset = res.events.time[0]
+    assert res.time == pytest.approx(onset + 0.05, abs=2 * sim.dt)
+
+
+def test_stop_when_kinetic_energy_small():
+    sim = _box_scene(damping=0.3, restitution=0.3)
+    res = sim.run(until=5.0, stop=StopCondition(kinetic_below=1e-7))
+    assert res.stop_reason == "kinetic"
+    e = sim.energy()
+    assert e["kinetic_translational"] + e["kinetic_rotational"] < 1e-7
+
+
+def test_checkpoint_resume_is_bit_identical(tmp_path):
+    """get_state / set_state and save / load reproduce an uninterrupted run exactly."""
+    sim = _box_scene(n=40, damping=0.05)
+    sim.run(n_steps=3000)
+    state = sim.get_state()
+    sim.save(tmp_path / "chk.npz")
+    sim.run(n_steps=4000)
+    reference = sim.get_state()
+    fresh = _box_scene(n=40, damping=0.05)
+    fresh.set_state(state)
+    for restored in (Simulation.load(tmp_path / "chk.npz"), fresh):
+        restored.run(n_steps=4000)
+        again = restored.get_state()
+        for key, value in reference.items():
+            np.testing.assert_array_equal(again[key], value, err_msg=key)
+
+
+def test_trajectory_recorder_frames():
+    sim = _box_scene(n=10)
+    res = sim.run(n_steps=1000, trajectory_every=100, energy_every=250)
+    assert res.positions.shape == (10, 10, 3)
+    assert res.quaternions.shape == (10, 10, 4)
+    np.testing.assert_allclose(res.times, np.arange(10) * 100 * sim.dt, rtol=1e-12)
+    assert res.energy_times.size == 4
+    # frames continue the time axis in the next run; the buffer grows when needed
+    res2 = sim.run(n_steps=5000, trajectory_every=10)
+    assert res2.times.size == 500 and res2.times[0] == pytest.approx(1000 * sim.dt, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("make", "match"),
+    [
+        (lambda s, m: s.add_sphere((0, 0, 0), 0.0, m), "radius"),
+        (lambda s, m: s.add_sphere((0, 0, 0), -1.0, m), "radius"),
+        (lambda s, m: s.add_sphere((0, 0, 0), R, 7), "material"),
+        (lambda s, m: s.add_clump([[0, 0, 0], [0.01, 0, 0]], R, m, blocked="rx"), "blocked"),
+        (lambda s, m: s.add_sphere((0, 0, 0), R, m, blocked="w"), "blocked"),
+    ],
+)
+def test_bad_input_scene(make, match):
+    scene = Scene()
+    m = scene.add_material(Material(density=RHO, kn=1e4))
+    with pytest.raises(ValueError, match=match):
+        make(scene, m)
+        scene.build()
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"density": 0.0, "kn": 1.0}, "density"),
+        ({"density": 1.0, "kn": -1.0}, "kn"),
+        ({"density": 1.0, "young": 0.0}, "young"),
+        ({"density": 1.0}, "exactly one"),
+        ({"density": 1.0, "kn": 1.0, "friction": -0.1}, "friction"),
+        ({"density": 1.0, "kn": 1.0, "restitution": 0.0}, "restitution"),
+    ],
+)
+def test_bad_material(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        Material(**kwargs)
+
+
+def test_initial_overlaps_are_rejected():
+    scene = Scene()
+    m = scene.add_material(Material(density=RHO, kn=1e4))
+    scene.add_wall((0, 0, 0), (0, 0, 1), m)
+    scene.add_sphere((0, 0, 0.5 * R), R, m)
+    with pytest.raises(ValueError, match=r"body 0 .* overlaps wall 0"):
+        scene.build()
+    scene = Scene()
+    m = scene.add_material(Material(density=RHO, kn=1e4))
+    scene.add_sphere((0, 0, 0), R, m)
+    scene.add_sphere((1.5 * R, 0, 0), R, m)
+    with pytest.raises(ValueError, match=r"body 0 .* overlaps body 1"):
+        scene.build()
+
+
+def test_time_step_above_critical_is_rejected():
+    scene = Scene()
+    m = scene.add_material(Material(density=RHO, kn=1e4))
+    scene.add_sphere((0, 0, 0), R, m)
+    dt_crit = scene.build().critical_dt
+    with pytest.raises(ValueError, match=r"dt = .* critical"):
+        scene.build(dt=1.01 * dt_crit)
+
+
+def test_unstable_step_aborts_with_cause():
+    """A step far above the critical one (forced past the check) blows up -> RuntimeError."""
+    sim = _box_scene(n=30, restitution=None)
+    sim.settings = sim.settings._replace(dt=50 * sim.critical_dt)
+    with pytest.raises(RuntimeError, match="time step"):
+        sim.run(n_steps=100_000)
+
+
+def test_run_needs_a_limit():
+    sim = _box_scene(n=2)
+    with pytest.raises(ValueError, match="n_steps"):
+        sim.run()
