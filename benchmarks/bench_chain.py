@@ -1,0 +1,123 @@
+"""Speed of the DEM domino chain against YADE 2023.02a (issue 4), one thread each.
+
+Cases (2D, s/l = 0.1 -> 10 spheres per domino, k/k* = 1e4, d/l = 0.4, two-sphere base
+and no holding so that YADE runs the identical scene without Python callbacks):
+
+* paper -- N = 30, run to the last domino's first contact;
+* large -- N = 300, the same number of steps per domino.
+
+For each: the number of steps S to the last collision (from a recorded dominowave run);
+dominowave engines-only (event log and pair statistics off, no trajectory) for S steps;
+dominowave with event recording (log + pair statistics + trajectory every 100 steps);
+YADE engines-only (``yade -n -j1``, O.run(S) timed inside YADE, no PyRunner); the profile
+split of bench_engine.py (contact detection, forces, integration) on the chain's state.
+
+Run:  python benchmarks/bench_chain.py [--repeat 3] [--large-n 300]
+YADE is skipped if not installed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import json
+import shutil
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from dominowave.chain.build import ChainParams
+from dominowave.chain.scenario import DominoChain
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE / "yade"))
+
+
+def _load(name, path):
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+bench_engine = _load("bench_engine", HERE / "bench_engine.py")
+compare_yade = _load("compare_yade", HERE / "yade" / "compare_yade.py")
+
+
+def case(n_dominoes: int) -> DominoChain:
+    p = ChainParams(n_dominoes=n_dominoes, d_over_l=0.4, base="two", held=False)
+    return DominoChain(p)
+
+
+def steps_to_last_collision(chain: DominoChain) -> int:
+    """Steps until the last domino's first contact, from a recorded run."""
+    run = chain.run()
+    if not run.reached_all:
+        raise RuntimeError("the wave did not reach the last domino")
+    return int(np.ceil(run.arrival[-1] / chain.dt))
+
+
+def time_ours(chain: DominoChain, steps: int, record: bool, repeat: int) -> float:
+    push = chain.resolve(None)
+    times = []
+    for _ in range(repeat):
+        sim, _ = chain.build(push, record=record)
+        start = time.perf_counter()
+        sim.run(n_steps=steps, trajectory_every=100 if record else 0)
+        times.append(time.perf_counter() - start)
+    return float(np.median(times))
+
+
+def time_yade(chain: DominoChain, steps: int) -> float:
+    scene = compare_yade.scene_dict(chain, chain.resolve(None), "engines", steps)
+    return float(compare_yade.run_yade(scene)["wall_time"])
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--large-n", type=int, default=300)
+    args = ap.parse_args(argv)
+    have_yade = shutil.which("yade") is not None
+    rows = []
+    for name, n in (("paper", 30), ("large", args.large_n)):
+        chain = case(n)
+        if name == "paper":
+            steps = steps_to_last_collision(chain)
+            steps_per_domino = steps / n
+        else:
+            steps = int(steps_per_domino * n)
+        time_ours(chain, 100, False, 1)  # compile / warm up
+        bare = time_ours(chain, steps, False, args.repeat)
+        rec = time_ours(chain, steps, True, args.repeat)
+        yade = time_yade(chain, steps) if have_yade else float("nan")
+
+        def make(_n, record, chain=chain):
+            return chain.build(chain.resolve(None), record=record)[0]
+
+        prof = bench_engine.measure(make, n * chain.shape.radii.size, min(steps, 20000), 1)
+        row = {
+            "case": name,
+            "n_dominoes": n,
+            "spheres": n * chain.shape.radii.size,
+            "steps": steps,
+            "dt": chain.dt,
+            "ours_engines_s": bare,
+            "ours_recording_s": rec,
+            "recording_overhead": rec / bare,
+            "yade_engines_s": yade,
+            "speedup_vs_yade": yade / bare,
+            "us_detect": prof["us_detect"],
+            "us_forces": prof["us_forces"],
+            "us_integrate": prof["us_integrate"],
+        }
+        rows.append(row)
+        print(json.dumps(row))
+        sys.stdout.flush()
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

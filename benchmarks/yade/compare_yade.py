@@ -1,0 +1,145 @@
+"""Cross-check dominowave's DEM chain against YADE 2023.02a (issue 4).
+
+For d/l in {0.2, 0.4, 0.6}, the identical 2D chain (N = 30, s/l = 0.1, k/k* = 1e4,
+phi_f = 0.3, phi_d = 0, no damping, two-sphere base, no holding) is run in both codes:
+
+(a) the first three collision times (not yet chaotic), relative difference;
+(b) ensembles of ``--members`` perturbed pushes (same factors in both codes): mean
+    steady speeds must agree within twice their combined standard error;
+(c) wall time of one run, both with contact recording (YADE: a PyRunner every step).
+
+Usage: ``python benchmarks/yade/compare_yade.py [--members 8] [--out results.json]``.
+Skips (exit 0 with a message) if ``yade`` is not installed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from dominowave.chain.build import ChainParams, place_domino
+from dominowave.chain.scenario import DominoChain, Push
+from dominowave.chain.wave import ensemble_stats, steady_speed
+
+HERE = Path(__file__).resolve().parent
+
+
+def params(d_over_l: float, n: int = 30) -> ChainParams:
+    return ChainParams(n_dominoes=n, d_over_l=d_over_l, base="two", held=False)
+
+
+def scene_dict(chain: DominoChain, push: Push, mode: str, steps: int) -> dict:
+    """Everything YADE needs, computed by dominowave (identical input for both codes)."""
+    p = chain.params
+    v0, w0, _ = chain._push_velocities(push)
+    sink = chain._sink()
+    bodies = []
+    for n, x in enumerate(chain.positions):
+        bodies.append(
+            {
+                "centres": place_domino(chain.shape, x, 0.0, sink).tolist(),
+                "radii": chain.shape.radii.tolist(),
+                "density": chain.shape.density.tolist(),
+                "bottom": chain.shape.bottom.tolist(),
+                "velocity": list(v0) if n == 0 else [0.0, 0.0, 0.0],
+                "angular_velocity": list(w0) if n == 0 else [0.0, 0.0, 0.0],
+            }
+        )
+    return {
+        "mode": mode,
+        "dt": chain.dt,
+        "g": p.g,
+        "damping": p.damping,
+        "kn": p.contact_stiffness,
+        "radius": p.radius,
+        "kt_ratio": p.kt_ratio,
+        "density": p.density,
+        "friction_floor": p.friction_floor,
+        "friction_dominoes": p.friction_dominoes,
+        "blocked": "yXZ" if p.model == "2d" else "",
+        "bodies": bodies,
+        "max_steps": steps,
+        "n_steps": steps,
+    }
+
+
+def run_yade(scene: dict) -> dict:
+    with tempfile.TemporaryDirectory() as tmp:
+        src, out = Path(tmp) / "scene.json", Path(tmp) / "out.json"
+        src.write_text(json.dumps(scene))
+        env = dict(os.environ, CHAIN_SCENE=str(src), CHAIN_OUT=str(out), OMP_NUM_THREADS="1")
+        subprocess.run(
+            ["yade", "-n", "-j1", "-x", str(HERE / "chain_yade.py")],
+            env=env,
+            check=True,
+            capture_output=True,
+            timeout=3600,
+        )
+        return json.loads(out.read_text())
+
+
+def compare(d_over_l: float, members: int, seed: int = 0, jitter: float = 1e-3) -> dict:
+    chain = DominoChain(params(d_over_l))
+    base = chain.resolve(None)
+    max_steps = math.ceil(chain.max_time / chain.dt)
+    ours, theirs, walls_ours, walls_yade = [], [], [], []
+    for i in range(members):
+        factor = 1.0 + jitter * np.random.default_rng([seed, i]).standard_normal()
+        push = base.scaled(factor)
+        start = time.perf_counter()
+        run = chain.run(push)
+        walls_ours.append(time.perf_counter() - start)
+        y = run_yade(scene_dict(chain, push, "record", max_steps))
+        walls_yade.append(y["wall_time"])
+        ours.append(run.arrival)
+        theirs.append(np.array(y["arrival"], dtype=float))
+    first3 = np.abs(theirs[0][1:4] / ours[0][1:4] - 1.0)
+    v_ours = ensemble_stats([steady_speed(a, chain.positions).speed for a in ours])
+    v_yade = ensemble_stats([steady_speed(a, chain.positions).speed for a in theirs])
+    combined = math.hypot(v_ours.stderr, v_yade.stderr)
+    return {
+        "d_over_l": d_over_l,
+        "dt": chain.dt,
+        "first_three_ours": ours[0][1:4].tolist(),
+        "first_three_yade": theirs[0][1:4].tolist(),
+        "first_three_max_rel_diff": float(first3.max()),
+        "speed_ours": [v_ours.mean, v_ours.stderr, v_ours.n],
+        "speed_yade": [v_yade.mean, v_yade.stderr, v_yade.n],
+        "speed_diff_over_combined_stderr": abs(v_ours.mean - v_yade.mean) / combined,
+        "wall_ours_mean": float(np.mean(walls_ours)),
+        "wall_yade_record_mean": float(np.mean(walls_yade)),
+    }
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--members", type=int, default=8)
+    ap.add_argument("--d-over-l", type=float, nargs="*", default=[0.2, 0.4, 0.6])
+    ap.add_argument("--out", type=Path, default=None)
+    args = ap.parse_args(argv)
+    if shutil.which("yade") is None:
+        print("yade not installed: skipping the YADE cross-check")
+        return 0
+    results = []
+    for d in args.d_over_l:
+        r = compare(d, args.members)
+        results.append(r)
+        print(json.dumps(r))
+        sys.stdout.flush()
+    if args.out is not None:
+        args.out.write_text(json.dumps(results, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,311 @@
+"""Domino chain geometry and materials from physical parameters (paper section 3, Fig 6A).
+
+A domino is a rigid clump of equal spheres of diameter ``s`` (its thickness):
+
+* **2D model** -- one column of spheres in the xz plane; the DEM blocks ``y``,
+  ``rx`` and ``rz`` so the domino only moves in that plane (the paper's default,
+  ``s/l = 0.1`` gives 10 spheres per domino);
+* **3D model** -- ``n_across`` such columns side by side across the width ``w``,
+  free in all six degrees of freedom; an optional seeded yaw of each domino (the
+  *lateral asymmetry*) makes the hit land on one side first and triggers the
+  lateral rotation the paper describes.
+
+Conventions (all SI):
+
+* ``d`` is the clear gap between neighbouring dominoes, so the pitch (distance
+  between the columns' axes) is ``d + s``; ``d/l`` sets the theory's
+  ``beta = asin(d/l)`` and eq 34 uses ``d + s``.
+* The column's spheres are equally spaced from ``z = R`` to ``z = l - R``
+  (``R = s/2``): the domino is exactly ``l`` tall. With the default
+  ``spheres_per_column = round(l/s)`` neighbouring spheres touch; more spheres
+  overlap (resolution study), and the bead density is scaled so that the domino
+  mass stays that of the touching column: ``m = round(l/s) * rho * 4/3 pi R^3``
+  per column (overlaps are not subtracted, as in YADE's clumps).
+* Standing rule: a single-sphere base is an inverted pendulum that round-off
+  topples within seconds. ``held=True`` keeps an untouched domino fixed until a
+  moving body first touches it (the engine's *held* flag); ``base="two"``
+  replaces the bottom sphere by two spheres of radius ``R/2`` side by side at
+  ``x = +-R/2`` (four times the bead density, so the same mass), a base that is
+  statically stable for tilts below ``atan((R/2) / h_cm)``.
+* Friction: spheres of the bottom layer carry the floor friction ``phi_f``, the
+  others ``phi_d``; the engine takes ``min`` per contact (paper section 3), so
+  domino-domino contacts have ``phi_d`` unless two bases touch.
+* Stiffness: every contact (sphere-sphere and sphere-floor) has the same normal
+  spring ``k_n``, given directly (``kn`` [N/m]), as the paper's ratio ``k/k*`` with
+  ``k* = m g / l`` (Fig 4, 6C) where ``k`` is the paper's per-particle stiffness
+  (eq 23) so that ``k_n = k/2`` (eq 24; ``theory.contact_stiffness``), or from a
+  Young's modulus with a named convention: ``"paper"`` ``k_n = pi R E / 2``
+  (eq 24) or ``"yade"`` ``k_n = E R`` (YADE's FrictPhys for two equal spheres).
+  In 3D, ``k*`` uses the mass of ONE column, so a 3D domino of the same material
+  has the same ``k_n`` per contact as the 2D one (and, with ``n_across`` columns
+  touching in parallel, the same collision time): 2D and 3D are comparable.
+* The floor is the plane ``z = 0``; dominoes start at the static overlap
+  ``m g / (n_base k_n)`` so that a released domino is already in equilibrium.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from typing import Literal
+
+import numpy as np
+
+from dominowave.checks import (
+    check_in_range,
+    check_nonnegative,
+    check_positive,
+)
+from dominowave.theory import contact_stiffness, contact_stiffness_from_material
+from dominowave.units import G_STANDARD, k_star
+
+__all__ = [
+    "ChainParams",
+    "DominoShape",
+    "chain_positions",
+    "domino_shape",
+    "place_domino",
+]
+
+Model = Literal["2d", "3d"]
+Base = Literal["one", "two"]
+YoungRule = Literal["paper", "yade"]
+
+
+@dataclass(frozen=True)
+class ChainParams:
+    """Physical parameters of a domino chain (SI units).
+
+    Give the contact stiffness in exactly one way: ``stiffness_ratio`` (the paper's
+    k/k*, default 1e4 when nothing else is given; ``k_n = k/2``), ``kn`` [N/m] (the
+    contact spring), or ``young`` [Pa] with ``young_rule``. ``kt_ratio`` is the
+    tangential/normal stiffness ratio.
+    ``damping`` is the engine's local (non-viscous, YADE-style) damping
+    coefficient in [0, 1); ``restitution`` (None = elastic) adds a normal dashpot.
+    """
+
+    n_dominoes: int = 30
+    height: float = 0.05
+    thickness: float = 0.005
+    width: float = 0.025
+    d_over_l: float = 0.4
+    density: float = 1000.0
+    stiffness_ratio: float | None = None
+    kn: float | None = None
+    young: float | None = None
+    young_rule: YoungRule = "paper"
+    kt_ratio: float = 1.0
+    friction_dominoes: float = 0.0
+    friction_floor: float = 0.3
+    damping: float = 0.0
+    restitution: float | None = None
+    model: Model = "2d"
+    spheres_per_column: int | None = None
+    base: Base = "one"
+    held: bool = True
+    lateral_asymmetry: float = 0.0
+    asymmetry_seed: int = 0
+    g: float = G_STANDARD
+
+    def __post_init__(self):
+        check_in_range("n_dominoes", self.n_dominoes, 2, math.inf, lo_inclusive=True)
+        check_positive("height", self.height)
+        check_in_range("thickness", self.thickness, 0.0, self.height / 2)
+        check_positive("width", self.width)
+        check_in_range("d_over_l", self.d_over_l, 0.0, 1.0)
+        check_positive("density", self.density)
+        given = [x for x in (self.stiffness_ratio, self.kn, self.young) if x is not None]
+        if len(given) > 1:
+            raise ValueError(
+                "give the stiffness once: stiffness_ratio, kn or young "
+                f"(got stiffness_ratio={self.stiffness_ratio}, kn={self.kn}, young={self.young})"
+            )
+        for name in ("stiffness_ratio", "kn", "young"):
+            if getattr(self, name) is not None:
+                check_positive(name, getattr(self, name))
+        if self.young_rule not in ("paper", "yade"):
+            raise ValueError(f"young_rule = {self.young_rule!r} is not one of 'paper', 'yade'")
+        check_positive("kt_ratio", self.kt_ratio)
+        check_nonnegative("friction_dominoes", self.friction_dominoes)
+        check_nonnegative("friction_floor", self.friction_floor)
+        check_in_range("damping", self.damping, 0.0, 1.0, lo_inclusive=True)
+        if self.restitution is not None:
+            check_in_range("restitution", self.restitution, 0.0, 1.0, hi_inclusive=True)
+        if self.model not in ("2d", "3d"):
+            raise ValueError(f"model = {self.model!r} is not one of '2d', '3d'")
+        if self.base not in ("one", "two"):
+            raise ValueError(f"base = {self.base!r} is not one of 'one', 'two'")
+        if self.spheres_per_column is not None:
+            check_in_range(
+                "spheres_per_column", self.spheres_per_column, 2, math.inf, lo_inclusive=True
+            )
+        check_in_range("lateral_asymmetry", self.lateral_asymmetry, 0.0, 0.1, lo_inclusive=True)
+        check_positive("g", self.g)
+
+    # --- derived geometry -------------------------------------------------------------
+    @property
+    def radius(self) -> float:
+        """Sphere radius ``R = s/2`` [m]."""
+        return self.thickness / 2.0
+
+    @property
+    def spacing(self) -> float:
+        """Clear gap ``d`` between neighbouring dominoes [m]."""
+        return self.d_over_l * self.height
+
+    @property
+    def pitch(self) -> float:
+        """Distance between neighbouring dominoes' axes, ``d + s`` [m]."""
+        return self.spacing + self.thickness
+
+    @property
+    def n_column(self) -> int:
+        """Spheres per column (default ``round(l/s)``: touching spheres)."""
+        return self.spheres_per_column or self.n_column_touching
+
+    @property
+    def n_column_touching(self) -> int:
+        return max(2, round(self.height / self.thickness))
+
+    @property
+    def n_across(self) -> int:
+        """Columns across the width: 1 in 2D, ``max(1, round(w/s))`` in 3D."""
+        return 1 if self.model == "2d" else max(1, round(self.width / self.thickness))
+
+    @property
+    def sphere_mass(self) -> float:
+        """Mass of a reference bead ``rho 4/3 pi R^3`` [kg]."""
+        return self.density * 4.0 / 3.0 * math.pi * self.radius**3
+
+    @property
+    def mass(self) -> float:
+        """Domino mass [kg]: ``n_across * round(l/s)`` reference beads (see module doc)."""
+        return self.n_across * self.n_column_touching * self.sphere_mass
+
+    @property
+    def contact_stiffness(self) -> float:
+        """Normal stiffness ``k_n`` of every contact [N/m] (see the class docstring)."""
+        if self.kn is not None:
+            return self.kn
+        if self.young is not None:
+            convention = "paper" if self.young_rule == "paper" else "contact"
+            return float(contact_stiffness_from_material(self.radius, self.young, convention))
+        ratio = 1e4 if self.stiffness_ratio is None else self.stiffness_ratio
+        k = ratio * float(k_star(self.column_mass, self.height, self.g))
+        return float(contact_stiffness(k, "paper"))  # eq. 24: k_n = k / 2
+
+    @property
+    def column_mass(self) -> float:
+        """Mass of one column of spheres (the 2D domino) [kg]."""
+        return self.mass / self.n_across
+
+    @property
+    def pair_stiffness(self) -> float:
+        """Normal stiffness between two dominoes [N/m]: ``n_across`` columns touch in
+        parallel, ``n_across * k_n`` (= ``k_n`` in 2D)."""
+        return self.n_across * self.contact_stiffness
+
+    @property
+    def stiffness_over_kstar(self) -> float:
+        """The paper's ``k/k*`` per column (``k = 2 k_n``, ``k* = m_column g / l``)."""
+        return 2.0 * self.contact_stiffness / float(k_star(self.column_mass, self.height, self.g))
+
+    def with_(self, **changes) -> ChainParams:
+        """A copy with some fields changed (validated again)."""
+        if {"stiffness_ratio", "kn", "young"} & changes.keys():
+            changes = {"stiffness_ratio": None, "kn": None, "young": None, **changes}
+        return replace(self, **changes)
+
+
+@dataclass(frozen=True)
+class DominoShape:
+    """Spheres of one upright domino in its own frame (pivot axis at the origin).
+
+    ``centres`` shape (n, 3) [m], ``radii`` (n,) [m], ``density`` (n,) bead density
+    [kg/m^3], ``bottom`` (n,) bool: member of the bottom layer (floor friction).
+    x is along the chain, y across, z up; the floor is ``z = 0``.
+    """
+
+    centres: np.ndarray
+    radii: np.ndarray
+    density: np.ndarray
+    bottom: np.ndarray
+
+    @property
+    def masses(self) -> np.ndarray:
+        """Sphere masses [kg], shape (n,)."""
+        return self.density * 4.0 / 3.0 * math.pi * self.radii**3
+
+    @property
+    def mass(self) -> float:
+        return float(self.masses.sum())
+
+    @property
+    def centre_of_mass(self) -> np.ndarray:
+        return self.masses @ self.centres / self.mass
+
+    @property
+    def pivot(self) -> int:
+        """Index of the front-most bottom sphere: the one the domino tips over."""
+        bottom = np.flatnonzero(self.bottom)
+        return int(bottom[np.argmax(self.centres[bottom, 0])])
+
+    @property
+    def pivot_contact(self) -> np.ndarray:
+        """Floor contact point below the pivot sphere, shape (3,) [m]."""
+        return np.array([self.centres[self.pivot, 0], self.centres[self.pivot, 1], 0.0])
+
+    def inertia_about_y(self, point) -> float:
+        """Moment of inertia about the y axis through ``point`` [kg m^2]."""
+        rel = self.centres - np.asarray(point, dtype=float)
+        m = self.masses
+        return float(np.sum(m * (0.4 * self.radii**2 + rel[:, 0] ** 2 + rel[:, 2] ** 2)))
+
+
+def domino_shape(p: ChainParams) -> DominoShape:
+    """The spheres of one domino for parameters ``p`` (see the module docstring)."""
+    r = p.radius
+    nz = p.n_column
+    # bead density keeping the mass of the touching column (resolution independence)
+    rho = p.density * p.n_column_touching / nz
+    z = np.linspace(r, p.height - r, nz)
+    ny = p.n_across
+    y = (np.arange(ny) - (ny - 1) / 2.0) * p.thickness
+    cols = []
+    for yi in y:
+        c = np.zeros((nz, 3))
+        c[:, 1] = yi
+        c[:, 2] = z
+        cols.append(c)
+    centres = np.concatenate(cols)
+    radii = np.full(centres.shape[0], r)
+    density = np.full(centres.shape[0], rho)
+    bottom = np.concatenate([np.arange(nz) == 0] * ny)
+    if p.base == "two":
+        # replace each bottom sphere by two of radius R/2 at x = -+R/2, z = R/2, 4x denser
+        keep = ~bottom
+        pairs = []
+        for yi in y:
+            pairs.append([-r / 2, yi, r / 2])
+            pairs.append([r / 2, yi, r / 2])
+        centres = np.concatenate([np.array(pairs), centres[keep]])
+        radii = np.concatenate([np.full(2 * ny, r / 2), radii[keep]])
+        density = np.concatenate([np.full(2 * ny, 4.0 * rho), density[keep]])
+        bottom = np.concatenate([np.ones(2 * ny, bool), np.zeros(int(keep.sum()), bool)])
+    return DominoShape(centres=centres, radii=radii, density=density, bottom=bottom)
+
+
+def chain_positions(p: ChainParams) -> np.ndarray:
+    """x of each domino's axis [m], shape (N,): ``n (d + s)``."""
+    return p.pitch * np.arange(p.n_dominoes)
+
+
+def place_domino(shape: DominoShape, x: float, yaw: float = 0.0, sink: float = 0.0) -> np.ndarray:
+    """World sphere centres (n, 3) [m] of a domino at ``x``, turned by ``yaw`` [rad] about
+    the vertical axis and lowered by ``sink`` [m] (static overlap with the floor)."""
+    c, s = math.cos(yaw), math.sin(yaw)
+    rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    out = shape.centres @ rot.T
+    out[:, 0] += x
+    out[:, 2] -= sink
+    return out

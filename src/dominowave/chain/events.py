@@ -1,0 +1,313 @@
+"""What each domino did: contacts, toppling, base slip, rotations, mechanism (Fig 5A).
+
+Engine-independent: the input is a ``ChainRecord`` of plain arrays that any
+simulator (or a video tracker) can fill -- a trajectory of the dominoes' rigid
+motion and the log of every contact onset and end between bodies.
+
+Sign conventions: the wave runs along +x; the forward tilt ``theta`` of a domino is
+the angle of its long axis from the vertical towards +x (positive = falling
+forward, negative = leaning back); base slip is the displacement along x of the
+centre of its pivot (front bottom) sphere.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from dominowave.theory import Regime
+
+__all__ = [
+    "ChainRecord",
+    "DominoEvents",
+    "analyse_events",
+    "contact_intervals",
+    "critical_tilt",
+    "forward_tilt",
+    "merge_contacts",
+    "rotate_vectors",
+]
+
+ONSET, END = 1, 0
+
+
+@dataclass(frozen=True)
+class ChainRecord:
+    """Plain-array record of a domino chain run (SI units).
+
+    ``times`` (F,) [s]; ``com`` (F, N, 3) [m] centres of mass; ``quat`` (F, N, 4)
+    orientations (w, x, y, z); ``velocity`` (F, N, 3) [m/s]; ``angular_velocity``
+    (F, N, 3) [rad/s] (world frame); ``axis`` (N, 3) each domino's long axis in
+    the world frame at frame 0 (unit vectors, upright = +z); ``base_offset`` /
+    ``top_offset`` (N, 3) [m] world vectors from the centre of mass to the pivot
+    (front bottom) sphere centre / to the top, at frame 0. The contact log:
+    ``ev_time`` (E,) [s], ``ev_i``, ``ev_j`` (E,) domino indices (``i < j``; walls are
+    negative), ``ev_kind`` (E,) ``ONSET`` = 1 / ``END`` = 0. ``end_time`` [s] is when
+    the record stops (open contacts end there).
+    """
+
+    times: np.ndarray
+    com: np.ndarray
+    quat: np.ndarray
+    velocity: np.ndarray
+    angular_velocity: np.ndarray
+    axis: np.ndarray
+    base_offset: np.ndarray
+    top_offset: np.ndarray
+    ev_time: np.ndarray
+    ev_i: np.ndarray
+    ev_j: np.ndarray
+    ev_kind: np.ndarray
+    end_time: float
+
+
+def _quat_matrices(q: np.ndarray) -> np.ndarray:
+    """Rotation matrices (..., 3, 3) of unit quaternions (..., 4) (w, x, y, z)."""
+    w, x, y, z = np.moveaxis(q, -1, 0)
+    return np.stack(
+        [
+            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
+            np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
+            np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1),
+        ],
+        -2,
+    )
+
+
+def rotate_vectors(quat: np.ndarray, vectors: np.ndarray) -> np.ndarray:
+    """Carry world vectors given at frame 0 along with each body's rotation.
+
+    ``quat`` (F, N, 4), ``vectors`` (N, 3) -> (F, N, 3): ``R(q_f) R(q_0)^T v``.
+    """
+    r = _quat_matrices(np.asarray(quat, dtype=float))
+    rel = r @ np.swapaxes(r[0], -1, -2)[None]
+    return np.einsum("fnij,nj->fni", rel, vectors)
+
+
+def forward_tilt(record: ChainRecord) -> np.ndarray:
+    """Forward tilt ``theta`` (F, N) [rad] of each domino's long axis (see module doc)."""
+    a = rotate_vectors(record.quat, record.axis)
+    return np.arctan2(a[..., 0], a[..., 2])
+
+
+def contact_intervals(record: ChainRecord, i: int, j: int) -> tuple[np.ndarray, np.ndarray]:
+    """Onset and end times [s] of every contact between bodies ``i`` and ``j``.
+
+    Returns two arrays of equal length ``K`` (one entry per contact, in time order);
+    a contact still open at the end of the record ends at ``record.end_time``.
+    """
+    a, b = (i, j) if i < j else (j, i)
+    sel = (record.ev_i == a) & (record.ev_j == b)
+    t, kind = record.ev_time[sel], record.ev_kind[sel]
+    order = np.argsort(t, kind="stable")
+    t, kind = t[order], kind[order]
+    onsets, ends = t[kind == ONSET], t[kind == END]
+    if ends.size < onsets.size:  # still touching when the record stopped
+        ends = np.append(ends, record.end_time)
+    return onsets, ends[: onsets.size]
+
+
+def merge_contacts(
+    onsets: np.ndarray, ends: np.ndarray, min_gap: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Merge contacts separated by less than ``min_gap`` [s] into one collision.
+
+    Two elastic bodies leaning on each other without dissipation chatter: the log
+    shows many short separations that are one physical collision. Returns the
+    onsets and ends of the merged collisions (``min_gap = 0``: unchanged).
+    """
+    if onsets.size == 0:
+        return onsets, ends
+    keep = np.concatenate([[True], onsets[1:] - ends[:-1] >= min_gap])
+    last = np.concatenate([keep[1:], [True]])
+    return onsets[keep], ends[last]
+
+
+@dataclass(frozen=True)
+class DominoEvents:
+    """Per-domino events of one run; every array has shape (N,).
+
+    Attributes
+    ----------
+    arrival : first contact with any lower-numbered domino [s] (0 for the pushed
+        domino 0; NaN if never touched) -- the wave's arrival time.
+    n_hits_from_prev, n_hits_on_next : number of collisions with domino ``n-1`` /
+        ``n+1`` (multiple collisions counted; contacts closer than ``min_gap`` merged
+        into one collision; 0 at the chain ends).
+    n_contacts_on_next : number of raw contact onsets with ``n+1`` (chatter included).
+    n_hits_in_passage : collisions of ``n`` on ``n+1`` that begin before the wave
+        reaches ``n+2`` -- more than one is the paper's multiple collision within one
+        cycle (Fig 6E); NaN-free, 0 where not defined.
+    touched_two_ahead : whether domino ``n`` ever touched domino ``n+2``.
+    first_hit_end : end of the first collision with domino ``n+1`` [s].
+    topple_time : first time ``theta > critical_angle`` [s] (NaN: never).
+    floor_time : first time the top comes within ``floor_tolerance`` of the floor
+        height it would have lying flat (NaN: never) [s].
+    rest_time : from this time on the domino stays below ``rest_speed`` [s] (NaN: moving
+        at the end of the record).
+    slip_final, slip_max : final and largest-magnitude (signed) displacement of the
+        base along x [m]; positive = forward.
+    max_forward, max_backward : largest forward tilt and largest backward lean
+        (>= 0) [rad].
+    rebound_angle : smallest tilt after the first collision with ``n+1`` ends and
+        before the next collision with it begins [rad] (NaN if no such collision);
+        0 = back to vertical as in the conservative EJ chain (eq 9a).
+    mechanism : ``theory.Regime`` code of the motion right after the first hit
+        (Fig 5A: 1 pure rotation, 2 forward rotation with slip, 3 backward rotation
+        with slip, 4 translation; 0 = not hit).
+    """
+
+    arrival: np.ndarray
+    n_hits_from_prev: np.ndarray
+    n_hits_on_next: np.ndarray
+    n_contacts_on_next: np.ndarray
+    n_hits_in_passage: np.ndarray
+    touched_two_ahead: np.ndarray
+    first_hit_end: np.ndarray
+    topple_time: np.ndarray
+    floor_time: np.ndarray
+    rest_time: np.ndarray
+    slip_final: np.ndarray
+    slip_max: np.ndarray
+    max_forward: np.ndarray
+    max_backward: np.ndarray
+    rebound_angle: np.ndarray
+    mechanism: np.ndarray
+
+    def table(self) -> dict[str, np.ndarray]:
+        """The attributes as a column dict (for CSV / rich tables)."""
+        return {k: getattr(self, k) for k in self.__dataclass_fields__}
+
+
+def _first_crossing(times: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """First time (per column) at which ``mask`` (F, N) is true; NaN if never."""
+    any_ = mask.any(axis=0)
+    idx = np.argmax(mask, axis=0)
+    return np.where(any_, times[idx], np.nan)
+
+
+def _mechanism(v_base: float, v_top: float, slip_tol: float) -> int:
+    """Fig 5A class from the horizontal velocities of base and top just after a hit.
+
+    Rotation rate ~ ``v_top - v_base``: no base velocity -> pure rotation; base
+    moving with the top -> translation; top faster -> forward rotation with slip;
+    top slower (leaning back) -> backward rotation with slip.
+    """
+    scale = max(abs(v_top), abs(v_base), 1e-300)
+    if abs(v_base) <= slip_tol * scale:
+        return int(Regime.PURE_ROTATION)
+    if abs(v_top - v_base) <= slip_tol * scale:
+        return int(Regime.TRANSLATION)
+    if v_top > v_base:
+        return int(Regime.FORWARD_ROTATION_SLIP)
+    return int(Regime.BACKWARD_ROTATION_SLIP)
+
+
+def analyse_events(
+    record: ChainRecord,
+    critical_angle: float,
+    rest_speed: float = 1e-3,
+    floor_tolerance: float = 0.1,
+    slip_tol: float = 0.05,
+    min_gap: float = 0.0,
+) -> DominoEvents:
+    """Events of every domino from a ``ChainRecord`` (see ``DominoEvents``).
+
+    Parameters
+    ----------
+    critical_angle : tilt [rad] past which a domino topples under gravity alone.
+    rest_speed : speed of the top [m/s] below which a domino counts as at rest.
+    floor_tolerance : fraction of the domino's height: "hit the floor" when the top
+        is lower than that fraction of the height above the floor.
+    slip_tol : relative velocity tolerance of the mechanism classification.
+    min_gap : contacts of a pair separated by less than this [s] are one collision
+        (``merge_contacts``); a collision time is a natural choice.
+    """
+    times = np.asarray(record.times, dtype=float)
+    n = record.com.shape[1]
+    theta = forward_tilt(record)
+    base = record.com + rotate_vectors(record.quat, record.base_offset)
+    top_rel = rotate_vectors(record.quat, record.top_offset)
+    top = record.com + top_rel
+    base_rel = base - record.com
+    slip = base[..., 0] - base[0, :, 0]
+    height = record.top_offset[:, 2] - record.base_offset[:, 2]
+
+    # velocities of base and top: v_com + omega x r
+    v_base = record.velocity + np.cross(record.angular_velocity, base_rel)
+    v_top = record.velocity + np.cross(record.angular_velocity, top_rel)
+    top_speed = np.linalg.norm(v_top, axis=-1)
+
+    arrival = np.full(n, np.nan)
+    arrival[0] = 0.0
+    hits_prev = np.zeros(n, int)
+    hits_next = np.zeros(n, int)
+    contacts_next = np.zeros(n, int)
+    in_passage = np.zeros(n, int)
+    two_ahead = np.zeros(n, bool)
+    first_end = np.full(n, np.nan)
+    rebound = np.full(n, np.nan)
+    mechanism = np.zeros(n, int)
+    body = (record.ev_i >= 0) & (record.ev_j >= 0) & (record.ev_kind == ONSET)
+    for k in range(1, n):
+        from_behind = body & (record.ev_j == k) & (record.ev_i < k)
+        if from_behind.any():
+            arrival[k] = float(record.ev_time[from_behind].min())
+    for k in range(n - 1):
+        on, off = contact_intervals(record, k, k + 1)
+        contacts_next[k] = on.size
+        on, off = merge_contacts(on, off, min_gap)
+        hits_next[k] = on.size
+        if k + 2 < n and np.isfinite(arrival[k + 2]):
+            in_passage[k] = int(np.sum(on < arrival[k + 2]))
+        hits_prev[k + 1] = on.size
+        if on.size:
+            first_end[k] = off[0]
+            later = on[1] if on.size > 1 else record.end_time
+            window = (times > off[0]) & (times < later)
+            if window.any():
+                rebound[k] = float(theta[window, k].min())
+        if k + 2 < n:
+            two_ahead[k] = bool(np.any(body & (record.ev_i == k) & (record.ev_j == k + 2)))
+    # mechanism: the first frame after the first hit on domino k ended
+    for k in range(1, n):
+        on, off = contact_intervals(record, k - 1, k)
+        if not on.size:
+            continue
+        f = int(np.searchsorted(times, off[0]))
+        if f < times.size:
+            mechanism[k] = _mechanism(v_base[f, k, 0], v_top[f, k, 0], slip_tol)
+
+    # at rest from the frame after the last moving one (NaN: still moving at the end)
+    moving = top_speed >= rest_speed
+    after_last_moving = times.size - np.argmax(moving[::-1], axis=0)
+    after_last_moving[~moving.any(axis=0)] = 0
+    rest = np.full(n, np.nan)
+    settled = after_last_moving < times.size
+    rest[settled] = times[after_last_moving[settled]]
+    i_max = np.argmax(np.abs(slip), axis=0)
+    return DominoEvents(
+        arrival=arrival,
+        n_hits_from_prev=hits_prev,
+        n_hits_on_next=hits_next,
+        n_contacts_on_next=contacts_next,
+        n_hits_in_passage=in_passage,
+        touched_two_ahead=two_ahead,
+        first_hit_end=first_end,
+        topple_time=_first_crossing(times, theta > critical_angle),
+        floor_time=_first_crossing(times, top[..., 2] < floor_tolerance * height[None]),
+        rest_time=rest,
+        slip_final=slip[-1],
+        slip_max=slip[i_max, np.arange(n)],
+        max_forward=np.maximum(theta.max(axis=0), 0.0),
+        max_backward=np.maximum(-theta.min(axis=0), 0.0),
+        rebound_angle=rebound,
+        mechanism=mechanism,
+    )
+
+
+def critical_tilt(half_base: float, com_height: float) -> float:
+    """Tilt [rad] at which the centre of mass passes over the front support point."""
+    return math.atan2(half_base, com_height)

@@ -1,0 +1,407 @@
+"""A domino chain on the DEM engine: build, push, run, record, measure (paper section 3).
+
+``DominoChain(params).run(push)`` builds the scene of ``chain.build`` in
+``dominowave.dem``, pushes domino 0, runs until the wave has died out, and returns
+a ``ChainRun`` with the events of every domino (``chain.events``), the wave
+measurement (``chain.wave``) and the theory for the same parameters
+(``chain.compare``). ``DominoChain(params).ensemble(push, members, seed)`` runs
+seeded, slightly perturbed pushes: the chain is chaotic, so a speed is only
+reproducible as an ensemble mean with its standard error.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from dominowave import dem
+from dominowave.chain.build import ChainParams, chain_positions, domino_shape, place_domino
+from dominowave.chain.compare import (
+    effective_domino,
+    theory_collision_time,
+    theory_first_contacts,
+    theory_speed,
+)
+from dominowave.chain.events import (
+    ChainRecord,
+    DominoEvents,
+    analyse_events,
+    contact_intervals,
+    critical_tilt,
+    merge_contacts,
+)
+from dominowave.chain.wave import (
+    EnsembleStats,
+    SecondaryWave,
+    SteadySpeed,
+    ensemble_arrival_stats,
+    ensemble_stats,
+    first_and_second_onsets,
+    fit_speed,
+    secondary_wave,
+    steady_speed,
+)
+from dominowave.checks import check_in_range, check_nonnegative, check_positive
+
+__all__ = ["ChainEnsemble", "ChainRun", "DominoChain", "Push"]
+
+
+@dataclass(frozen=True)
+class Push:
+    """How domino 0 is set in motion at ``t = 0``.
+
+    Exactly one of: ``omega`` -- initial angular velocity [rad/s] about the floor
+    contact of its pivot (front base) sphere, a rolling start: that contact point is
+    at rest; ``impulse`` -- a horizontal impulse [N s] at
+    ``height`` [m] above the floor (default: the top sphere's centre) on the free
+    clump. Neither: ``DominoChain`` uses ``omega = sqrt(g / l)``.
+    """
+
+    omega: float | None = None
+    impulse: float | None = None
+    height: float | None = None
+
+    def __post_init__(self):
+        if self.omega is not None and self.impulse is not None:
+            raise ValueError("give the push as omega or as impulse, not both")
+        if self.omega is not None:
+            check_positive("omega", self.omega)
+        if self.impulse is not None:
+            check_positive("impulse", self.impulse)
+        if self.height is not None:
+            check_positive("height", self.height)
+
+    def scaled(self, factor: float) -> Push:
+        """The same push, ``factor`` times as strong (ensemble perturbations)."""
+        if self.impulse is not None:
+            return Push(impulse=self.impulse * factor, height=self.height)
+        if self.omega is None:
+            raise ValueError("resolve the default push first (DominoChain.resolve)")
+        return Push(omega=self.omega * factor)
+
+
+@dataclass
+class ChainRun:
+    """Result of one run (SI units; arrays over dominoes have shape (N,)).
+
+    ``positions`` x of each domino's axis; ``arrival`` first-contact times (the
+    wave); ``events`` per-domino events; ``wave`` steady-speed fit; ``secondary``
+    the re-contact wave (None if absent); ``omega_1`` the push as an angular
+    velocity about the base contact (theory's Omega_1); ``theory_speed`` eq 34
+    (clump mapping) and ``theory_arrival`` the transient from ``omega_1``;
+    ``theory_window_speed`` the same least-squares fit applied to the theory's
+    transient over the dominoes of ``wave`` (NaN if not settled): the like-for-like
+    comparison for a finite chain, where the limit may be far;
+    ``dt``, ``n_steps``, ``wall_time`` [s], ``stop_reason`` of the engine.
+    """
+
+    params: ChainParams
+    push: Push
+    positions: np.ndarray
+    arrival: np.ndarray
+    events: DominoEvents
+    wave: SteadySpeed
+    secondary: SecondaryWave | None
+    omega_1: float
+    theory_speed: float
+    theory_arrival: np.ndarray
+    theory_window_speed: float
+    dt: float
+    n_steps: int
+    wall_time: float
+    stop_reason: str
+    record: ChainRecord | None = field(default=None, repr=False)
+
+    @property
+    def reached_all(self) -> bool:
+        """Whether the wave reached the last domino."""
+        return bool(np.isfinite(self.arrival[-1]))
+
+
+@dataclass
+class ChainEnsemble:
+    """Ensemble of perturbed runs: speed statistics and per-domino arrival statistics."""
+
+    runs: list[ChainRun]
+    speed: EnsembleStats
+    arrival_mean: np.ndarray
+    arrival_std: np.ndarray
+    arrival_stderr: np.ndarray
+    theory_speed: float
+    theory_window_speed: EnsembleStats
+
+
+class DominoChain:
+    """The DEM model of a domino chain for parameters ``params`` (``ChainParams``).
+
+    Parameters of the run (not of the physics): ``dt`` [s] (default: the theory's
+    collision time ``T_c`` (eq 31, clump mapping) divided by ``steps_per_collision``,
+    so a collision is resolved alike at every stiffness; the engine refuses a step
+    above its critical one), ``frame_interval`` [s] between trajectory frames used
+    for the event analysis, ``quiet_time`` [s] without any new contact after which
+    the run stops (the wave died; default ``10 sqrt(l/g)``), ``max_time`` [s] hard
+    limit (default: three times the theory's travel time plus the quiet time),
+    ``tail_time`` [s] run on after the wave reached the last domino, to record the
+    aftermath (default ``5 sqrt(l/g)``).
+    """
+
+    def __init__(
+        self,
+        params: ChainParams,
+        *,
+        dt: float | None = None,
+        steps_per_collision: int = 50,
+        frame_interval: float | None = None,
+        quiet_time: float | None = None,
+        max_time: float | None = None,
+        tail_time: float | None = None,
+    ):
+        self.params = params
+        check_in_range("steps_per_collision", steps_per_collision, 10, math.inf, lo_inclusive=True)
+        self.dt = dt if dt is not None else theory_collision_time(params) / steps_per_collision
+        check_positive("dt", self.dt)
+        scale = math.sqrt(params.height / params.g)
+        self.frame_interval = frame_interval or 0.01 * scale
+        self.quiet_time = quiet_time or 10.0 * scale
+        self.tail_time = tail_time or 5.0 * scale
+        check_positive("tail_time", self.tail_time)
+        check_positive("frame_interval", self.frame_interval)
+        check_positive("quiet_time", self.quiet_time)
+        if max_time is None:
+            travel = params.n_dominoes * params.pitch / theory_speed(params)
+            max_time = 3.0 * travel + self.quiet_time
+        self.max_time = check_positive("max_time", max_time)
+        self.shape = domino_shape(params)
+        self.positions = chain_positions(params)
+
+    # --- scene --------------------------------------------------------------------------
+    def resolve(self, push: Push | None) -> Push:
+        """``push`` with the default filled in: ``omega = sqrt(g / l)``."""
+        if push is None or (push.omega is None and push.impulse is None):
+            return Push(omega=math.sqrt(self.params.g / self.params.height))
+        return push
+
+    def _sink(self) -> float:
+        """Static overlap of an upright domino with the floor [m]."""
+        p = self.params
+        n_base = int(self.shape.bottom.sum())
+        return p.mass * p.g / (n_base * p.contact_stiffness)
+
+    def _yaws(self) -> np.ndarray:
+        p = self.params
+        if p.lateral_asymmetry == 0.0:
+            return np.zeros(p.n_dominoes)
+        rng = np.random.default_rng(p.asymmetry_seed)
+        return p.lateral_asymmetry * rng.uniform(-1.0, 1.0, p.n_dominoes)
+
+    def _push_velocities(self, push: Push) -> tuple[np.ndarray, np.ndarray, float]:
+        """Initial (v_com, omega) of domino 0 and the theory's Omega_1 [rad/s]."""
+        p = self.params
+        com = self.shape.centre_of_mass
+        inertia_pivot = effective_domino(p).inertia_pivot
+        if push.impulse is None:
+            # rolling about the pivot's floor contact: v_com = omega x (com - contact)
+            w = np.array([0.0, push.omega, 0.0])
+            return np.cross(w, com - self.shape.pivot_contact), w, push.omega
+        h = push.height if push.height is not None else p.height - p.radius
+        i_cm = self.shape.inertia_about_y(com)
+        v = np.array([push.impulse / p.mass, 0.0, 0.0])
+        w = np.array([0.0, (h - com[2]) * push.impulse / i_cm, 0.0])
+        # theory's Omega_1: the same impulse on a domino hinged at its base contact
+        return v, w, push.impulse * h / inertia_pivot
+
+    def build(self, push: Push, record: bool = True):
+        """The ``dem`` simulation with domino ``n`` as body ``n``; returns (sim, omega_1).
+
+        ``record=False`` switches the engine's contact event log and pair statistics
+        off (engines-only timing); the chain analysis needs them on.
+        """
+        p = self.params
+        scene = dem.Scene(gravity=(0.0, 0.0, -p.g), stiffness_rule="paper")
+        kw = {"kn": p.contact_stiffness, "kt_ratio": p.kt_ratio, "restitution": p.restitution}
+        densities = np.unique(self.shape.density)
+        mat_face = {
+            rho: scene.add_material(dem.Material(density=rho, friction=p.friction_dominoes, **kw))
+            for rho in densities
+        }
+        mat_base = {
+            rho: scene.add_material(dem.Material(density=rho, friction=p.friction_floor, **kw))
+            for rho in densities
+        }
+        floor = scene.add_material(dem.Material(density=p.density, friction=p.friction_floor, **kw))
+        scene.add_wall(point=(0.0, 0.0, 0.0), normal=(0.0, 0.0, 1.0), material=floor)
+        materials = [
+            (mat_base if bottom else mat_face)[rho]
+            for rho, bottom in zip(self.shape.density, self.shape.bottom, strict=True)
+        ]
+        blocked = "y rx rz" if p.model == "2d" else ""
+        v0, w0, omega_1 = self._push_velocities(push)
+        sink = self._sink()
+        for n, (x, yaw) in enumerate(zip(self.positions, self._yaws(), strict=True)):
+            moving = n == 0
+            scene.add_clump(
+                place_domino(self.shape, x, yaw, sink),
+                self.shape.radii,
+                materials,
+                blocked=blocked,
+                velocity=v0 if moving else (0.0, 0.0, 0.0),
+                angular_velocity=w0 if moving else (0.0, 0.0, 0.0),
+                held=p.held and not moving,
+            )
+        sim = scene.build(
+            dt=self.dt,
+            damping=p.damping,
+            record_pairs=record,
+            overlap_tolerance=1.01 * sink / float(self.shape.radii.min()) + 1e-9,
+        )
+        return sim, omega_1
+
+    # --- running ------------------------------------------------------------------------
+    def run(self, push: Push | None = None, keep_record: bool = False) -> ChainRun:
+        """Push domino 0, run until quiet or ``max_time``, analyse; see ``ChainRun``."""
+        push = self.resolve(push)
+        p = self.params
+        sim, omega_1 = self.build(push)
+        v0, w0, _ = self._push_velocities(push)
+        initial = _initial_frame(sim, v0, w0)
+        every = max(1, round(self.frame_interval / sim.dt))
+        start = time.perf_counter()
+        # phase 1: until the wave reaches the last domino (or dies out, or max_time)
+        last = p.n_dominoes - 1
+        stop = dem.StopCondition(no_onset_for=self.quiet_time, touched_body=last)
+        parts = [sim.run(until=self.max_time, stop=stop, trajectory_every=every)]
+        if parts[0].stop_reason == "touched":
+            # phase 2: the aftermath (re-contacts, rebounds, the last domino's fall)
+            parts.append(sim.run(until=sim.time + self.tail_time, trajectory_every=every))
+        wall = time.perf_counter() - start
+        record = self._record(parts, initial)
+        events = analyse_events(
+            record, critical_angle=self.critical_angle, min_gap=self.collision_time()
+        )
+        wave = steady_speed(events.arrival, self.positions)
+        theory_arrival = theory_first_contacts(p, omega_1)
+        window = (
+            fit_speed(theory_arrival, self.positions, wave.first, wave.last).speed
+            if wave.settled
+            else math.nan
+        )
+        return ChainRun(
+            params=p,
+            push=push,
+            positions=self.positions,
+            arrival=events.arrival,
+            events=events,
+            wave=wave,
+            secondary=self._secondary(record),
+            omega_1=omega_1,
+            theory_speed=theory_speed(p),
+            theory_arrival=theory_arrival,
+            theory_window_speed=window,
+            dt=sim.dt,
+            n_steps=sum(int(r.n_steps) for r in parts),
+            wall_time=wall,
+            stop_reason=str(parts[0].stop_reason),
+            record=record if keep_record else None,
+        )
+
+    def ensemble(
+        self,
+        push: Push | None = None,
+        members: int = 8,
+        seed: int = 0,
+        jitter: float = 1e-3,
+        keep_records: bool = False,
+    ) -> ChainEnsemble:
+        """``members`` runs with pushes scaled by ``1 + jitter * N(0, 1)`` (seeded).
+
+        Member ``i`` draws from ``numpy.random.default_rng([seed, i])``, so a member
+        is reproducible on its own and the ensemble is bit-identical for a seed.
+        """
+        check_in_range("members", members, 1, math.inf, lo_inclusive=True)
+        check_nonnegative("jitter", jitter)
+        push = self.resolve(push)
+        runs = []
+        for i in range(members):
+            factor = 1.0 + jitter * np.random.default_rng([seed, i]).standard_normal()
+            runs.append(self.run(push.scaled(factor), keep_record=keep_records))
+        arrivals = np.array([r.arrival for r in runs])
+        mean, std, se = ensemble_arrival_stats(arrivals)
+        return ChainEnsemble(
+            runs=runs,
+            speed=ensemble_stats([r.wave.speed for r in runs]),
+            arrival_mean=mean,
+            arrival_std=std,
+            arrival_stderr=se,
+            theory_speed=theory_speed(self.params),
+            theory_window_speed=ensemble_stats([r.theory_window_speed for r in runs]),
+        )
+
+    # --- analysis -----------------------------------------------------------------------
+    @property
+    def critical_angle(self) -> float:
+        """Tilt past which a domino topples by itself [rad].
+
+        Two-sphere base: the centre of mass passes over the front base sphere's floor
+        contact. A single sphere has no stable upright, so we use the tilt of the
+        flat-based domino of the same thickness, ``atan(s / l)``.
+        """
+        p = self.params
+        if p.base == "two":
+            return critical_tilt(p.radius / 2.0, float(self.shape.centre_of_mass[2]))
+        return critical_tilt(p.thickness / 2.0, p.height / 2.0)
+
+    def _record(self, parts, initial) -> ChainRecord:
+        """A ``ChainRecord`` from the engine's run results (one or more consecutive runs)."""
+        shape = self.shape
+        com0 = shape.centre_of_mass
+        pivot = shape.centres[shape.pivot]
+        top = np.array([0.0, 0.0, self.params.height])
+        n = self.params.n_dominoes
+        t0, x0, q0, v0, w0 = initial
+
+        def joined(name, first):
+            return np.concatenate([first[None], *(getattr(r, name) for r in parts)])
+
+        def events(name):
+            return np.concatenate([np.asarray(getattr(r.events, name)) for r in parts])
+
+        return ChainRecord(
+            times=joined("times", np.array(t0)),
+            com=joined("positions", x0),
+            quat=joined("quaternions", q0),
+            velocity=joined("velocities", v0),
+            angular_velocity=joined("angular_velocities", w0),
+            axis=np.tile([0.0, 0.0, 1.0], (n, 1)),
+            base_offset=np.tile(pivot - com0, (n, 1)),
+            top_offset=np.tile(top - com0, (n, 1)),
+            ev_time=events("time").astype(float),
+            ev_i=events("body_i"),
+            ev_j=events("body_j"),
+            ev_kind=events("kind"),
+            end_time=float(parts[-1].time),
+        )
+
+    def _secondary(self, record: ChainRecord) -> SecondaryWave | None:
+        """Wave of second collisions (contacts closer than ``T_c`` merged, as in events)."""
+        t_c = self.collision_time()
+        pairs = [contact_intervals(record, k, k + 1) for k in range(self.params.n_dominoes - 1)]
+        onsets = [merge_contacts(on, off, t_c)[0] for on, off in pairs]
+        first, second = first_and_second_onsets(onsets)
+        return secondary_wave(first, second, self.positions[1:], merge_lag=t_c)
+
+    def collision_time(self) -> float:
+        """Theory's ``T_c`` [s] for these parameters (eq 31, clump mapping)."""
+        return theory_collision_time(self.params)
+
+
+def _initial_frame(sim, v0: np.ndarray, w0: np.ndarray):
+    """(t, com, quat, v, omega) of the bodies before the run, as a trajectory frame
+    (only domino 0 moves: velocities ``v0``, ``w0``)."""
+    b = sim.bodies
+    vel = np.zeros_like(b.pos)
+    omega = np.zeros_like(b.pos)
+    vel[0], omega[0] = v0, w0
+    return float(sim.time), b.pos.copy(), b.quat.copy(), vel, omega

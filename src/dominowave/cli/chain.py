@@ -1,0 +1,235 @@
+"""Commands ``dominowave chain`` (one DEM domino chain or an ensemble) and ``paper-fig6``.
+
+Physical inputs are SI except where named otherwise: the push is given in units of
+``sqrt(g/l)``, the stiffness as the paper's ``k/k*``. Tables show speeds in m/s and
+as ``v / sqrt(g l)``. Bad input raises ``ValueError`` (one line, exit code 2).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import time
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from dominowave.chain.build import ChainParams
+from dominowave.chain.paper_fig6 import FULL, QUICK, read_rows, run_sweep, summarise, write_summary
+from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push
+from dominowave.chain.wave import local_speeds
+from dominowave.units import speed_scale
+
+__all__ = ["register"]
+
+REGIME_SHORT = {0: "-", 1: "rot", 2: "fwd+slip", 3: "back+slip", 4: "transl"}
+
+
+def _domino_rows(run: ChainRun) -> list[dict]:
+    ev = run.events.table()
+    n = run.arrival.size
+    v = np.concatenate([[np.nan], local_speeds(run.arrival, run.positions)])
+    rows = []
+    for k in range(n):
+        row = {"domino": k, "x": run.positions[k], "theory_arrival": run.theory_arrival[k]}
+        row["local_speed"] = v[k]
+        row.update({name: col[k] for name, col in ev.items()})
+        rows.append(row)
+    return rows
+
+
+def _write_csv(path: Path, rows: list[dict]) -> None:
+    with path.open("w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def _fmt(x, digits=4) -> str:
+    if isinstance(x, float | np.floating):
+        return "nan" if not math.isfinite(x) else f"{x:.{digits}g}"
+    return str(x)
+
+
+def _plot(run: ChainRun, ens: ChainEnsemble | None, path: Path) -> None:
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(6.4, 6.4))
+    ax1, ax2 = fig.subplots(2, 1, sharex=True)
+    n = np.arange(run.arrival.size)
+    runs = ens.runs if ens is not None else [run]
+    for r in runs:
+        ax1.plot(n, r.arrival, ".", color="C0", alpha=0.6)
+        ax2.plot(n[1:], local_speeds(r.arrival, r.positions), "-", color="C0", alpha=0.4)
+    ax1.plot(n, run.theory_arrival, "k--", label="theory transient (eqs 8, 12, 19)")
+    ax1.set_ylabel("first-contact time [s]")
+    ax1.legend(fontsize=8)
+    v_th = local_speeds(run.theory_arrival, run.positions)
+    ax2.plot(n[1:], v_th, "k--", label="theory transient")
+    ax2.axhline(run.theory_speed, color="k", lw=0.8, label="eq 34 limit (clump mapping)")
+    if run.wave.settled:
+        ax2.axhline(run.wave.speed, color="C3", label="DEM steady fit")
+        ax2.axvspan(run.wave.first, run.wave.last, color="C3", alpha=0.1)
+    ax2.set_xlabel("domino n")
+    ax2.set_ylabel("local speed [m/s]")
+    ax2.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+
+
+def chain_command(
+    n: Annotated[int, typer.Option("--n", help="number of dominoes")] = 30,
+    d_over_l: Annotated[float, typer.Option(help="gap d over height l")] = 0.4,
+    height: Annotated[float, typer.Option(help="domino height l [m]")] = 0.05,
+    thickness: Annotated[float, typer.Option(help="thickness s = sphere diameter [m]")] = 0.005,
+    width: Annotated[float, typer.Option(help="width w (3D model) [m]")] = 0.025,
+    density: Annotated[float, typer.Option(help="bead density [kg/m^3]")] = 1000.0,
+    stiffness_ratio: Annotated[
+        float | None, typer.Option(help="paper's k/k* (k_n = k/2); default 1e4")
+    ] = None,
+    kn: Annotated[float | None, typer.Option(help="contact spring k_n [N/m]")] = None,
+    young: Annotated[float | None, typer.Option(help="Young's modulus [Pa]")] = None,
+    young_rule: Annotated[str, typer.Option(help="paper (k_n = pi R E/2) | yade (E R)")] = "paper",
+    friction_floor: Annotated[float, typer.Option(help="phi_f, floor and bottom layer")] = 0.3,
+    friction_dominoes: Annotated[float, typer.Option(help="phi_d between dominoes")] = 0.0,
+    damping: Annotated[float, typer.Option(help="local damping in [0, 1)")] = 0.0,
+    restitution: Annotated[float | None, typer.Option(help="normal restitution")] = None,
+    model: Annotated[str, typer.Option(help="2d | 3d")] = "2d",
+    base: Annotated[str, typer.Option(help="one | two base spheres")] = "one",
+    held: Annotated[bool, typer.Option(help="hold untouched dominoes")] = True,
+    spheres_per_column: Annotated[int | None, typer.Option(help="default round(l/s)")] = None,
+    asymmetry: Annotated[float, typer.Option(help="3D random yaw amplitude [rad]")] = 0.0,
+    push_omega: Annotated[float, typer.Option(help="push in units of sqrt(g/l)")] = 1.0,
+    impulse: Annotated[float | None, typer.Option(help="push as impulse [N s]")] = None,
+    impulse_height: Annotated[float | None, typer.Option(help="impulse height [m]")] = None,
+    members: Annotated[int, typer.Option(help="ensemble members (perturbed pushes)")] = 1,
+    seed: Annotated[int, typer.Option(help="ensemble seed")] = 0,
+    jitter: Annotated[float, typer.Option(help="relative push perturbation")] = 1e-3,
+    out: Annotated[Path | None, typer.Option(help="directory for CSV + PNG")] = None,
+) -> None:
+    """Run one DEM domino chain (or an ensemble): per-domino table, speed vs theory, plot."""
+    p = ChainParams(
+        n_dominoes=n,
+        height=height,
+        thickness=thickness,
+        width=width,
+        d_over_l=d_over_l,
+        density=density,
+        stiffness_ratio=stiffness_ratio,
+        kn=kn,
+        young=young,
+        young_rule=young_rule,
+        friction_floor=friction_floor,
+        friction_dominoes=friction_dominoes,
+        damping=damping,
+        restitution=restitution,
+        model=model,
+        base=base,
+        held=held,
+        spheres_per_column=spheres_per_column,
+        lateral_asymmetry=asymmetry,
+    )
+    if impulse is not None:
+        push = Push(impulse=impulse, height=impulse_height)
+    else:
+        push = Push(omega=push_omega * math.sqrt(p.g / p.height))
+    chain = DominoChain(p)
+    start = time.perf_counter()
+    ens = chain.ensemble(push, members=members, seed=seed, jitter=jitter) if members > 1 else None
+    run = ens.runs[0] if ens is not None else chain.run(push)
+    wall = time.perf_counter() - start
+    console = Console(width=140)
+    scale = float(speed_scale(p.height, p.g))
+    table = Table(title=f"domino chain: N={n}, d/l={d_over_l}, k/k*={p.stiffness_over_kstar:.3g}")
+    cols = {
+        "domino": "n",
+        "arrival": "t_arr [s]",
+        "theory_arrival": "t_theory [s]",
+        "local_speed": "v_local [m/s]",
+        "n_hits_on_next": "hits on n+1",
+        "n_hits_in_passage": "hits in passage",
+        "slip_final": "slip [m]",
+        "max_forward": "max tilt [rad]",
+        "rebound_angle": "rebound [rad]",
+        "mechanism": "Fig 5A",
+    }
+    for header in cols.values():
+        table.add_column(header, justify="right")
+    rows = _domino_rows(run)
+    for r in rows:
+        cells = [_fmt(r[c]) for c in cols]
+        cells[-1] = REGIME_SHORT[int(r["mechanism"])]
+        table.add_row(*cells)
+    console.print(table)
+    w = run.wave
+    console.print(
+        f"steady speed: {_fmt(w.speed)} ± {_fmt(w.speed_err, 2)} m/s "
+        f"(v/sqrt(gl) = {_fmt(w.speed / scale)}; dominoes {w.first}..{w.last}; "
+        f"settled={w.settled})"
+    )
+    if ens is not None:
+        console.print(f"ensemble ({members} members): {ens.speed} m/s")
+    console.print(
+        f"theory eq 34 (clump mapping): {_fmt(run.theory_speed)} m/s; transient theory on the "
+        f"same dominoes: {_fmt(run.theory_window_speed)} m/s; Omega_1 = {_fmt(run.omega_1)} rad/s"
+    )
+    if run.secondary is not None and run.secondary.catching_up:
+        console.print(f"secondary wave catching up; merged at pair {run.secondary.merged_pair}")
+    console.print(f"dt = {run.dt:.3g} s, {run.n_steps} steps, wall {wall:.2f} s")
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
+        _write_csv(out / "chain_dominoes.csv", rows)
+        if ens is not None:
+            _write_csv(
+                out / "chain_members.csv",
+                [
+                    {
+                        "member": i,
+                        "push_omega": r.omega_1,
+                        "speed": r.wave.speed,
+                        "speed_err": r.wave.speed_err,
+                        "settled": r.wave.settled,
+                    }
+                    for i, r in enumerate(ens.runs)
+                ],
+            )
+        _plot(run, ens, out / "chain.png")
+        console.print(f"wrote {out}/chain_dominoes.csv, chain.png")
+
+
+def paper_fig6_command(
+    out: Annotated[Path, typer.Option(help="output directory")] = Path("fig6"),
+    quick: Annotated[bool, typer.Option(help="small preset for CI")] = False,
+    workers: Annotated[int | None, typer.Option(help="processes (default min(2, cores))")] = None,
+) -> None:
+    """Reproduce the paper's Fig 6 B-E (DEM sweeps; resumable): PNG + CSV in OUT."""
+    from dominowave.plots.fig6 import plot_fig6
+
+    preset = QUICK if quick else FULL
+    console = Console()
+    start = time.perf_counter()
+
+    def progress(row):
+        console.print(
+            f"  {row['config']:>10} d/l={row['d_over_l']:.2f} member {row['member']}: "
+            f"v={_fmt(row['speed'])} m/s ({row['wall_time']:.1f} s)"
+        )
+
+    path = run_sweep(preset, out, workers=workers, progress=progress)
+    summary = summarise(read_rows(path))
+    write_summary(summary, out / "summary.csv")
+    written = plot_fig6(summary, out)
+    console.print(
+        f"paper-fig6 ({preset.name}): {len(summary)} ensembles in "
+        f"{time.perf_counter() - start:.1f} s; wrote {', '.join(p.name for p in written)}"
+    )
+
+
+def register(app: typer.Typer) -> None:
+    """Add ``chain`` and ``paper-fig6`` to the ``dominowave`` app."""
+    app.command("chain")(chain_command)
+    app.command("paper-fig6")(paper_fig6_command)
