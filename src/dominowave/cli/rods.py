@@ -1,0 +1,231 @@
+"""Commands ``dominowave rods`` (one run of the hinged-domino model) and ``compare-rods``.
+
+Dimensionless like ``dominowave theory``: ``l = g = m = 1``, so angular velocities are
+in ``sqrt(g/l)``, times in ``sqrt(l/g)``, speeds in ``sqrt(g l)``, forces in ``m g``
+and the stiffness is ``k / k*`` (the paper's per-particle ``k``; the contact spring of
+the model is ``k/2``, eq 24).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+
+from dominowave import theory
+from dominowave.chain import theory_vs_rods as tvr
+from dominowave.chain.wave import steady_speed
+from dominowave.checks import check_positive
+from dominowave.cli.theory import parse_values
+from dominowave.rods import first_collisions, simulate
+
+__all__ = ["register"]
+
+QUICK_D_OVER_L = "0.2,0.4,0.7"
+QUICK_K_RATIO = "1e2,1e4"
+FULL_D_OVER_L = "0.05,0.1,0.2,0.3,0.4,0.5,0.6,0.7,0.8,0.9,0.95"
+FULL_K_RATIO = "1,1e2,1e4,1e6,1e8"
+
+Normal = Annotated[str, typer.Option(help="contact normal: geometric or head-on")]
+Mass = Annotated[str, typer.Option(help="mass distribution: point, rod or block")]
+
+
+def _fmt(x) -> str:
+    if isinstance(x, bool | np.bool_):
+        return "yes" if x else "no"
+    if isinstance(x, int | np.integer):
+        return str(int(x))
+    if isinstance(x, str):
+        return x
+    return "nan" if not math.isfinite(x) else f"{x:.4g}"
+
+
+def _print_table(header, rows) -> None:
+    cells = [list(header)] + [[_fmt(v) for v in row] for row in rows]
+    widths = [max(len(r[i]) for r in cells) for i in range(len(header))]
+    for r in cells:
+        typer.echo("  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)))
+
+
+def rods_command(
+    d_over_l: Annotated[float, typer.Option(help="gap / height d/l in (0, 1)")] = 0.4,
+    k_ratio: Annotated[float, typer.Option(help="paper's stiffness k/k*")] = 1e4,
+    n: Annotated[int, typer.Option(help="number of dominoes")] = 40,
+    push: Annotated[float, typer.Option(help="push of domino 1 in units of Omega (eq 9)")] = 1.0,
+    normal: Normal = "geometric",
+    mass: Mass = "point",
+    s_over_l: Annotated[float, typer.Option(help="thickness s/l")] = 0.0,
+    law: Annotated[str, typer.Option(help="linear or hertz")] = "linear",
+    damping: Annotated[float, typer.Option(help="damping ratio zeta in [0, 1)")] = 0.0,
+    mu: Annotated[float, typer.Option(help="friction between dominoes")] = 0.0,
+    gravity_in_contact: Annotated[
+        bool, typer.Option(help="gravity acts during contacts (off = theory's assumption)")
+    ] = True,
+    rows: Annotated[int, typer.Option(help="collisions shown in the table")] = 15,
+) -> None:
+    """One run of the hinged-domino model: its collisions and wave speed (dimensionless)."""
+    check_positive("push", push)
+    chain = tvr.paper_chain(
+        d_over_l,
+        k_ratio,
+        n,
+        normal=normal,
+        mass_model=mass,
+        s_over_l=s_over_l,
+        law=law,
+        g=1.0,
+        damping_ratio=damping,
+        mu=mu,
+        gravity_in_contact=gravity_in_contact,
+    )
+    beta = math.asin(d_over_l)
+    omega_lim = float(theory.omega_limit(beta, 1.0, 1.0))
+    run = simulate(chain, push=push * omega_lim)
+    col = first_collisions(run)
+    header = (
+        "n",
+        "t_on",
+        "T_coll",
+        "F_peak",
+        "Omega_fn",
+        "Omega_bn",
+        "Omega_n+1",
+        "contacts",
+        "theta_min",
+        "|H|/V",
+    )
+    shown = range(min(rows, n - 1))
+    _print_table(
+        header,
+        [
+            (
+                i + 1,
+                col.t_on[i],
+                col.duration[i],
+                col.peak_force[i],
+                col.omega_f[i],
+                col.omega_b[i],
+                col.omega_next[i],
+                col.n_contacts[i],
+                col.rebound[i],
+                col.hv_struck[i],
+            )
+            for i in shown
+        ],
+    )
+    fit = steady_speed(run.arrival, run.positions)
+    typer.echo(
+        f"status: {run.status}; steps {run.n_steps} (dt = {run.dt:.3g}); "
+        f"Omega (eq 9) = {omega_lim:.4g}; steady speed = {_fmt(fit.speed)} +- "
+        f"{_fmt(fit.speed_err)} (settled from domino {fit.first + 1 if fit.settled else '-'})"
+    )
+
+
+def compare_rods_command(
+    out: Annotated[Path, typer.Option(help="directory for CSV and PNG output")] = Path(
+        "compare-rods"
+    ),
+    quick: Annotated[
+        bool,
+        typer.Option(help=f"small grid for CI: d/l {QUICK_D_OVER_L}, k/k* {QUICK_K_RATIO}, n 30"),
+    ] = False,
+    d_over_l: Annotated[str, typer.Option(help="d/l list or start:stop:count")] = FULL_D_OVER_L,
+    k_ratio: Annotated[str, typer.Option(help="k/k* list or start:stop:count")] = FULL_K_RATIO,
+    normal: Annotated[str, typer.Option(help="comma list of normals")] = "geometric,head-on",
+    n: Annotated[int, typer.Option(help="dominoes per run")] = 60,
+    gravity_in_contact: Annotated[
+        bool, typer.Option(help="gravity acts during contacts (off = theory's assumption)")
+    ] = True,
+) -> None:
+    """Rod model vs theory over a (d/l, k/k*) grid: table, CSV and figures."""
+    if quick:
+        d_over_l, k_ratio, n = QUICK_D_OVER_L, QUICK_K_RATIO, 30
+    d_values = parse_values(d_over_l, "d_over_l")
+    k_values = parse_values(k_ratio, "k_ratio", geometric=True)
+    normals = tuple(x.strip() for x in normal.split(","))
+    header = (
+        "normal",
+        "k/k*",
+        "d/l",
+        "Tc/eq31",
+        "F/eq37",
+        "Om+/Omf",
+        "f_+",
+        "Omb/Omf",
+        "f+/f-",
+        "v",
+        "v_end",
+        "v_eq20",
+        "v_P",
+        "pair(th)",
+        "overlap",
+        "|H|/V>mu",
+        "regime(th)",
+        "status",
+    )
+    rows = []
+
+    def row(c):
+        return (
+            c.normal,
+            c.k_over_kstar,
+            c.d_over_l,
+            c.tc_first / c.tc_theory,
+            c.f_first / c.fm_theory,
+            c.transfer_first,
+            c.f_plus,
+            c.rebound_first,
+            c.rebound_theory,
+            c.speed,
+            c.speed_end,
+            c.speed_theory,
+            c.speed_p_wave,
+            c.pair_regime_theory,
+            c.overlap_fraction,
+            c.slip_fraction,
+            c.regime_theory,
+            c.status,
+        )
+
+    comparisons = tvr.compare_grid(
+        d_values,
+        k_values,
+        normals,
+        n=n,
+        g=1.0,
+        gravity_in_contact=gravity_in_contact,
+        progress=lambda c: rows.append(row(c)),
+    )
+    _print_table(header, rows)
+    out.mkdir(parents=True, exist_ok=True)
+    csv_path = tvr.write_csv(comparisons, out / "compare_rods.csv")
+    pngs = tvr.plot_comparisons(comparisons, out)
+    # Fig 1D: Omega_n from pushes below and above the limit, both contact normals
+    profiles, labels = [], []
+    for normal_name in normals:
+        for d in (0.6,) if quick else (0.3, 0.6):
+            for factor in (0.5, 1.5):
+                profiles.append(
+                    tvr.omega_profile(
+                        d,
+                        1e6,
+                        factor,
+                        n=15 if quick else 40,
+                        normal=normal_name,
+                        g=1.0,
+                        gravity_in_contact=gravity_in_contact,
+                    )
+                )
+                labels.append(f"{normal_name}, d/l={d}, Omega_1={factor} Omega")
+    pngs.append(tvr.plot_omega_profiles(profiles, labels, out / "omega_n.png"))
+    profile_csv = tvr.write_profiles_csv(profiles, labels, out / "omega_n.csv")
+    typer.echo(f"wrote {csv_path}, {profile_csv} and {', '.join(str(p) for p in pngs)}")
+
+
+def register(app: typer.Typer) -> None:
+    """Add ``rods`` and ``compare-rods`` to the ``dominowave`` command line."""
+    app.command("rods")(rods_command)
+    app.command("compare-rods")(compare_rods_command)
