@@ -1,0 +1,300 @@
+"""Research workflow commands: config, run, sweep, collect, plot, animate, resume.
+
+Every command validates all of its input before it runs anything; bad input is
+one line on stderr and exit code 2 (``ValueError``, see ``cli/__init__.py``).
+Heavy libraries (dask, xarray, matplotlib, imageio) are imported inside the
+commands, so ``dominowave theory ...`` starts fast.
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+import re
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+__all__ = ["register"]
+
+_QUIET = typer.Option("--quiet", "-q", help="No progress bar (also off when not on a terminal).")
+
+
+_ADDRESS = re.compile(r"((tcp|tls|ucx|ws|wss|inproc)://)?[\w.\-\[\]:]+:\d{1,5}")
+"""A Dask scheduler address: ``[protocol://]host:port``."""
+
+
+def _errors_as_values(command):
+    """Turn OS errors into one-line ``ValueError`` and Ctrl-C into exit code 130."""
+
+    @functools.wraps(command)
+    def wrapper(*args, **kwargs):
+        try:
+            return command(*args, **kwargs)
+        except BrokenPipeError:  # e.g. `dominowave config --example chain | head`
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            sys.exit(0)
+        except KeyboardInterrupt:
+            typer.echo(
+                "dominowave: interrupted; finished results are kept, re-run to resume", err=True
+            )
+            sys.exit(130)
+        except OSError as exc:
+            where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
+            raise ValueError(f"{exc.strerror or exc}{where}") from None
+
+    return wrapper
+
+
+def parse_every(option: str | None, name: str, units: dict[str, str]) -> dict[str, float]:
+    """Parse ``"every=10"`` / ``"steps=1000,minutes=5"`` style options.
+
+    ``units`` maps each allowed key to ``"int"`` or ``"float"``; values must be > 0.
+    """
+    if option is None:
+        return {}
+    out: dict[str, float] = {}
+    for part in option.split(","):
+        m = re.fullmatch(r"\s*([a-z_]+)\s*=\s*([^\s]+)\s*", part)
+        if not m or m.group(1) not in units:
+            keys = ", ".join(f"{k}=N" for k in units)
+            raise ValueError(f"{name} {option!r}: expected {keys}")
+        key, raw = m.groups()
+        try:
+            value = int(raw) if units[key] == "int" else float(raw)
+        except ValueError:
+            kind = "an integer" if units[key] == "int" else "a number"
+            raise ValueError(f"{name} {key} = {raw!r} is not {kind}") from None
+        if not 0 < value < float("inf"):
+            raise ValueError(f"{name} {key} = {raw} is outside the valid range (0, inf)")
+        out[key] = value
+    return out
+
+
+def config_cmd(
+    study: Annotated[Path | None, typer.Argument(help="Study file to check.")] = None,
+    example: Annotated[
+        str | None, typer.Option(help="Print a documented example: theory, chain, rods or sweep.")
+    ] = None,
+) -> None:
+    """Print an example study file, or check one and list its points."""
+    from dominowave.io.config import example_toml, load_study
+
+    if example is not None:
+        typer.echo(example_toml(example), nl=False)
+        return
+    if study is None:
+        raise ValueError("give a study file to check, or --example theory|chain|rods|sweep")
+    loaded = load_study(study)
+    from dominowave.sweep.hashing import point_key
+
+    typer.echo(f"{study}: ok, scenario {loaded.scenario.kind}, {len(loaded.points)} point(s)")
+    for override, point in zip(loaded.overrides, loaded.points, strict=True):
+        label = ", ".join(f"{k} = {v!r}" for k, v in override.items()) or "(base scenario)"
+        typer.echo(f"  {point_key(point)}  {label}")
+
+
+def run_cmd(
+    study: Annotated[Path, typer.Argument(help="Study file (TOML).")],
+    out: Annotated[Path | None, typer.Option(help="Result folder (default: output.dir).")] = None,
+    force: Annotated[bool, typer.Option(help="Replace a result of another config.")] = False,
+    vtk: Annotated[
+        str | None, typer.Option(help="Write VTK frames for ParaView: every=N frames.")
+    ] = None,
+    checkpoint: Annotated[
+        str | None,
+        typer.Option(help="Checkpoint long runs: steps=N and/or minutes=M (resume: re-run)."),
+    ] = None,
+    quiet: Annotated[bool, _QUIET] = False,
+) -> None:
+    """Run the study's scenario once (a sweep table is ignored; use `sweep`)."""
+    from dominowave.io.config import load_study
+
+    loaded = load_study(study)
+    vtk_every = int(parse_every(vtk, "--vtk", {"every": "int"}).get("every", 0))
+    every = parse_every(checkpoint, "--checkpoint", {"steps": "int", "minutes": "float"})
+    folder = Path(out) if out is not None else Path(loaded.output.dir)
+    policy = None
+    if checkpoint is not None:
+        policy = {"steps": int(every.get("steps", 0)), "seconds": 60.0 * every.get("minutes", 0)}
+    _run(loaded, folder, force, policy, vtk_every, quiet)
+
+
+def _run(loaded, folder: Path, force: bool, policy: dict | None, vtk_every: int, quiet: bool):
+    from dominowave.io.progress import RunProgress
+    from dominowave.sweep.registry import RunContext
+    from dominowave.sweep.runner import run_one
+
+    if vtk_every and not getattr(type(loaded.scenario), "RECORDS_FRAMES", False):
+        raise ValueError(f"--vtk: scenario {loaded.scenario.kind!r} records no frames to draw")
+    with RunProgress(quiet) as progress:
+        ctx = RunContext(progress=progress if progress.enabled else None, vtk_every=vtk_every)
+        if policy is not None:
+            ctx.checkpoint_dir = folder / "checkpoint"
+            ctx.checkpoint_every_steps = policy["steps"]
+            ctx.checkpoint_every_seconds = policy["seconds"]
+        status = run_one(loaded, folder, ctx, force=force)
+    if vtk_every and status == "up to date":  # redraw from the stored trajectory
+        from dominowave.io.results import read_trajectory
+        from dominowave.io.vtk import write_trajectory_vtk
+
+        write_trajectory_vtk(folder / "vtk", read_trajectory(folder), every=vtk_every)
+    if vtk_every:
+        n = len(list((folder / "vtk").glob("dominoes_*.vtu")))
+        typer.echo(f"VTK: {n} frames in {folder / 'vtk'} (open the .pvd files in ParaView)")
+    typer.echo(f"{status}: {folder}")
+
+
+def sweep_cmd(
+    study: Annotated[Path, typer.Argument(help="Study file with a [sweep] table.")],
+    out: Annotated[Path | None, typer.Option(help="Sweep folder (default: output.dir).")] = None,
+    scheduler: Annotated[
+        str | None, typer.Option(help="Address of an existing Dask scheduler (tcp://host:port).")
+    ] = None,
+    workers: Annotated[
+        int | None, typer.Option(help="Workers of the LocalCluster (default: all cores).")
+    ] = None,
+    retry_failed: Annotated[bool, typer.Option(help="Run failed points again.")] = False,
+    quiet: Annotated[bool, _QUIET] = False,
+) -> None:
+    """Run every point of a sweep on dask.distributed; stored points are skipped."""
+    from dominowave.io.config import load_study
+
+    loaded = load_study(study)
+    if loaded.sweep is None:
+        raise ValueError(f"{study}: no [sweep] table (use `dominowave run` for a single run)")
+    _sweep(
+        loaded,
+        Path(out) if out is not None else Path(loaded.output.dir),
+        scheduler,
+        workers,
+        retry_failed,
+        quiet,
+    )
+
+
+def _sweep(loaded, folder, scheduler, workers, retry_failed, quiet) -> None:
+    from dominowave.sweep.runner import run_sweep
+
+    if workers is not None and workers < 1:
+        raise ValueError(f"--workers = {workers} is outside the valid range [1, inf)")
+    if scheduler is not None and not _ADDRESS.fullmatch(scheduler):
+        raise ValueError(
+            f"--scheduler {scheduler!r} is not a scheduler address (e.g. tcp://10.0.0.5:8786)"
+        )
+
+    report = run_sweep(
+        loaded,
+        folder,
+        scheduler=scheduler,
+        n_workers=workers,
+        quiet=quiet,
+        retry_failed=retry_failed,
+    )
+    typer.echo(report.line())
+    if report.interrupted:
+        sys.exit(130)
+    if report.failed:
+        typer.echo(f"{report.failed} point(s) failed: see failure.json in their folders", err=True)
+        sys.exit(1)
+
+
+def collect_cmd(
+    folder: Annotated[Path, typer.Argument(help="Sweep folder.")],
+    out: Annotated[
+        Path | None, typer.Option(help="netCDF file (default: DIR/collected.nc).")
+    ] = None,
+) -> None:
+    """Gather a sweep's points into one xarray Dataset (netCDF)."""
+    from dominowave.sweep.collect import collect, write_collected
+
+    ds = collect(folder)
+    path = write_collected(ds, out or Path(folder) / "collected.nc")
+    dims = ", ".join(f"{k}: {v}" for k, v in ds.sizes.items())
+    typer.echo(f"collected {dims} -> {path}")
+
+
+def plot_cmd(
+    folder: Annotated[Path, typer.Argument(help="Sweep or run folder.")],
+    out: Annotated[Path | None, typer.Option(help="Figure folder (default: DIR/figures).")] = None,
+) -> None:
+    """Speed vs d/l with the theory curves, arrival-time diagram, local speed profile."""
+    from dominowave.sweep.figures import plot_folder
+
+    for path in plot_folder(folder, out):
+        typer.echo(f"wrote {path}")
+
+
+def animate_cmd(
+    folder: Annotated[Path, typer.Argument(help="Run folder, or a sweep folder with --point.")],
+    out: Annotated[Path, typer.Option(help="Movie file: .mp4 or .gif.")] = Path("chain.mp4"),
+    point: Annotated[str | None, typer.Option(help="Key of the sweep point to draw.")] = None,
+    fps: Annotated[int, typer.Option(help="Frames per second of the movie, 1 to 120.")] = 25,
+    slowdown: Annotated[
+        float | None,
+        typer.Option(help="Movie seconds per simulated second (default: movie lasts ~6 s)."),
+    ] = None,
+) -> None:
+    """Draw the chain toppling (side view, coloured by angular velocity) to mp4 or gif."""
+    from dominowave.checks import check_in_range
+    from dominowave.io.animation import animate
+    from dominowave.io.results import read_trajectory
+
+    check_in_range("--fps", fps, 1, 120, lo_inclusive=True, hi_inclusive=True)
+    if slowdown is not None:
+        check_in_range("--slowdown", slowdown, 0.0, float("inf"))
+
+    folder = Path(folder)
+    if point is not None:
+        folder = folder / "points" / point
+        if not folder.is_dir():
+            raise ValueError(f"--point {point}: no such point in {folder.parent.parent}")
+    n = animate(read_trajectory(folder), out, fps=fps, slowdown=slowdown)
+    typer.echo(f"wrote {n} frames to {out}")
+
+
+def resume_cmd(
+    folder: Annotated[Path, typer.Argument(help="Sweep folder (or run folder with a checkpoint).")],
+    scheduler: Annotated[
+        str | None, typer.Option(help="Address of an existing Dask scheduler.")
+    ] = None,
+    workers: Annotated[int | None, typer.Option(help="LocalCluster workers.")] = None,
+    retry_failed: Annotated[bool, typer.Option(help="Run failed points again.")] = False,
+    quiet: Annotated[bool, _QUIET] = False,
+) -> None:
+    """Continue a killed sweep or checkpointed run (finished work is kept, the rest runs)."""
+    import json
+
+    from dominowave.io.config import load_study
+
+    folder = Path(folder)
+    if (folder / "checkpoint" / "study.toml").is_file():
+        ck = folder / "checkpoint"
+        try:
+            policy = json.loads((ck / "policy.json").read_text())
+        except (OSError, ValueError) as exc:
+            raise ValueError(f"{ck / 'policy.json'}: unreadable ({exc})") from None
+        _run(load_study(ck / "study.toml"), folder, False, policy, 0, quiet)
+        return
+    study = folder / "study.toml"
+    if not study.is_file():
+        raise ValueError(
+            f"{folder}: nothing to resume (neither a sweep folder nor a run with a checkpoint)"
+        )
+    _sweep(load_study(study), folder, scheduler, workers, retry_failed, quiet)
+
+
+def register(app: typer.Typer) -> None:
+    """Add the workflow commands to the ``dominowave`` app."""
+    for name, command in [
+        ("config", config_cmd),
+        ("run", run_cmd),
+        ("sweep", sweep_cmd),
+        ("collect", collect_cmd),
+        ("plot", plot_cmd),
+        ("animate", animate_cmd),
+        ("resume", resume_cmd),
+    ]:
+        app.command(name)(_errors_as_values(command))

@@ -1,0 +1,174 @@
+"""Long runs with checkpoints: advance in chunks, save the state, resume bit-identically.
+
+A scenario that supports checkpoints provides a *stepper* (registered in
+:data:`dominowave.sweep.registry.STEPPERS`): an object with
+
+* ``advance(n_steps) -> bool`` -- integrate up to ``n_steps`` time steps; True when done;
+* ``time`` [s], ``end_time`` [s], ``steps``, ``toppled`` -- where the run is;
+* ``get_state() -> dict[str, ndarray]`` -- everything the future depends on;
+* ``set_state(state)`` -- restore it exactly;
+* ``result() -> RunResult`` -- the results so far (also of an unfinished run).
+
+Because the state is saved bit-exactly and ``advance`` is deterministic, a run
+resumed from a checkpoint retraces the uninterrupted one to the last bit, as long
+as chunk boundaries do not change the arithmetic (``advance(a); advance(b)`` must
+equal ``advance(a + b)``) -- each stepper's tests check that.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+import threading
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from dominowave.io.checkpoint import load_checkpoint, save_checkpoint
+from dominowave.io.results import write_result_folder
+from dominowave.sweep.hashing import config_dict, point_key
+from dominowave.sweep.registry import RunContext
+
+__all__ = ["CheckpointPolicy", "resume_stepper", "run_stepper", "run_stepping"]
+
+
+@dataclass(frozen=True)
+class CheckpointPolicy:
+    """When to checkpoint: every ``steps`` time steps and/or ``seconds`` of wall time.
+
+    ``chunk`` is the number of steps per ``advance`` call (progress updates too).
+    """
+
+    path: Path
+    key: str
+    steps: int = 0
+    seconds: float = 0.0
+    chunk: int = 1000
+
+    def __post_init__(self):
+        if self.steps < 0 or self.seconds < 0 or self.chunk < 1:
+            raise ValueError(f"checkpoint policy {self} has a negative or zero interval")
+
+
+def _save(stepper, policy: CheckpointPolicy) -> None:
+    meta = {"key": policy.key, "steps": int(stepper.steps), "time": float(stepper.time)}
+    save_checkpoint(policy.path, stepper.get_state(), meta)
+
+
+@contextlib.contextmanager
+def _interrupt_between_chunks():
+    """Defer Ctrl-C (SIGINT) to the end of the current chunk.
+
+    A KeyboardInterrupt in the middle of ``advance`` could leave the state half
+    updated, and a checkpoint of it would not resume bit-identically. In the main
+    thread the signal only sets a flag, checked between chunks; elsewhere (e.g. a
+    dask worker thread) signals are not ours to handle and nothing changes.
+    """
+    flag = {"interrupted": False}
+    if threading.current_thread() is not threading.main_thread():
+        yield flag
+        return
+
+    def handler(signum, frame):
+        flag["interrupted"] = True
+
+    previous = signal.signal(signal.SIGINT, handler)
+    try:
+        yield flag
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def run_stepper(stepper, policy: CheckpointPolicy | None = None, progress=None):
+    """Advance ``stepper`` to the end, checkpointing per ``policy``; return it.
+
+    On Ctrl-C the current chunk finishes, a final checkpoint is written and
+    ``KeyboardInterrupt`` is raised, so ``resume`` continues from exactly there.
+    """
+    chunk = policy.chunk if policy is not None else 1000
+    if policy is not None and policy.steps:
+        chunk = min(chunk, policy.steps)
+    last_wall = time.monotonic()
+    last_steps = stepper.steps
+    with _interrupt_between_chunks() as flag:
+        _loop(stepper, policy, progress, chunk, flag, last_wall, last_steps)
+    return stepper
+
+
+def _loop(stepper, policy, progress, chunk, flag, last_wall, last_steps) -> None:
+    try:
+        while True:
+            if flag["interrupted"]:
+                raise KeyboardInterrupt
+            done = stepper.advance(chunk)
+            if progress is not None:
+                progress(
+                    sim_time=stepper.time,
+                    end_time=stepper.end_time,
+                    steps=stepper.steps,
+                    toppled=stepper.toppled,
+                )
+            if done:
+                break
+            if policy is None:
+                continue
+            due_steps = policy.steps and stepper.steps - last_steps >= policy.steps
+            due_time = policy.seconds and time.monotonic() - last_wall >= policy.seconds
+            if due_steps or due_time:
+                _save(stepper, policy)
+                last_wall, last_steps = time.monotonic(), stepper.steps
+    except KeyboardInterrupt:
+        if policy is not None:
+            _save(stepper, policy)
+        raise
+
+
+def resume_stepper(stepper, policy: CheckpointPolicy):
+    """Restore ``stepper`` (freshly built from the same config) from ``policy.path``."""
+    state, meta = load_checkpoint(policy.path, key=policy.key)
+    stepper.set_state(state)
+    if stepper.steps != meta["steps"]:
+        raise ValueError(
+            f"checkpoint {policy.path}: restored state is at step {stepper.steps},"
+            f" header says {meta['steps']}"
+        )
+    return stepper
+
+
+def run_stepping(config, ctx: RunContext | None = None, *, factory):
+    """Run function of a steppable scenario: ``factory(config)`` builds its stepper.
+
+    With ``ctx.checkpoint_dir`` set, checkpoints go to ``<dir>/state.npz`` and an
+    existing checkpoint of the same config is resumed from. On Ctrl-C the final
+    checkpoint and the partial results (``<dir>/../partial``) are written.
+    """
+    ctx = ctx or RunContext()
+    stepper = factory(config)
+    policy = None
+    if ctx.checkpoint_dir is not None:
+        policy = CheckpointPolicy(
+            Path(ctx.checkpoint_dir) / "state.npz",
+            point_key(config),
+            steps=ctx.checkpoint_every_steps,
+            seconds=ctx.checkpoint_every_seconds,
+        )
+        if policy.path.exists():
+            resume_stepper(stepper, policy)
+    try:
+        run_stepper(stepper, policy, ctx.progress)
+    except KeyboardInterrupt:
+        if policy is not None:
+            _write_partial(policy.path.parent.parent / "partial", config, stepper)
+        raise
+    return stepper.result()
+
+
+def _write_partial(folder: Path, config, stepper) -> None:
+    import shutil
+
+    prov = {"key": point_key(config), "partial": True, "steps": int(stepper.steps)}
+    new = folder.with_name(folder.name + ".new")
+    shutil.rmtree(new, ignore_errors=True)
+    write_result_folder(new, config_dict(config), prov, stepper.result())
+    shutil.rmtree(folder, ignore_errors=True)
+    new.rename(folder)

@@ -1,0 +1,89 @@
+"""Scenario registry: ``kind`` -> run function, and the context a run gets.
+
+A run function has the signature ``run(config, ctx) -> RunResult``: ``config``
+is the validated pydantic model of its kind (:mod:`dominowave.io.models`),
+``ctx`` a :class:`RunContext`. Run functions are looked up lazily by dotted
+name, so importing the registry imports no simulation code.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+__all__ = [
+    "RUNNERS",
+    "STEPPABLE",
+    "RunContext",
+    "get_runner",
+    "is_steppable",
+    "register_runner",
+    "register_stepper",
+]
+
+RUNNERS: dict[str, str | Callable] = {
+    "theory": "dominowave.sweep.run_theory:run_theory",
+    "rods": "dominowave.sweep.run_rods:run_rods",
+    "chain": "dominowave.sweep.run_chain:run_chain",
+}
+"""kind -> run function or ``"module:function"``."""
+
+STEPPABLE: set[str] = set()
+"""Kinds whose runs advance in steps and can be checkpointed and resumed."""
+
+
+@dataclass
+class RunContext:
+    """What the workflow offers a running scenario (all optional).
+
+    progress : called as ``progress(sim_time=, end_time=, steps=, toppled=)`` [s, s, -, -]
+        whenever the scenario likes (it throttles itself); None when quiet.
+    vtk_every : VTK frames wanted every this many recorded frames (0: none); a scenario
+        then also returns its spheres (``RunResult.spheres``) if it has any.
+    checkpoint_dir : folder for checkpoints of long runs (None: no checkpoints).
+    checkpoint_every_steps, checkpoint_every_seconds : how often to checkpoint.
+    """
+
+    progress: Callable[..., None] | None = None
+    vtk_every: int = 0
+    checkpoint_dir: Path | None = None
+    checkpoint_every_steps: int = 0
+    checkpoint_every_seconds: float = 0.0
+
+
+def register_runner(kind: str, runner: str | Callable) -> None:
+    """Make ``kind`` runnable by ``runner`` (a function or ``"module:function"``)."""
+    RUNNERS[kind] = runner
+
+
+def get_runner(kind: str) -> Callable:
+    """The run function of ``kind`` (ValueError if the kind has none)."""
+    try:
+        runner = RUNNERS[kind]
+    except KeyError:
+        known = ", ".join(sorted(RUNNERS))
+        raise ValueError(f"scenario.kind = {kind!r} has no run function (known: {known})") from None
+    if isinstance(runner, str):
+        module, _, name = runner.partition(":")
+        runner = getattr(importlib.import_module(module), name)
+    return runner
+
+
+def register_stepper(kind: str, factory: Callable) -> None:
+    """Make ``kind`` a checkpointable scenario: ``factory(config)`` returns its stepper.
+
+    See :mod:`dominowave.sweep.longrun` for what a stepper provides.
+    """
+    import functools
+
+    from dominowave.sweep.longrun import run_stepping
+
+    RUNNERS[kind] = functools.partial(run_stepping, factory=factory)
+    STEPPABLE.add(kind)
+
+
+def is_steppable(kind: str) -> bool:
+    """True if runs of ``kind`` can be checkpointed."""
+    return kind in STEPPABLE

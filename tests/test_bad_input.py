@@ -1,0 +1,350 @@
+"""Malformed studies and arguments: one clear line, exit code 2, no result file damaged.
+
+Every case runs the real command line (``dominowave.cli.main``) in this process
+next to a finished result folder and a finished sweep folder, and checks that the
+error is a single line naming the problem, that the exit code is 2 and that not
+one byte of the existing results changed. A few cases also run in a separate
+process to check that no traceback reaches the terminal.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent / "workflow"))
+import workflow_helpers  # noqa: F401  (registers the steppable toy scenario)
+
+from dominowave.cli import main
+from dominowave.io.checkpoint import save_checkpoint
+
+GOOD = '[scenario]\nkind = "theory"\nn_dominoes = 6\nn_frames = 10\n'
+
+# (case id, study text or None, extra args, fragments the error line must contain)
+STUDY_CASES = [
+    ("unknown-table", '[scenaro]\nkind = "theory"\n', [], ["unknown key scenaro"]),
+    (
+        "unknown-key",
+        GOOD + "spacng = 0.02\n",
+        [],
+        ["study.toml:5", "unknown key scenario.spacng", "valid keys"],
+    ),
+    ("no-scenario", '[output]\ndir = "x"\n', [], ["scenario is required"]),
+    ("empty-file", "", [], ["scenario is required"]),
+    ("no-kind", "[scenario]\nspacing = 0.02\n", [], ["scenario.kind = missing", "theory"]),
+    (
+        "unknown-kind",
+        '[scenario]\nkind = "thoery"\n',
+        [],
+        ["study.toml:2", "'thoery'", "not one of"],
+    ),
+    (
+        "unit-string",
+        GOOD + 'height = "5 cm"\n',
+        [],
+        ["study.toml:5", "scenario.height = '5 cm'", "SI units (m)"],
+    ),
+    ("bool-for-number", GOOD + "mass = true\n", [], ["scenario.mass = True", "not a number"]),
+    ("list-for-number", GOOD + "mass = [0.01]\n", [], ["scenario.mass = [0.01]", "not a number"]),
+    (
+        "float-for-int",
+        '[scenario]\nkind = "theory"\nn_dominoes = 30.5\n',
+        [],
+        ["scenario.n_dominoes = 30.5", "not an integer"],
+    ),
+    (
+        "negative-height",
+        GOOD + "height = -0.05\n",
+        [],
+        ["scenario.height = -0.05", "valid range (0, inf) m"],
+    ),
+    ("zero-mass", GOOD + "mass = 0\n", [], ["scenario.mass = 0", "(0, inf) kg"]),
+    (
+        "spacing-above-height",
+        GOOD + "spacing = 0.06\n",
+        [],
+        ["study.toml:5", "scenario.spacing", "less than height"],
+    ),
+    (
+        "thickness-above-height",
+        GOOD + "thickness = 0.05\n",
+        [],
+        ["scenario.thickness", "less than height"],
+    ),
+    ("nan", GOOD + "spacing = nan\n", [], ["scenario.spacing = nan", "not a finite number"]),
+    ("inf-mass", GOOD + "mass = inf\n", [], ["scenario.mass = inf", "not a finite number"]),
+    (
+        "one-domino",
+        '[scenario]\nkind = "theory"\nn_dominoes = 1\n',
+        [],
+        ["scenario.n_dominoes = 1", "[2, 100000]"],
+    ),
+    (
+        "two-stiffnesses",
+        GOOD + "stiffness = 100.0\nstiffness_ratio = 10.0\n",
+        [],
+        ["stiffness = 100.0 and stiffness_ratio = 10.0", "exactly one"],
+    ),
+    (
+        "bad-convention",
+        GOOD + 'stiffness_convention = "yade"\n',
+        [],
+        ["scenario.stiffness_convention = 'yade'"],
+    ),
+    ("negative-friction", GOOD + "friction = -0.1\n", [], ["scenario.friction = -0.1", "[0, inf)"]),
+    ("toml-syntax", GOOD + "height = = 1\n", [], ["not valid TOML", "line 5"]),
+    ("sweep-empty-grid", GOOD + "[sweep.grid]\n", [], ["sweep.grid is empty"]),
+    (
+        "sweep-empty-list",
+        GOOD + "[sweep.grid]\nspacing = []\n",
+        [],
+        ["sweep.grid.spacing", "no points"],
+    ),
+    ("sweep-empty-points", GOOD + "[sweep]\npoints = []\n", [], ["sweep.points", "no points"]),
+    (
+        "sweep-grid-and-points",
+        GOOD + "[sweep]\ngrid = {spacing = [0.01]}\npoints = [{spacing = 0.02}]\n",
+        [],
+        ["exactly one of sweep.grid or sweep.points"],
+    ),
+    (
+        "sweep-unknown-field",
+        GOOD + "[sweep.grid]\nspaceing = [0.01]\n",
+        [],
+        ["study.toml:6", "sweep.grid.spaceing is not a scenario field"],
+    ),
+    (
+        "sweep-bad-value",
+        GOOD + "[sweep]\npoints = [{spacing = 0.01}, {spacing = 0.02}, "
+        "{spacing = 0.03}, {spacing = -1.0}]\n",
+        [],
+        ["study.toml:6", "sweep point 3 (spacing=-1.0)", "(0, inf) m"],
+    ),
+    (
+        "sweep-string-value",
+        GOOD + '[sweep.grid]\nmass = ["1 g"]\n',
+        [],
+        ["sweep point 0", "scenario.mass = '1 g'"],
+    ),
+    ("sweep-kind", GOOD + '[sweep.grid]\nkind = ["rods"]\n', [], ["cannot change scenario.kind"]),
+    ("output-unknown-key", GOOD + "[output]\nfolder = 'x'\n", [], ["unknown key output.folder"]),
+    ("output-dir-type", GOOD + "[output]\ndir = 3\n", [], ["output.dir = 3", "not a string"]),
+    ("sweep-without-table", GOOD, ["sweep"], ["no [sweep] table"]),
+    ("vtk-syntax", GOOD, ["run", "--vtk", "each=3"], ["--vtk 'each=3'", "every=N"]),
+    ("vtk-not-int", GOOD, ["run", "--vtk", "every=abc"], ["--vtk every = 'abc'", "not an integer"]),
+    ("vtk-zero", GOOD, ["run", "--vtk", "every=0"], ["--vtk every = 0", "(0, inf)"]),
+    ("checkpoint-negative", GOOD, ["run", "--checkpoint", "steps=-5"], ["--checkpoint steps"]),
+    ("checkpoint-unknown", GOOD, ["run", "--checkpoint", "hours=2"], ["steps=N, minutes=N"]),
+    (
+        "checkpoint-not-steppable",
+        GOOD,
+        ["run", "--checkpoint", "steps=10"],
+        ["scenario 'theory' has no time loop"],
+    ),
+    (
+        "scheduler-address",
+        GOOD + "[sweep.grid]\nspacing = [0.01]\n",
+        ["sweep", "--scheduler", "not an address"],
+        ["is not a scheduler address"],
+    ),
+    (
+        "workers-zero",
+        GOOD + "[sweep.grid]\nspacing = [0.01]\n",
+        ["sweep", "--workers", "0"],
+        ["--workers = 0", "[1, inf)"],
+    ),
+]
+
+
+def tree_digest(root: Path) -> dict[str, str]:
+    return {
+        str(p.relative_to(root)): hashlib.sha256(p.read_bytes()).hexdigest()
+        for p in sorted(root.rglob("*"))
+        if p.is_file()
+    }
+
+
+@pytest.fixture(scope="module")
+def results(tmp_path_factory):
+    """A finished run folder and sweep folder that no bad input may touch."""
+    from dominowave.io.config import parse_study
+    from dominowave.io.models import TheoryScenario
+    from dominowave.sweep.execute import execute_point
+    from dominowave.sweep.runner import store_outcome
+    from dominowave.sweep.store import SweepStore
+
+    root = tmp_path_factory.mktemp("results")
+    cfg = TheoryScenario(n_dominoes=6, n_frames=10)
+    store_outcome(root / "run", cfg, execute_point(cfg), keep_trajectory=True)
+    store = SweepStore(root / "sweep").open_for_writing()
+    study = parse_study(
+        {
+            "scenario": {"kind": "theory", "n_dominoes": 6, "n_frames": 10},
+            "sweep": {"grid": {"spacing": [0.01, 0.02]}},
+        }
+    )
+    from dominowave.sweep.hashing import point_key
+
+    for point in study.points:
+        store_outcome(store.folder(point_key(point)), point, execute_point(point), True)
+    store.write_index({})
+    (root / "sweep" / "study.toml").write_text(GOOD)
+    (root / "other.toml").write_text(GOOD.replace("n_dominoes = 6", "n_dominoes = 7"))
+    return root
+
+
+def invoke(monkeypatch, capsys, *args) -> tuple[int, str]:
+    monkeypatch.setattr(sys, "argv", ["dominowave", *map(str, args)])
+    try:
+        main()
+        code = 0
+    except SystemExit as exc:
+        code = exc.code if isinstance(exc.code, int) else 1
+    return code, capsys.readouterr().err
+
+
+def check_one_line(code: int, err: str, fragments) -> None:
+    assert code == 2, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith("dominowave: error: ")
+    assert "Traceback" not in err
+    for fragment in fragments:
+        assert fragment in lines[0], (fragment, lines[0])
+
+
+@pytest.mark.parametrize(
+    ("text", "args", "fragments"), [c[1:] for c in STUDY_CASES], ids=[c[0] for c in STUDY_CASES]
+)
+def test_bad_study_or_option(text, args, fragments, results, tmp_path, monkeypatch, capsys):
+    before = tree_digest(results)
+    study = tmp_path / "study.toml"
+    study.write_text(text)
+    command = args[0] if args else "run"
+    for target in ("run", "sweep"):  # write into the existing results: must be refused or
+        out = results / target  # fail before anything is written
+        code, err = invoke(monkeypatch, capsys, command, study, "--out", out, *args[1:])
+        check_one_line(code, err, fragments)
+    assert tree_digest(results) == before
+
+
+def test_unwritable_output_folder(results, tmp_path, monkeypatch, capsys):
+    blocker = tmp_path / "a_file"
+    blocker.write_text("x")
+    study = tmp_path / "s.toml"
+    study.write_text(GOOD + "[sweep.grid]\nspacing = [0.01]\n")
+    for command in ("run", "sweep"):
+        code, err = invoke(monkeypatch, capsys, command, study, "--out", blocker / "out")
+        check_one_line(code, err, [str(blocker)])
+        assert "is not a folder" in err or "is not writable (Not a directory)" in err
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root ignores folder permissions")
+def test_read_only_output_folder(tmp_path, monkeypatch, capsys):
+    ro = tmp_path / "ro"
+    ro.mkdir(mode=0o555)
+    study = tmp_path / "s.toml"
+    study.write_text(GOOD)
+    code, err = invoke(monkeypatch, capsys, "run", study, "--out", ro / "out")
+    check_one_line(code, err, ["not writable"])
+
+
+@pytest.mark.parametrize(
+    ("args", "fragments"),
+    [
+        (["run", "{tmp}/missing.toml"], ["missing.toml: study file not found"]),
+        (["run", "{tmp}"], ["is a directory"]),
+        (["config", "--example", "chainz"], ["example = 'chainz' is not one of"]),
+        (["collect", "{results}/run"], ["not a sweep folder (no index.json)"]),
+        (["collect", "{tmp}"], ["not a sweep folder"]),
+        (["plot", "{tmp}/nowhere"], ["no such folder"]),
+        (["plot", "{tmp}"], ["neither a sweep folder"]),
+        (["animate", "{results}/run", "--out", "{tmp}/a.avi"], [".mp4 or .gif"]),
+        (["animate", "{results}/run", "--out", "{tmp}/no/such/dir/a.gif"], ["does not exist"]),
+        (
+            ["animate", "{results}/run", "--out", "{tmp}/a.gif", "--fps", "0"],
+            ["--fps = 0", "[1, 120]"],
+        ),
+        (
+            ["animate", "{results}/run", "--out", "{tmp}/a.gif", "--slowdown", "-2"],
+            ["--slowdown = -2"],
+        ),
+        (
+            ["animate", "{results}/sweep", "--point", "0123456789abcdef", "--out", "{tmp}/a.gif"],
+            ["--point 0123456789abcdef: no such point"],
+        ),
+        (["animate", "{tmp}", "--out", "{tmp}/a.gif"], ["trajectory.nc: not found"]),
+        (["resume", "{tmp}"], ["nothing to resume"]),
+        (
+            ["run", "{results}/other.toml", "--out", "{results}/run"],
+            ["holds the result of another config", "--force"],
+        ),
+        (
+            ["run", "{results}/other.toml", "--out", "{results}/sweep"],
+            ["not empty and holds no result"],
+        ),
+    ],
+    ids=lambda v: "-".join(v) if isinstance(v, list) and v and v[0].isalpha() else None,
+)
+def test_bad_arguments(args, fragments, results, tmp_path, monkeypatch, capsys):
+    before = tree_digest(results)
+    args = [a.format(tmp=tmp_path, results=results) for a in args]
+    code, err = invoke(monkeypatch, capsys, *args)
+    check_one_line(code, err, [f.format(tmp=tmp_path, results=results) for f in fragments])
+    assert tree_digest(results) == before
+    assert not list(tmp_path.glob("*.gif")) and not list(tmp_path.glob("*.avi"))
+
+
+@pytest.mark.parametrize("damage", ["truncated", "tampered", "foreign"])
+def test_corrupt_checkpoint_is_refused_on_resume(damage, tmp_path, monkeypatch, capsys):
+    study = tmp_path / "toy.toml"
+    study.write_text('[scenario]\nkind = "toy_pendulums"\nn_steps = 200\n')
+    out = tmp_path / "run"
+    ck = out / "checkpoint"
+    ck.mkdir(parents=True)
+    (ck / "study.toml").write_text(study.read_text())
+    (ck / "policy.json").write_text('{"steps": 100, "seconds": 0}')
+    from dominowave.io.config import load_study
+    from dominowave.sweep.hashing import point_key
+
+    key = point_key(load_study(study).scenario) if damage != "foreign" else "someotherkey"
+    state = {
+        "theta": np.zeros(16),
+        "omega": np.zeros(16),
+        "steps": np.array(100),
+        "energy_trace": np.zeros(1),
+    }
+    save_checkpoint(ck / "state.npz", state, {"key": key, "steps": 100})
+    raw = (ck / "state.npz").read_bytes()
+    if damage == "truncated":
+        (ck / "state.npz").write_bytes(raw[: len(raw) // 2])
+    elif damage == "tampered":
+        i = raw.index(b"\x00" * 8)  # inside the zero-filled theta array
+        (ck / "state.npz").write_bytes(raw[:i] + b"\x01" + raw[i + 1 :])
+    before = tree_digest(out)
+    code, err = invoke(monkeypatch, capsys, "resume", out)
+    check_one_line(code, err, ["checkpoint", str(ck / "state.npz")])
+    assert tree_digest(out) == before
+    assert not (out / "summary.json").exists()
+
+
+def test_errors_reach_a_real_terminal_as_one_line(tmp_path):
+    """In a separate process too: one line on stderr, exit 2, nothing on stdout."""
+    study = tmp_path / "s.toml"
+    study.write_text(GOOD + "mass = -1.0\n")
+    proc = subprocess.run(
+        [sys.executable, "-m", "dominowave", "run", str(study), "--out", str(tmp_path / "o")],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert proc.returncode == 2
+    assert proc.stdout == ""
+    assert proc.stderr.count("\n") == 1 and "scenario.mass = -1.0" in proc.stderr
+    assert not (tmp_path / "o").exists()
