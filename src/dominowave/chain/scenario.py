@@ -12,7 +12,6 @@ reproducible as an ensemble mean with its standard error.
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -33,6 +32,7 @@ from dominowave.chain.events import (
     critical_tilt,
     merge_contacts,
 )
+from dominowave.chain.stepper import ChainStepper
 from dominowave.chain.wave import (
     EnsembleStats,
     SecondaryWave,
@@ -259,25 +259,50 @@ class DominoChain:
         )
         return sim, omega_1
 
-    # --- running ------------------------------------------------------------------------
-    def run(self, push: Push | None = None, keep_record: bool = False) -> ChainRun:
-        """Push domino 0, run until quiet or ``max_time``, analyse; see ``ChainRun``."""
-        push = self.resolve(push)
-        p = self.params
-        sim, omega_1 = self.build(push)
+    def initial_frame(self, sim, push: Push) -> dict[str, np.ndarray]:
+        """The bodies of ``sim`` before the run as a trajectory frame (the arrays of
+        :meth:`record` with one row): only domino 0 moves, pushed by ``push``."""
         v0, w0, _ = self._push_velocities(push)
-        initial = _initial_frame(sim, v0, w0)
-        every = max(1, round(self.frame_interval / sim.dt))
-        start = time.perf_counter()
-        # phase 1: until the wave reaches the last domino (or dies out, or max_time)
-        last = p.n_dominoes - 1
-        stop = dem.StopCondition(no_onset_for=self.quiet_time, touched_body=last)
-        parts = [sim.run(until=self.max_time, stop=stop, trajectory_every=every)]
-        if parts[0].stop_reason == "touched":
-            # phase 2: the aftermath (re-contacts, rebounds, the last domino's fall)
-            parts.append(sim.run(until=sim.time + self.tail_time, trajectory_every=every))
-        wall = time.perf_counter() - start
-        record = self._record(parts, initial)
+        b = sim.bodies
+        velocity, omega = np.zeros_like(b.pos), np.zeros_like(b.pos)
+        velocity[0], omega[0] = v0, w0
+        return {
+            "times": np.array([sim.time], dtype=float),
+            "positions": b.pos[None].copy(),
+            "quaternions": b.quat[None].copy(),
+            "velocities": velocity[None],
+            "angular_velocities": omega[None],
+        }
+
+    # --- running ------------------------------------------------------------------------
+    def stepper(self, push: Push | None = None) -> ChainStepper:
+        """The run pushed by ``push``, to be advanced in pieces (checkpoints, progress)."""
+        return ChainStepper(self, self.resolve(push))
+
+    def run(self, push: Push | None = None, keep_record: bool = False) -> ChainRun:
+        """Push domino 0, run until quiet or ``max_time``, analyse; see ``ChainRun``.
+
+        One uninterrupted advance of :meth:`stepper` (:mod:`dominowave.chain.stepper`
+        has the two phases: until the last domino is touched, then the tail).
+        """
+        stepper = self.stepper(push)
+        stepper.advance(np.iinfo(np.int64).max)
+        return stepper.result(keep_record=keep_record)
+
+    def analyse(
+        self,
+        push: Push,
+        omega_1: float,
+        record: ChainRecord,
+        *,
+        dt: float,
+        n_steps: int,
+        wall_time: float,
+        stop_reason: str,
+        keep_record: bool = False,
+    ) -> ChainRun:
+        """The ``ChainRun`` of a run's ``record``: events, wave fit, theory beside it."""
+        p = self.params
         events = analyse_events(
             record, critical_angle=self.critical_angle, min_gap=self.collision_time()
         )
@@ -300,10 +325,10 @@ class DominoChain:
             theory_speed=theory_speed(p),
             theory_arrival=theory_arrival,
             theory_window_speed=window,
-            dt=sim.dt,
-            n_steps=sum(int(r.n_steps) for r in parts),
-            wall_time=wall,
-            stop_reason=str(parts[0].stop_reason),
+            dt=dt,
+            n_steps=n_steps,
+            wall_time=wall_time,
+            stop_reason=stop_reason,
             record=record if keep_record else None,
         )
 
@@ -353,35 +378,30 @@ class DominoChain:
             return critical_tilt(p.radius / 2.0, float(self.shape.centre_of_mass[2]))
         return critical_tilt(p.thickness / 2.0, p.height / 2.0)
 
-    def _record(self, parts, initial) -> ChainRecord:
-        """A ``ChainRecord`` from the engine's run results (one or more consecutive runs)."""
+    def record(self, frames: dict, events: dict, end_time: float) -> ChainRecord:
+        """A ``ChainRecord`` from engine recordings: ``frames`` the trajectory arrays of a
+        ``dem`` run result (``times (F,)``, ``positions``, ``quaternions``, ``velocities``,
+        ``angular_velocities`` (F, N, 3 or 4)), ``events`` its contact event arrays
+        (``time``, ``body_i``, ``body_j``, ``kind``), ``end_time`` [s] of the run."""
         shape = self.shape
         com0 = shape.centre_of_mass
         pivot = shape.centres[shape.pivot]
         top = np.array([0.0, 0.0, self.params.height])
         n = self.params.n_dominoes
-        t0, x0, q0, v0, w0 = initial
-
-        def joined(name, first):
-            return np.concatenate([first[None], *(getattr(r, name) for r in parts)])
-
-        def events(name):
-            return np.concatenate([np.asarray(getattr(r.events, name)) for r in parts])
-
         return ChainRecord(
-            times=joined("times", np.array(t0)),
-            com=joined("positions", x0),
-            quat=joined("quaternions", q0),
-            velocity=joined("velocities", v0),
-            angular_velocity=joined("angular_velocities", w0),
+            times=frames["times"],
+            com=frames["positions"],
+            quat=frames["quaternions"],
+            velocity=frames["velocities"],
+            angular_velocity=frames["angular_velocities"],
             axis=np.tile([0.0, 0.0, 1.0], (n, 1)),
             base_offset=np.tile(pivot - com0, (n, 1)),
             top_offset=np.tile(top - com0, (n, 1)),
-            ev_time=events("time").astype(float),
-            ev_i=events("body_i"),
-            ev_j=events("body_j"),
-            ev_kind=events("kind"),
-            end_time=float(parts[-1].time),
+            ev_time=events["time"].astype(float),
+            ev_i=events["body_i"],
+            ev_j=events["body_j"],
+            ev_kind=events["kind"],
+            end_time=float(end_time),
         )
 
     def _secondary(self, record: ChainRecord) -> SecondaryWave | None:
@@ -395,13 +415,3 @@ class DominoChain:
     def collision_time(self) -> float:
         """Theory's ``T_c`` [s] for these parameters (eq 31, clump mapping)."""
         return theory_collision_time(self.params)
-
-
-def _initial_frame(sim, v0: np.ndarray, w0: np.ndarray):
-    """(t, com, quat, v, omega) of the bodies before the run, as a trajectory frame
-    (only domino 0 moves: velocities ``v0``, ``w0``)."""
-    b = sim.bodies
-    vel = np.zeros_like(b.pos)
-    omega = np.zeros_like(b.pos)
-    vel[0], omega[0] = v0, w0
-    return float(sim.time), b.pos.copy(), b.quat.copy(), vel, omega

@@ -17,7 +17,7 @@ from dominowave.rods.model import (
     point_mass,
     thin_rod,
 )
-from dominowave.rods.simulate import RodRun, simulate
+from dominowave.rods.simulate import RodRun, RodStepper, simulate
 
 __all__ = [
     "CONTACT_LAWS",
@@ -26,6 +26,7 @@ __all__ = [
     "MassDistribution",
     "RodChain",
     "RodRun",
+    "RodStepper",
     "block",
     "custom_mass",
     "first_collisions",

@@ -2,7 +2,11 @@
 
 One angle per domino. Each step: half kick, drift, floor, forces (gravity + every
 neighbour contact, the pure per-pair laws of :mod:`dominowave.rods.contact`), half kick,
-then the measurements. The whole loop runs in compiled code.
+then the measurements. The loop runs in compiled code, in resumable pieces: the whole
+state of a run is a :class:`ChainState` of arrays, :func:`new_state` sets it up at
+``t = 0`` and :func:`advance` integrates it by a given number of steps in place, so a
+run cut into pieces (and saved and restored in between) does exactly the arithmetic of
+one uninterrupted run.
 
 Contact slots: three per domino ``i``
     0: front top edge of ``i``   against the back face  of ``i+1`` (the paper's collision);
@@ -33,6 +37,7 @@ energy at the floor is book-kept as ``E_floor``.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple, get_type_hints
 
 import numpy as np
 from numba import njit
@@ -52,6 +57,8 @@ LAW_HERTZ = 1
 NORMAL_GEOMETRIC = 0
 NORMAL_HEAD_ON = 1
 
+STATUS_START = -2  # forces at t = 0 not evaluated yet
+STATUS_RUNNING = -1
 STATUS_WAVE_PASSED = 0
 STATUS_TIME_LIMIT = 1
 STATUS_STALLED = 2
@@ -84,111 +91,236 @@ def _slot_geometry(kind, i, l, s):
     return i, i + 2, 0.0, l, -s, -1.0
 
 
-@njit(cache=True)
-def run_chain(
-    theta,
-    omega,
-    n_awake,
-    l,
-    s,
-    pitch,
-    m,
-    inertia,
-    cm_u,
-    cm_w,
-    g,
-    law,
-    k,
-    zeta,
-    mu,
-    v_reg,
-    normal,
-    e_floor,
-    gravity_in_contact,
-    dt,
-    t_max,
-    stall_time,
-    tail_time,
-    sample_every,
-    max_events,
-    max_samples,
-    frame_every,
-    max_frames,
-):
-    """Integrate the chain from ``t = 0`` until the wave has passed (or a limit).
+class ChainParams(NamedTuple):
+    """Fixed parameters of a run (SI units); build with :meth:`typed`."""
 
-    ``theta``, ``omega`` (shape ``(N,)``, [rad], [rad/s]) are updated in place. Returns
-    ``(status, t_end, n_steps, events, n_events (may exceed max_events), samples,
-    n_samples, arrival, hv_max, lift_steps, theta_min_after, n_awake, frame_t,
-    frame_theta, frame_omega, n_frames)``: ``events`` shape ``(max_events, EV_COLUMNS)``,
-    ``samples`` shape ``(max_samples, SA_COLUMNS)``, per-domino arrays shape ``(N,)``,
-    frames (every ``frame_every`` steps, none if 0) shapes ``(max_frames,)`` and
-    ``(max_frames, N)``.
+    l: float  # domino height [m]
+    s: float  # thickness [m]
+    pitch: float  # hinge spacing d + s [m]
+    m: float  # mass [kg]
+    inertia: float  # moment of inertia about the hinge [kg m^2]
+    cm_u: float  # centre of mass in body coordinates [m]
+    cm_w: float
+    g: float  # gravity [m/s^2]
+    law: int  # LAW_LINEAR or LAW_HERTZ
+    k: float  # contact stiffness [N/m] (linear) or [N/m^1.5] (Hertz)
+    zeta: float  # damping ratio of the contact dashpot
+    mu: float  # Coulomb friction coefficient
+    v_reg: float  # regularisation speed of the friction [m/s]
+    normal: int  # NORMAL_GEOMETRIC or NORMAL_HEAD_ON
+    e_floor: float  # restitution of a floor impact
+    gravity_in_contact: bool  # False: no gravity on a domino in contact (section 2.2)
+    dt: float  # time step [s]
+    t_max: float  # end of the run at the latest [s]
+    stall_time: float  # stop if no new domino was reached for this long [s]
+    tail_time: float  # keep running this long after the wave passed [s]
+    sample_every: int  # steps between energy samples
+    frame_every: int  # steps between frames (0: no frames)
+
+    @classmethod
+    def typed(cls, *values) -> ChainParams:
+        """The parameters in field order, each cast to its field's type.
+
+        Python ints where floats belong would make numba compile a second version of
+        the kernel (with other arithmetic); the cast makes the signature unique.
+        """
+        types = get_type_hints(cls)
+        return cls(*(types[f](v) for f, v in zip(cls._fields, values, strict=True)))
+
+
+class ChainState(NamedTuple):
+    """Everything the future of a run depends on; :func:`advance` updates it in place.
+
+    ``N`` dominoes, ``3N`` contact slots (``slot = 3 i + kind``). Scalars are shape
+    ``(1,)`` arrays so that they too change in place. The records (``events``,
+    ``samples``, frames) are filled up to their counters; the rest is NaN.
+    """
+
+    # mechanics (velocity Verlet carries the generalised forces at the current angles)
+    theta: np.ndarray  # (N,) angles [rad]
+    omega: np.ndarray  # (N,) angular velocities [rad/s]
+    torque: np.ndarray  # (N,) generalised forces at theta [N m]
+    step: np.ndarray  # (1,) int64: steps done; the time is step * dt
+    status: np.ndarray  # (1,) int64: STATUS_*
+    n_awake: np.ndarray  # (1,) int64: dominoes integrated (the standing rule)
+    # contact slots, (3N,)
+    active: np.ndarray  # bool: in contact
+    gap_prev: np.ndarray  # last overlap [m] (geometric, or along xi when head-on)
+    slot_event: np.ndarray  # int64: row of its contact in events (-1: none)
+    xi_x: np.ndarray  # head-on axis [-]
+    xi_y: np.ndarray
+    u_hit: np.ndarray  # head-on anchor on the struck domino (body coordinates) [m]
+    w_hit: np.ndarray
+    head_on: np.ndarray  # bool: this contact uses the head-on law
+    touched: np.ndarray  # bool: the slot has had a contact
+    handover: np.ndarray  # bool: head-on spring unloaded inside the face
+    # stop conditions
+    t_last_arrival: np.ndarray  # (1,) time a new domino was last reached [s]
+    t_stop: np.ndarray  # (1,) end of the run as known now [s]
+    first_strike_done: np.ndarray  # (N,) bool: the domino's first contact has ended
+    # records
+    events: np.ndarray  # (max_events, EV_COLUMNS)
+    n_events: np.ndarray  # (1,) int64: contacts so far (may exceed max_events)
+    samples: np.ndarray  # (max_samples, SA_COLUMNS)
+    n_samples: np.ndarray  # (1,) int64
+    frame_t: np.ndarray  # (max_frames,) [s]
+    frame_theta: np.ndarray  # (max_frames, N) [rad]
+    frame_omega: np.ndarray  # (max_frames, N) [rad/s]
+    n_frames: np.ndarray  # (1,) int64
+    arrival: np.ndarray  # (N,) first contact time with a lower domino [s]
+    hv_max: np.ndarray  # (N,) peak |H|/V of the base reaction
+    lift_steps: np.ndarray  # (N,) int64: steps with V <= 0
+    theta_min_after: np.ndarray  # (N,) smallest angle after the first strike [rad]
+    e_diss: np.ndarray  # (1,) energy dissipated by dashpots and friction [J]
+    e_floor_loss: np.ndarray  # (1,) energy lost at floor stops [J]
+
+
+RECORDS = {
+    "events": "n_events",
+    "samples": "n_samples",
+    "frame_t": "n_frames",
+    "frame_theta": "n_frames",
+    "frame_omega": "n_frames",
+}
+"""Record buffers of :class:`ChainState` and the counters of their filled rows."""
+
+
+def new_state(p: ChainParams, theta, omega, n_awake, max_events, max_samples, max_frames):
+    """The state at ``t = 0``: ``theta``, ``omega`` (``(N,)`` float64, used in place).
+
+    Dominoes from ``n_awake`` on are not integrated until a contact reaches them (the
+    standing rule). The forces at ``t = 0`` are evaluated (contacts already closed at
+    the start are recorded with onset 0); frame 0 is the initial state.
     """
     n = theta.shape[0]
+    st = ChainState(
+        theta=theta,
+        omega=omega,
+        torque=np.zeros(n),
+        step=np.array([0], dtype=np.int64),
+        status=np.array([STATUS_START], dtype=np.int64),
+        n_awake=np.array([n_awake], dtype=np.int64),
+        active=np.zeros(3 * n, dtype=np.bool_),
+        gap_prev=np.full(3 * n, -1.0 * p.l),
+        slot_event=np.full(3 * n, -1, dtype=np.int64),
+        xi_x=np.zeros(3 * n),
+        xi_y=np.zeros(3 * n),
+        u_hit=np.zeros(3 * n),
+        w_hit=np.zeros(3 * n),
+        head_on=np.zeros(3 * n, dtype=np.bool_),
+        touched=np.zeros(3 * n, dtype=np.bool_),
+        handover=np.zeros(3 * n, dtype=np.bool_),
+        t_last_arrival=np.zeros(1),
+        t_stop=np.full(1, p.t_max),
+        first_strike_done=np.zeros(n, dtype=np.bool_),
+        events=np.full((max_events, EV_COLUMNS), np.nan),
+        n_events=np.array([0], dtype=np.int64),
+        samples=np.full((max_samples, SA_COLUMNS), np.nan),
+        n_samples=np.array([0], dtype=np.int64),
+        frame_t=np.full(max_frames, np.nan),
+        frame_theta=np.full((max_frames, n), np.nan),
+        frame_omega=np.full((max_frames, n), np.nan),
+        n_frames=np.array([0], dtype=np.int64),
+        arrival=np.full(n, np.nan),
+        hv_max=np.zeros(n),
+        lift_steps=np.zeros(n, dtype=np.int64),
+        theta_min_after=np.full(n, np.nan),
+        e_diss=np.zeros(1),
+        e_floor_loss=np.zeros(1),
+    )
+    st.arrival[0] = 0.0
+    if p.frame_every > 0 and max_frames > 0:
+        st.frame_t[0] = 0.0
+        st.frame_theta[0, :] = theta
+        st.frame_omega[0, :] = omega
+        st.n_frames[0] = 1
+    advance(p, st, 0)  # only the forces at t = 0
+    return st
+
+
+@njit(cache=True)
+def advance(p, st, n_steps):
+    """Integrate up to ``n_steps`` time steps (fewer if the run ends); True when ended.
+
+    Updates the state ``st`` (:class:`ChainState`) in place. It carries everything from
+    one call to the next, so ``advance(a)`` then ``advance(b)`` does exactly the
+    arithmetic of ``advance(a + b)``. A state fresh from :func:`new_state` first gets
+    its forces at ``t = 0`` evaluated (and nothing else if ``n_steps = 0``).
+    """
+    l, s, pitch, m, inertia, cm_u, cm_w, g = p.l, p.s, p.pitch, p.m, p.inertia, p.cm_u, p.cm_w, p.g
+    law, k, zeta, mu, v_reg, normal = p.law, p.k, p.zeta, p.mu, p.v_reg, p.normal
+    e_floor, gravity_in_contact = p.e_floor, p.gravity_in_contact
+    dt, t_max, stall_time, tail_time = p.dt, p.t_max, p.stall_time, p.tail_time
+    sample_every, frame_every = p.sample_every, p.frame_every
+    n = st.theta.shape[0]
     n_slots = 3 * n
     half_pi = 0.5 * math.pi
     theta_hi = half_pi
     theta_lo = 0.0 if s > 0.0 else -half_pi
 
+    # the state (arrays change in place; scalars are copied back at the end)
+    theta, omega, torque = st.theta, st.omega, st.torque
+    active, gap_prev, slot_event = st.active, st.gap_prev, st.slot_event
+    xi_x, xi_y, u_hit, w_hit = st.xi_x, st.xi_y, st.u_hit, st.w_hit
+    head_on, touched, handover = st.head_on, st.touched, st.handover
+    first_strike_done = st.first_strike_done
+    events, samples = st.events, st.samples
+    frame_t, frame_theta, frame_omega = st.frame_t, st.frame_theta, st.frame_omega
+    arrival, hv_max, lift_steps = st.arrival, st.hv_max, st.lift_steps
+    theta_min_after = st.theta_min_after
+    max_events = events.shape[0]
+    max_samples = samples.shape[0]
+    max_frames = frame_t.shape[0]
+    step = st.step[0]
+    status = st.status[0]
+    n_awake = st.n_awake[0]
+    t_last_arrival = st.t_last_arrival[0]
+    t_stop = st.t_stop[0]
+    n_events = st.n_events[0]
+    n_samples = st.n_samples[0]
+    n_frames = st.n_frames[0]
+    e_diss = st.e_diss[0]
+    e_floor_loss = st.e_floor_loss[0]
+    t = step * dt
+
+    # scratch of one step, recomputed every step before it is read; omega_old starts as
+    # omega: a domino woken inside a step has never been integrated, so its omega is
+    # still the one it started the run with
     cos_t = np.empty(n)
     sin_t = np.empty(n)
-    torque = np.zeros(n)  # generalised force [N m]
     fx = np.zeros(n)  # contact forces on each domino [N]
     fy = np.zeros(n)
     omega_old = omega.copy()
-
-    active = np.zeros(n_slots, dtype=np.bool_)
-    gap_prev = np.full(n_slots, -1.0 * l)  # last overlap (geometric, or along xi when head-on)
-    slot_event = np.full(n_slots, -1, dtype=np.int64)
-    xi_x = np.zeros(n_slots)
-    xi_y = np.zeros(n_slots)
-    u_hit = np.zeros(n_slots)  # head-on anchor on the struck domino (body coordinates)
-    w_hit = np.zeros(n_slots)
-    head_on = np.zeros(n_slots, dtype=np.bool_)  # this contact uses the head-on law
-    touched = np.zeros(n_slots, dtype=np.bool_)  # the slot has had a contact
-    handover = np.zeros(n_slots, dtype=np.bool_)
     act_list = np.empty(n_slots, dtype=np.int64)
-
-    events = np.full((max_events, EV_COLUMNS), np.nan)
-    n_events = 0
     pend_ev = np.empty(n_slots, dtype=np.int64)
     pend_end = np.empty(n_slots, dtype=np.bool_)
     pend_frac = np.empty(n_slots)
-
-    samples = np.full((max_samples, SA_COLUMNS), np.nan)
-    n_samples = 0
-    frame_t = np.full(max_frames, np.nan)
-    frame_theta = np.full((max_frames, n), np.nan)
-    frame_omega = np.full((max_frames, n), np.nan)
-    n_frames = 0
-    if frame_every > 0 and max_frames > 0:  # the initial state is frame 0
-        frame_t[0] = 0.0
-        frame_theta[0, :] = theta
-        frame_omega[0, :] = omega
-        n_frames = 1
-
-    arrival = np.full(n, np.nan)
-    arrival[0] = 0.0
-    first_strike_done = np.zeros(n, dtype=np.bool_)
-    hv_max = np.zeros(n)
-    lift_steps = np.zeros(n, dtype=np.int64)
-    theta_min_after = np.full(n, np.nan)
     gravity_removed = np.zeros(n, dtype=np.bool_)
     hv_now = np.zeros(n)  # |H|/V of each domino at the current step (0 if undefined)
 
-    e_diss = 0.0
-    e_floor_loss = 0.0
-    e_elastic = 0.0
-    t = 0.0
-    t_last_arrival = 0.0
-    t_stop = t_max
-    status = STATUS_TIME_LIMIT
-    step = 0
-
-    first = True  # the first pass only evaluates the forces at t = 0
-    while True:
-        # ---------------- forces at the current positions --------------------------------
+    first = status == STATUS_START  # the first pass only evaluates the forces at t = 0
+    done = 0
+    while first or (status == STATUS_RUNNING and done < n_steps):
+        if not first:
+            # ---------------- first half kick, drift, floor -------------------------------
+            step += 1
+            t = step * dt
+            for i in range(min(n_awake, n)):
+                omega_old[i] = omega[i]
+                omega[i] += 0.5 * dt * torque[i] / inertia
+                theta[i] += dt * omega[i]
+                if theta[i] > theta_hi or theta[i] < theta_lo:
+                    stop = theta_hi if theta[i] > theta_hi else theta_lo
+                    e_before = 0.5 * inertia * omega[i] * omega[i] + m * g * _gravity_height(
+                        math.cos(theta[i]), math.sin(theta[i]), cm_u, cm_w
+                    )
+                    theta[i] = stop
+                    omega[i] = -e_floor * omega[i]
+                    e_after = 0.5 * inertia * omega[i] * omega[i] + m * g * _gravity_height(
+                        math.cos(stop), math.sin(stop), cm_u, cm_w
+                    )
+                    e_floor_loss += e_before - e_after
+        # ---------------- forces at the current positions ---------------------------------
         n_eval = min(n, n_awake + 2)
         for i in range(n_eval):
             c = math.cos(theta[i])
@@ -383,131 +515,174 @@ def run_chain(
                 gravity_removed[b] = False
         if first:
             first = False
-        else:
-            e_diss += d_power * dt
-            # ---------------- second half kick -----------------------------------------
-            for i in range(min(n_awake, n)):
-                omega[i] += 0.5 * dt * torque[i] / inertia
-                # resting on a floor stop: the support removes velocity into the floor
-                if theta[i] == theta_hi and omega[i] > 0.0:
-                    e_floor_loss += 0.5 * inertia * omega[i] * omega[i]
-                    omega[i] = 0.0
-                elif theta[i] == theta_lo and omega[i] < 0.0:
-                    e_floor_loss += 0.5 * inertia * omega[i] * omega[i]
-                    omega[i] = 0.0
-            # ---------------- measurements at the end of the step ------------------------
-            for q in range(n_pend):
-                ev = pend_ev[q]
-                lo = int(events[ev, EV_LOWER])
-                up = int(events[ev, EV_UPPER])
-                fr = pend_frac[q]
-                w_lo = omega_old[lo] + fr * (omega[lo] - omega_old[lo])
-                w_up = omega_old[up] + fr * (omega[up] - omega_old[up])
-                if pend_end[q]:
-                    events[ev, EV_W_LO_OFF] = w_lo
-                    events[ev, EV_W_UP_OFF] = w_up
-                else:
-                    events[ev, EV_W_LO_ON] = w_lo
-                    events[ev, EV_W_UP_ON] = w_up
-            for i in range(min(n_awake, n)):
-                # base reaction R = m a_cm + (0, m g) - sum of contact forces
-                c = cos_t[i]
-                sn = sin_t[i]
-                alpha = torque[i] / inertia
-                w2 = omega[i] * omega[i]
-                # r_c = cm_u e_u + cm_w e_w ; t_c = dr_c/dtheta = -cm_u e_w + cm_w e_u
-                rcx = cm_u * c + cm_w * sn
-                rcy = -cm_u * sn + cm_w * c
-                tcx = -cm_u * sn + cm_w * c
-                tcy = -cm_u * c - cm_w * sn
-                h = m * (alpha * tcx - w2 * rcx) - fx[i]
-                v = m * (alpha * tcy - w2 * rcy) + m * g - fy[i]
-                hv_now[i] = 0.0
-                if theta[i] != theta_hi and theta[i] != theta_lo:
-                    if v > 0.0:
-                        hv_now[i] = abs(h) / v
-                        hv_max[i] = max(hv_max[i], hv_now[i])
-                    else:
-                        lift_steps[i] += 1
-                if not np.isnan(theta_min_after[i]) and theta[i] < theta_min_after[i]:
-                    theta_min_after[i] = theta[i]
-            for q in range(n_act):
-                ev = slot_event[act_list[q]]
-                if ev >= 0:
-                    events[ev, EV_STEPS] += 1.0
-                    # peak |H|/V of the struck domino while this contact is on
-                    up = int(events[ev, EV_UPPER])
-                    events[ev, EV_HV_UP] = max(events[ev, EV_HV_UP], hv_now[up])
-            # ---------------- stop conditions ------------------------------------------
-            if step % 256 == 0:
-                for i in range(min(n_awake, n)):
-                    if not math.isfinite(omega[i]) or not math.isfinite(theta[i]):
-                        status = STATUS_BLOW_UP
-                if status == STATUS_BLOW_UP:
-                    break
-            if step % sample_every == 0 and n_samples < max_samples:
-                e_kin = 0.0
-                e_grav = 0.0
-                for i in range(n):
-                    e_kin += 0.5 * inertia * omega[i] * omega[i]
-                    height = _gravity_height(math.cos(theta[i]), math.sin(theta[i]), cm_u, cm_w)
-                    e_grav += m * g * height
-                samples[n_samples, SA_T] = t
-                samples[n_samples, SA_KIN] = e_kin
-                samples[n_samples, SA_GRAV] = e_grav
-                samples[n_samples, SA_ELASTIC] = e_elastic
-                samples[n_samples, SA_DISSIPATED] = e_diss
-                samples[n_samples, SA_FLOOR] = e_floor_loss
-                n_samples += 1
-            if frame_every > 0 and step % frame_every == 0 and n_frames < max_frames:
-                frame_t[n_frames] = t
-                frame_theta[n_frames, :] = theta
-                frame_omega[n_frames, :] = omega
-                n_frames += 1
-            if t >= t_stop:
-                status = STATUS_WAVE_PASSED if t_stop < t_max else STATUS_TIME_LIMIT
-                break
-            if t_stop == t_max and not np.isnan(arrival[n - 1]) and theta[n - 1] == theta_hi:
-                # the last domino lies flat: its first contact (if still on) is no collision
-                t_stop = min(t_max, t + tail_time)
-            if t - t_last_arrival > stall_time:
-                # nothing new reached for stall_time: the wave died, or it has passed and
-                # the last contact never ended (dominoes leaning on each other)
-                status = STATUS_WAVE_PASSED if not np.isnan(arrival[n - 1]) else STATUS_STALLED
-                break
-        # ---------------- first half kick, drift, floor ----------------------------------
-        step += 1
-        t = step * dt
+            status = STATUS_RUNNING
+            continue
+        e_diss += d_power * dt
+        # ---------------- second half kick ------------------------------------------------
         for i in range(min(n_awake, n)):
-            omega_old[i] = omega[i]
             omega[i] += 0.5 * dt * torque[i] / inertia
-            theta[i] += dt * omega[i]
-            if theta[i] > theta_hi or theta[i] < theta_lo:
-                stop = theta_hi if theta[i] > theta_hi else theta_lo
-                e_before = 0.5 * inertia * omega[i] * omega[i] + m * g * _gravity_height(
-                    math.cos(theta[i]), math.sin(theta[i]), cm_u, cm_w
-                )
-                theta[i] = stop
-                omega[i] = -e_floor * omega[i]
-                e_after = 0.5 * inertia * omega[i] * omega[i] + m * g * _gravity_height(
-                    math.cos(stop), math.sin(stop), cm_u, cm_w
-                )
-                e_floor_loss += e_before - e_after
+            # resting on a floor stop: the support removes velocity into the floor
+            if theta[i] == theta_hi and omega[i] > 0.0:
+                e_floor_loss += 0.5 * inertia * omega[i] * omega[i]
+                omega[i] = 0.0
+            elif theta[i] == theta_lo and omega[i] < 0.0:
+                e_floor_loss += 0.5 * inertia * omega[i] * omega[i]
+                omega[i] = 0.0
+        # ---------------- measurements at the end of the step -----------------------------
+        for q in range(n_pend):
+            ev = pend_ev[q]
+            lo = int(events[ev, EV_LOWER])
+            up = int(events[ev, EV_UPPER])
+            fr = pend_frac[q]
+            w_lo = omega_old[lo] + fr * (omega[lo] - omega_old[lo])
+            w_up = omega_old[up] + fr * (omega[up] - omega_old[up])
+            if pend_end[q]:
+                events[ev, EV_W_LO_OFF] = w_lo
+                events[ev, EV_W_UP_OFF] = w_up
+            else:
+                events[ev, EV_W_LO_ON] = w_lo
+                events[ev, EV_W_UP_ON] = w_up
+        for i in range(min(n_awake, n)):
+            # base reaction R = m a_cm + (0, m g) - sum of contact forces
+            c = cos_t[i]
+            sn = sin_t[i]
+            alpha = torque[i] / inertia
+            w2 = omega[i] * omega[i]
+            # r_c = cm_u e_u + cm_w e_w ; t_c = dr_c/dtheta = -cm_u e_w + cm_w e_u
+            rcx = cm_u * c + cm_w * sn
+            rcy = -cm_u * sn + cm_w * c
+            tcx = -cm_u * sn + cm_w * c
+            tcy = -cm_u * c - cm_w * sn
+            h = m * (alpha * tcx - w2 * rcx) - fx[i]
+            v = m * (alpha * tcy - w2 * rcy) + m * g - fy[i]
+            hv_now[i] = 0.0
+            if theta[i] != theta_hi and theta[i] != theta_lo:
+                if v > 0.0:
+                    hv_now[i] = abs(h) / v
+                    hv_max[i] = max(hv_max[i], hv_now[i])
+                else:
+                    lift_steps[i] += 1
+            if not np.isnan(theta_min_after[i]) and theta[i] < theta_min_after[i]:
+                theta_min_after[i] = theta[i]
+        for q in range(n_act):
+            ev = slot_event[act_list[q]]
+            if ev >= 0:
+                events[ev, EV_STEPS] += 1.0
+                # peak |H|/V of the struck domino while this contact is on
+                up = int(events[ev, EV_UPPER])
+                events[ev, EV_HV_UP] = max(events[ev, EV_HV_UP], hv_now[up])
+        # ---------------- stop conditions -------------------------------------------------
+        if step % 256 == 0:
+            for i in range(min(n_awake, n)):
+                if not math.isfinite(omega[i]) or not math.isfinite(theta[i]):
+                    status = STATUS_BLOW_UP
+            if status == STATUS_BLOW_UP:
+                break
+        if step % sample_every == 0 and n_samples < max_samples:
+            e_kin = 0.0
+            e_grav = 0.0
+            for i in range(n):
+                e_kin += 0.5 * inertia * omega[i] * omega[i]
+                height = _gravity_height(math.cos(theta[i]), math.sin(theta[i]), cm_u, cm_w)
+                e_grav += m * g * height
+            samples[n_samples, SA_T] = t
+            samples[n_samples, SA_KIN] = e_kin
+            samples[n_samples, SA_GRAV] = e_grav
+            samples[n_samples, SA_ELASTIC] = e_elastic
+            samples[n_samples, SA_DISSIPATED] = e_diss
+            samples[n_samples, SA_FLOOR] = e_floor_loss
+            n_samples += 1
+        if frame_every > 0 and step % frame_every == 0 and n_frames < max_frames:
+            frame_t[n_frames] = t
+            frame_theta[n_frames, :] = theta
+            frame_omega[n_frames, :] = omega
+            n_frames += 1
+        if t >= t_stop:
+            status = STATUS_WAVE_PASSED if t_stop < t_max else STATUS_TIME_LIMIT
+            break
+        if t_stop == t_max and not np.isnan(arrival[n - 1]) and theta[n - 1] == theta_hi:
+            # the last domino lies flat: its first contact (if still on) is no collision
+            t_stop = min(t_max, t + tail_time)
+        if t - t_last_arrival > stall_time:
+            # nothing new reached for stall_time: the wave died, or it has passed and
+            # the last contact never ended (dominoes leaning on each other)
+            status = STATUS_WAVE_PASSED if not np.isnan(arrival[n - 1]) else STATUS_STALLED
+            break
+        done += 1
+    st.step[0] = step
+    st.status[0] = status
+    st.n_awake[0] = n_awake
+    st.t_last_arrival[0] = t_last_arrival
+    st.t_stop[0] = t_stop
+    st.n_events[0] = n_events
+    st.n_samples[0] = n_samples
+    st.n_frames[0] = n_frames
+    st.e_diss[0] = e_diss
+    st.e_floor_loss[0] = e_floor_loss
+    return status != STATUS_RUNNING
+
+
+def run_chain(
+    theta,
+    omega,
+    n_awake,
+    l,
+    s,
+    pitch,
+    m,
+    inertia,
+    cm_u,
+    cm_w,
+    g,
+    law,
+    k,
+    zeta,
+    mu,
+    v_reg,
+    normal,
+    e_floor,
+    gravity_in_contact,
+    dt,
+    t_max,
+    stall_time,
+    tail_time,
+    sample_every,
+    max_events,
+    max_samples,
+    frame_every,
+    max_frames,
+):
+    """The whole run in one call: :func:`new_state`, then :func:`advance` to the end.
+
+    ``theta``, ``omega`` (shape ``(N,)``, [rad], [rad/s]) are updated in place. Returns
+    ``(status, t_end, n_steps, events, n_events (may exceed max_events), samples,
+    n_samples, arrival, hv_max, lift_steps, theta_min_after, n_awake, frame_t,
+    frame_theta, frame_omega, n_frames)``: ``events`` shape ``(max_events, EV_COLUMNS)``,
+    ``samples`` shape ``(max_samples, SA_COLUMNS)``, per-domino arrays shape ``(N,)``,
+    frames (every ``frame_every`` steps, none if 0) shapes ``(max_frames,)`` and
+    ``(max_frames, N)``.
+    """
+    p = ChainParams.typed(
+        l, s, pitch, m, inertia, cm_u, cm_w, g, law, k, zeta, mu, v_reg, normal, e_floor,
+        gravity_in_contact, dt, t_max, stall_time, tail_time, sample_every, frame_every,
+    )  # fmt: skip
+    st = new_state(p, theta, omega, n_awake, max_events, max_samples, max_frames)
+    advance(p, st, np.iinfo(np.int64).max)
     return (
-        status,
-        t,
-        step,
-        events,
-        n_events,
-        samples,
-        n_samples,
-        arrival,
-        hv_max,
-        lift_steps,
-        theta_min_after,
-        n_awake,
-        frame_t,
-        frame_theta,
-        frame_omega,
-        n_frames,
+        int(st.status[0]),
+        st.step[0] * p.dt,
+        int(st.step[0]),
+        st.events,
+        int(st.n_events[0]),
+        st.samples,
+        int(st.n_samples[0]),
+        st.arrival,
+        st.hv_max,
+        st.lift_steps,
+        st.theta_min_after,
+        int(st.n_awake[0]),
+        st.frame_t,
+        st.frame_theta,
+        st.frame_omega,
+        int(st.n_frames[0]),
     )

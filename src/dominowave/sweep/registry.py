@@ -30,8 +30,13 @@ RUNNERS: dict[str, str | Callable] = {
 }
 """kind -> run function or ``"module:function"``."""
 
-STEPPABLE: set[str] = set()
-"""Kinds whose runs advance in steps and can be checkpointed and resumed."""
+STEPPABLE: set[str] = {"rods", "chain"}
+"""Kinds whose runs advance in steps and can be checkpointed and resumed.
+
+``rods`` and ``chain`` are registered here by name: each run function (above) is
+``longrun.run_stepping`` with its stepper, what :func:`register_stepper` sets up,
+without importing simulation code into the registry.
+"""
 
 
 @dataclass

@@ -5,20 +5,33 @@ chain; this adapter turns its :class:`ChainRun` into result files: the summary
 (measured steady speed with its error, the theory beside it), one event row per
 domino (``DominoEvents``), the tilt and angular velocity of every domino per frame,
 the side-view trajectory for ``animate`` and, when VTK is wanted, every sphere.
+
+The run is checkpointable: :class:`ChainScenarioStepper` advances
+:class:`dominowave.chain.stepper.ChainStepper` in pieces, and :func:`run_chain` drives it
+through :func:`dominowave.sweep.longrun.run_stepping` (checkpoints, resume, Ctrl-C, progress).
 """
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from dominowave.chain.events import forward_tilt, rotate_vectors
-from dominowave.chain.scenario import DominoChain, Push
+from dominowave.chain.scenario import ChainRun, DominoChain, Push
 from dominowave.io.models import ChainScenario
 from dominowave.io.results import RunResult
 from dominowave.io.trajectory import ChainTrajectory, SphereTrajectory
+from dominowave.sweep.longrun import run_stepping
 from dominowave.sweep.registry import RunContext
 
-__all__ = ["chain_trajectory", "run_chain", "sphere_trajectory"]
+__all__ = [
+    "ChainScenarioStepper",
+    "chain_result",
+    "chain_trajectory",
+    "run_chain",
+    "sphere_trajectory",
+]
 
 
 def chain_trajectory(record, radius: float, height: float, thickness: float) -> ChainTrajectory:
@@ -66,14 +79,62 @@ def sphere_trajectory(chain: DominoChain, record, push: Push) -> SphereTrajector
 
 
 def run_chain(cfg: ChainScenario, ctx: RunContext | None = None) -> RunResult:
-    """Run the DEM chain ``cfg`` and measure its wave (SI units)."""
+    """Run the DEM chain ``cfg`` and measure its wave (SI units); checkpointable."""
+    ctx = ctx or RunContext()
+    factory = functools.partial(ChainScenarioStepper, spheres=bool(ctx.vtk_every))
+    return run_stepping(cfg, ctx, factory=factory)
+
+
+class ChainScenarioStepper:
+    """The chain run of ``cfg`` in resumable pieces (protocol: :mod:`dominowave.sweep.longrun`).
+
+    Everything but :meth:`result` is that of :class:`dominowave.chain.stepper.ChainStepper`;
+    :meth:`result` measures the run so far into a :class:`RunResult` (with every sphere
+    per frame if ``spheres``, for VTK).
+    """
+
+    def __init__(self, cfg: ChainScenario, spheres: bool = False):
+        self.cfg = cfg
+        self.spheres = spheres
+        self.chain = DominoChain(cfg.params(), steps_per_collision=cfg.steps_per_collision)
+        push = Push(omega=cfg.push_omega) if cfg.push_omega is not None else None
+        self.stepper = self.chain.stepper(push)
+
+    @property
+    def time(self) -> float:
+        return self.stepper.time
+
+    @property
+    def end_time(self) -> float:
+        return self.stepper.end_time
+
+    @property
+    def steps(self) -> int:
+        return self.stepper.steps
+
+    @property
+    def toppled(self) -> int:
+        return self.stepper.toppled
+
+    def advance(self, n_steps: int) -> bool:
+        return self.stepper.advance(n_steps)
+
+    def get_state(self) -> dict[str, np.ndarray]:
+        return self.stepper.get_state()
+
+    def set_state(self, state: dict[str, np.ndarray]) -> None:
+        self.stepper.set_state(state)
+
+    def result(self) -> RunResult:
+        run = self.stepper.result(keep_record=True)
+        return chain_result(self.chain, run, spheres=self.spheres)
+
+
+def chain_result(chain: DominoChain, run: ChainRun, spheres: bool = False) -> RunResult:
+    """Summary, per-domino events, tilt/omega time series and trajectory of ``run``."""
     import xarray as xr
 
-    ctx = ctx or RunContext()
-    params = cfg.params()
-    chain = DominoChain(params, steps_per_collision=cfg.steps_per_collision)
-    push = chain.resolve(Push(omega=cfg.push_omega) if cfg.push_omega is not None else None)
-    run = chain.run(push, keep_record=True)
+    params = chain.params
     record = run.record
     traj = chain_trajectory(record, params.radius, params.height, params.thickness)
     secondary = run.secondary
@@ -115,5 +176,5 @@ def run_chain(cfg: ChainScenario, ctx: RunContext | None = None) -> RunResult:
         timeseries=timeseries,
         trajectory=traj,
         may_be_nan=("speed", "speed_err", "speed_theory_window"),
-        spheres=sphere_trajectory(chain, record, push) if ctx.vtk_every else None,
+        spheres=sphere_trajectory(chain, record, run.push) if spheres else None,
     )

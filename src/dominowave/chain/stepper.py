@@ -1,0 +1,215 @@
+"""A domino-chain run in resumable pieces: the one loop behind ``DominoChain.run``.
+
+``ChainStepper(chain, push)`` owns the ``dem`` simulation of one run and advances it
+in two phases, as the paper's runs do: (1) until the wave touches the last domino, dies
+out (no new contact for ``chain.quiet_time``) or ``chain.max_time`` is reached; (2) if
+it touched the last domino, a tail of ``chain.tail_time`` for the aftermath.
+
+It satisfies the stepper protocol of :mod:`dominowave.sweep.longrun`:
+``advance(n_steps) -> done``, ``time``, ``end_time``, ``steps``, ``toppled``,
+``get_state()`` / ``set_state()`` (the engine state plus the phase, the trajectory
+frames and contact events recorded so far, the counters) and ``result()`` (the
+``ChainRun`` so far). ``advance(a); advance(b)`` gives the same bits as
+``advance(a + b)``, so a run resumed from a checkpoint ends exactly as an
+uninterrupted one.
+
+Why the quiet-time stop is not simply the engine's: the engine counts
+``StopCondition.no_onset_for`` from the last contact onset *or from the start of the
+current* ``Simulation.run`` *call*, whichever is later, so split into calls it would
+stop later than in one call. The stepper therefore counts the steps to the quiet stop
+itself (:func:`steps_until_quiet`, the engine's arithmetic on the engine's clock) and
+caps each engine call there; an engine call that reaches the cap with no new onset is
+the quiet stop.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from dominowave import dem
+from dominowave.chain.events import ChainRecord
+
+__all__ = ["ChainStepper", "steps_until_quiet"]
+
+_FRAMES = ("times", "positions", "quaternions", "velocities", "angular_velocities")
+"""Trajectory arrays of a ``dem`` run result, one row per frame (``DominoChain.record``)."""
+_EVENTS = ("time", "body_i", "body_j", "kind")
+"""Contact event arrays of a ``dem`` run result, one row per event."""
+_EVENT_DTYPES = (np.float64, np.int64, np.int64, np.int8)
+"""Their dtypes in the engine's recorder (``dem.engine.Recorder``)."""
+_REASONS = ("", "touched", "no_onset", "until")
+"""Why phase 1 ended ('' while it runs), coded by index in the checkpoint."""
+
+
+def steps_until_quiet(t0: float, dt: float, since: float, quiet: float, limit: int) -> int | None:
+    """Steps from time ``t0`` after which the engine's quiet test first holds, or None.
+
+    The engine tests ``(t + dt) - since >= quiet`` at the end of the step that starts at
+    ``t`` and advances its clock by ``t <- t + dt``; this repeats that arithmetic
+    (``np.cumsum`` adds strictly in sequence) for at most ``limit`` steps [s, s, s, s, -].
+    """
+    block = 1 << 16
+    t, done = t0, 0
+    while done < limit:
+        n = min(block, limit - done)
+        ends = np.cumsum(np.concatenate([[t], np.full(n, dt)]))[1:]  # t + dt of each step
+        hit = np.flatnonzero(ends - since >= quiet)
+        if hit.size:
+            return done + int(hit[0]) + 1
+        t, done = float(ends[-1]), done + n
+    return None
+
+
+class ChainStepper:
+    """The run of ``chain`` (a ``DominoChain``) pushed by ``push``, advanced on demand.
+
+    ``time`` [s] simulated so far; ``end_time`` [s] the latest it can end (``max_time``
+    in phase 1, the end of the tail in phase 2); ``steps`` time steps done;
+    ``toppled`` dominoes the wave has reached (domino 0 counts once it hits domino 1).
+    """
+
+    def __init__(self, chain, push):
+        self.chain = chain
+        self.push = push
+        self.sim, self.omega_1 = chain.build(push)
+        self.every = max(1, round(chain.frame_interval / self.sim.dt))
+        self.steps = 0
+        self.phase = 1
+        self.done = False
+        self.stop_reason = ""
+        self.tail_end = math.nan
+        self.wall_time = 0.0
+        self.reached = 0
+        self.frames = {k: [a] for k, a in chain.initial_frame(self.sim, push).items()}
+        self.events = {
+            k: [np.zeros(0, dtype)] for k, dtype in zip(_EVENTS, _EVENT_DTYPES, strict=True)
+        }
+
+    # --- where the run is ---------------------------------------------------------------
+    @property
+    def time(self) -> float:
+        return float(self.sim.time)
+
+    @property
+    def end_time(self) -> float:
+        return self.chain.max_time if self.phase == 1 else self.tail_end
+
+    @property
+    def toppled(self) -> int:
+        return self.reached
+
+    # --- running ------------------------------------------------------------------------
+    def advance(self, n_steps: int) -> bool:
+        """Integrate up to ``n_steps`` time steps; True once the run is over."""
+        start = time.perf_counter()
+        left = int(n_steps)
+        while left > 0 and not self.done:
+            left -= self._engine_call(left)
+        self.wall_time += time.perf_counter() - start
+        return self.done
+
+    def _engine_call(self, limit: int) -> int:
+        """One ``Simulation.run`` of at most ``limit`` steps; returns the steps done."""
+        sim, chain = self.sim, self.chain
+        if self.phase == 2:
+            res = sim.run(n_steps=limit, until=self.tail_end, trajectory_every=self.every)
+            self._keep(res)
+            self.done = res.stop_reason == "until"
+            return res.n_steps
+        onset = float(sim.rec.last_onset[0])  # last body-body contact onset [s], -inf: none
+        since = max(onset, 0.0)  # phase 1 starts at t = 0
+        cap = steps_until_quiet(sim.time, sim.dt, since, chain.quiet_time, limit)
+        stop = dem.StopCondition(
+            no_onset_for=chain.quiet_time, touched_body=chain.params.n_dominoes - 1
+        )
+        res = sim.run(
+            n_steps=limit if cap is None else cap,
+            until=chain.max_time,
+            stop=stop,
+            trajectory_every=self.every,
+        )
+        self._keep(res)
+        reason = res.stop_reason
+        if reason == "n_steps" and res.n_steps == cap and sim.rec.last_onset[0] == onset:
+            reason = "no_onset"
+        if reason in _REASONS[1:]:  # phase 1 is over
+            self.stop_reason = reason
+            if reason == "touched":
+                # phase 2: the aftermath (re-contacts, rebounds, the last domino's fall)
+                self.phase, self.tail_end = 2, sim.time + chain.tail_time
+            else:
+                self.done = True
+        return res.n_steps
+
+    def _keep(self, res) -> None:
+        """Append the frames and events of one engine call, count its steps."""
+        self.steps += int(res.n_steps)
+        for k in _FRAMES:
+            self.frames[k].append(getattr(res, k))
+        for k in _EVENTS:
+            self.events[k].append(np.asarray(getattr(res.events, k)))
+        self.reached = max(self.reached, _highest_hit(res.events.body_j, res.events.kind))
+
+    # --- checkpoints --------------------------------------------------------------------
+    def get_state(self) -> dict[str, np.ndarray]:
+        """Everything the rest of the run depends on, as NumPy arrays (copies)."""
+        self._compact()
+        state = {f"sim.{k}": v for k, v in self.sim.get_state().items()}
+        state.update({f"frames.{k}": v[0].copy() for k, v in self.frames.items()})
+        state.update({f"events.{k}": v[0].copy() for k, v in self.events.items()})
+        state["steps"] = np.array(self.steps, np.int64)
+        state["phase"] = np.array(self.phase, np.int64)
+        state["done"] = np.array(self.done)
+        state["stop_reason"] = np.array(_REASONS.index(self.stop_reason), np.int64)
+        state["tail_end"] = np.array(self.tail_end)
+        state["wall_time"] = np.array(self.wall_time)
+        return state
+
+    def set_state(self, state: dict[str, np.ndarray]) -> None:
+        """Restore a state of :meth:`get_state` (from a stepper of the same chain and push)."""
+        self.sim.set_state({k[4:]: v for k, v in state.items() if k.startswith("sim.")})
+        self.frames = {k: [np.array(state[f"frames.{k}"])] for k in _FRAMES}
+        self.events = {k: [np.array(state[f"events.{k}"])] for k in _EVENTS}
+        self.steps = int(state["steps"])
+        self.phase = int(state["phase"])
+        self.done = bool(state["done"])
+        self.stop_reason = _REASONS[int(state["stop_reason"])]
+        self.tail_end = float(state["tail_end"])
+        self.wall_time = float(state["wall_time"])
+        self.reached = _highest_hit(self.events["body_j"][0], self.events["kind"][0])
+
+    def _compact(self) -> None:
+        """Join the per-call pieces of frames and events into one array each."""
+        for pieces in (*self.frames.values(), *self.events.values()):
+            pieces[:] = [np.concatenate(pieces)]
+
+    # --- results ------------------------------------------------------------------------
+    def record(self) -> ChainRecord:
+        """The trajectory and contact events so far as a ``ChainRecord``."""
+        self._compact()
+        frames = {k: v[0] for k, v in self.frames.items()}
+        events = {k: v[0] for k, v in self.events.items()}
+        return self.chain.record(frames, events, end_time=self.time)
+
+    def result(self, keep_record: bool = False):
+        """The ``ChainRun`` of the run so far (analysed as a finished one would be;
+        ``stop_reason`` is ``"running"`` until phase 1 has ended)."""
+        return self.chain.analyse(
+            self.push,
+            self.omega_1,
+            self.record(),
+            dt=self.sim.dt,
+            n_steps=self.steps,
+            wall_time=self.wall_time,
+            stop_reason=self.stop_reason or "running",
+            keep_record=keep_record,
+        )
+
+
+def _highest_hit(body_j: np.ndarray, kind: np.ndarray) -> int:
+    """Highest body index with a body-body contact onset among events (0 if none)."""
+    hit = np.asarray(body_j)[(np.asarray(kind) == dem.ONSET) & (np.asarray(body_j) >= 0)]
+    return int(hit.max()) if hit.size else 0

@@ -1,0 +1,118 @@
+"""A real DEM chain run, killed with SIGKILL mid-run and resumed, ends with the bits of an
+uninterrupted run (dominowave.chain.stepper.ChainStepper through `run --checkpoint` /
+`resume`)."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from dominowave.io.checkpoint import load_checkpoint
+from dominowave.io.models import ChainScenario
+from dominowave.io.results import read_summary
+from dominowave.sweep.registry import RunContext, is_steppable
+from dominowave.sweep.run_chain import run_chain
+
+CLI = [sys.executable, "-m", "dominowave"]
+
+# 30 dominoes with damping and friction, collisions resolved by 200 steps: ~180 000 steps
+# (~3 s), long enough to be killed after a few checkpoints, in phase 1 (the wave running)
+STUDY = """\
+[scenario]
+kind = "chain"
+n_dominoes = 30
+d_over_l = 0.5
+damping = 0.02
+friction_dominoes = 0.1
+steps_per_collision = 200
+"""
+EVERY = 20_000
+"""Checkpoint interval [steps]."""
+
+
+def _dataset(path: Path) -> xr.Dataset:
+    with xr.open_dataset(path) as ds:
+        return ds.load()
+
+
+def _summary(folder: Path) -> dict:
+    summary = json.loads((folder / "summary.json").read_text())
+    summary.pop("engine_wall_time")  # CPU time spent, the one number that may differ
+    return summary
+
+
+def _kill_after_checkpoint(proc: subprocess.Popen, checkpoint: Path, steps: int) -> int:
+    """SIGKILL ``proc`` once ``checkpoint`` holds at least ``steps``; its step count."""
+    end = time.monotonic() + 60
+    while time.monotonic() < end and proc.poll() is None:
+        if checkpoint.is_file() and load_checkpoint(checkpoint)[1]["steps"] >= steps:
+            break
+        time.sleep(0.01)
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait(timeout=30)
+    return load_checkpoint(checkpoint)[1]["steps"]
+
+
+def test_sigkilled_chain_run_resumes_bit_identically(tmp_path):
+    study = tmp_path / "chain_study.toml"
+    study.write_text(STUDY)
+    ref = tmp_path / "ref"
+    subprocess.run([*CLI, "run", str(study), "--out", str(ref), "--quiet"], check=True)
+    out = tmp_path / "killed"
+    proc = subprocess.Popen(
+        [*CLI, "run", str(study), "--out", str(out), "--checkpoint", f"steps={EVERY}", "--quiet"]
+    )
+    steps_at_kill = _kill_after_checkpoint(proc, out / "checkpoint" / "state.npz", 2 * EVERY)
+    assert not (out / "summary.json").exists(), "the run must be killed before it ends"
+    summary = _summary(ref)
+    assert steps_at_kill % EVERY == 0 and 2 * EVERY <= steps_at_kill < summary["n_steps"]
+    subprocess.run([*CLI, "resume", str(out), "--quiet"], check=True)
+
+    assert _summary(out) == summary and summary["stop_reason"] == "touched"
+    assert json.dumps(_summary(out)) == json.dumps(summary)  # every number, to the last digit
+    assert (out / "events.csv").read_bytes() == (ref / "events.csv").read_bytes()
+    for name in ("timeseries.nc", "trajectory.nc"):  # tilt, omega, base of every domino
+        a, b = _dataset(ref / name), _dataset(out / name)
+        assert set(a.variables) == set(b.variables) and a.sizes["time"] > 100
+        for var in a.variables:
+            assert a[var].dtype == b[var].dtype
+            assert np.array_equal(a[var].values, b[var].values, equal_nan=True), (name, var)
+    assert not (out / "checkpoint").exists()  # a finished run keeps no checkpoint
+
+
+def test_interrupted_chain_run_saves_state_and_partial_results_then_resumes(tmp_path):
+    """Ctrl-C (here: raised between chunks) writes the final checkpoint and the partial
+    results; running the same config again resumes and ends with the same bits."""
+    assert is_steppable("chain")
+    cfg = ChainScenario(n_dominoes=6, d_over_l=0.5, damping=0.02)
+    reference = run_chain(cfg)
+
+    def interrupt(**progress):
+        if progress["steps"] >= 3000:
+            raise KeyboardInterrupt
+
+    checkpoint = tmp_path / "run" / "checkpoint"
+    checkpoint.mkdir(parents=True)
+    ctx = RunContext(progress=interrupt, checkpoint_dir=checkpoint, checkpoint_every_seconds=3600)
+    with pytest.raises(KeyboardInterrupt):
+        run_chain(cfg, ctx)
+    assert load_checkpoint(checkpoint / "state.npz")[1]["steps"] == 3000
+    partial = read_summary(tmp_path / "run" / "partial")
+    assert partial["n_steps"] == 3000 and partial["stop_reason"] == "running"
+    assert partial["dominoes_toppled"] < cfg.n_dominoes
+    resumed = run_chain(cfg, RunContext(checkpoint_dir=checkpoint))
+    for summary in (resumed.summary, reference.summary):
+        summary.pop("engine_wall_time")
+    assert json.dumps(resumed.summary) == json.dumps(reference.summary)
+    for name in reference.events:
+        assert np.array_equal(resumed.events[name], reference.events[name], equal_nan=True)
+    assert resumed.timeseries.identical(reference.timeseries)
