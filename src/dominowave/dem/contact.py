@@ -9,10 +9,11 @@ Laws (Cundall & Strack 1979, Geotechnique 29:47; YADE's Law2_ScGeom_FrictPhys_Cu
   dashpot ``-c_n * v_n``;
 * tangential: elastic shear displacement ``u_s`` accumulated from the tangential relative
   velocity, ``F_s = -k_t u_s``, Coulomb limit ``|F_s| <= mu k_n delta``; on sliding ``u_s`` is
-  shortened to the limit and the slip work ``(|F_trial| - |F_s|) |F_s| / k_t`` is dissipated
-  (YADE's plasticDissipation).  When the contact frame moves, ``u_s`` is projected onto the
-  new tangent plane with its length kept, then turned about the normal by the mean spin of
-  the two bodies (as YADE's ScGeom::rotate, but norm preserving).
+  shortened to the limit; the energy this dissipates (YADE's plasticDissipation ``(|F_trial|
+  - |F_s|) |F_s| / k_t`` in steady sliding) is booked as the work of the tangential forces
+  that the springs do not store (:func:`contact_power`).  When the contact frame moves,
+  ``u_s`` is projected onto the new tangent plane with its length kept, then turned about
+  the normal by the mean spin of the two bodies (as YADE's ScGeom::rotate, but norm preserving).
 
 Sign convention: the unit normal ``n`` points from sphere ``i`` to its partner ``j``; the
 returned force acts on ``j`` (``-F`` on ``i``).
@@ -30,6 +31,7 @@ __all__ = [
     "RULE_YADE",
     "build_verlet_list",
     "compute_forces",
+    "contact_power",
     "needs_rebuild",
     "pair_stiffness",
     "viscous_coefficient",
@@ -240,6 +242,7 @@ def build_verlet_list(spheres, walls, bodies, mats, contacts, skin):
     old_key = np.empty(max(n_old, 0), np.int64)
     old_active = np.empty(max(n_old, 0), np.uint8)
     old_shear = np.empty((max(n_old, 0), 3))
+    old_state = np.empty((max(n_old, 0), 4))  # overlap, vn, fn, fn_viscous
     for c in range(n_old):
         j = contacts.j[c]
         jj = j if j >= 0 else ns - j - 1
@@ -247,6 +250,10 @@ def build_verlet_list(spheres, walls, bodies, mats, contacts, skin):
         old_active[c] = contacts.active[c]
         for d in range(3):
             old_shear[c, d] = contacts.shear[c, d]
+        old_state[c, 0] = contacts.overlap[c]
+        old_state[c, 1] = contacts.vn[c]
+        old_state[c, 2] = contacts.fn[c]
+        old_state[c, 3] = contacts.fn_viscous[c]
     props = np.empty(4)
     o = 0
     for c in range(n_new):
@@ -259,13 +266,20 @@ def build_verlet_list(spheres, walls, bodies, mats, contacts, skin):
         while o < n_old and old_key[o] < k:
             o += 1  # old pairs now out of range: their contacts have ended already
         if o < n_old and old_key[o] == k:
+            # the whole history: the dashpot extrapolates vn, an ending contact needs
+            # its last overlap (end_impulse)
             contacts.active[c] = old_active[o]
             for d in range(3):
                 contacts.shear[c, d] = old_shear[o, d]
+            contacts.overlap[c] = old_state[o, 0]
+            contacts.vn[c] = old_state[o, 1]
+            contacts.fn[c] = old_state[o, 2]
+            contacts.fn_viscous[c] = old_state[o, 3]
         else:
             contacts.active[c] = 0
             for d in range(3):
                 contacts.shear[c, d] = 0.0
+            contacts.fn_viscous[c] = 0.0
         pair_properties(i, j, spheres, walls, bodies, mats, props)
         contacts.kn[c] = props[0]
         contacts.kt[c] = props[1]
@@ -311,56 +325,73 @@ def rotate_shear(shear, n, spin):
 
 
 @njit(cache=True, inline="always")
-def kick_averaged_overlap(overlap, vn, dt, new_contact):
-    """Contact onset/end inside a kick interval: the overlap averaged over the interval.
+def onset_averaged_overlap(overlap, vn, dt, new_contact):
+    """Contact onset inside a kick interval: the overlap averaged over the interval.
 
     Leapfrog applies the force at t_n for the whole interval [t_n - dt/2, t_n + dt/2].
-    When the contact starts or ends inside it (``overlap < |vn| dt``), the force law has a
-    kink (elastic) or a jump (dashpot) there and the midpoint rule errs by O(dt^2) resp.
-    O(dt) per collision.  With the overlap linear in time, ``delta(t) = delta_n -+
-    |vn| (t - t_n)``, the part of the interval spent in contact is ``w = 1/2 + delta_n /
-    (|vn| dt)``, including the part of the neighbouring interval whose step sees no
-    overlap, and the average elastic overlap is ``|vn| dt w^2 / 2``.  Returns ``(w,
-    averaged overlap)``; ``(1, delta_n)`` for contacts well inside their duration.
-    A contact still approaching but not new is left alone (its earlier part was applied).
+    When a contact starts inside it, the force law has a kink (elastic) or a jump
+    (dashpot) there and the midpoint rule errs by O(dt^2) resp. O(dt) per collision.
+    With the overlap linear in time, ``delta(t) = delta_n + |vn| (t - t_n)`` (``vn < 0``
+    approaching), the part of the interval spent in contact is ``w = 1/2 + delta_n / (|vn|
+    dt)``, including the part of the preceding interval whose step saw no overlap, and the
+    average elastic overlap is ``|vn| dt w^2 / 2``.  Returns ``(w, averaged overlap)``.
+
+    Only a *new* contact that approaches is modified: a contact that has been closed
+    before is never changed while it stays closed (it may turn around near zero overlap
+    without opening); its end is corrected afterwards, see :func:`end_impulse`.
     """
-    ramp = abs(vn) * dt
-    if overlap >= ramp or (vn < 0.0 and not new_contact):
+    ramp = -vn * dt
+    if not new_contact or overlap >= ramp:  # (also every vn >= 0: ramp <= 0 < overlap)
         return 1.0, overlap
     w = 0.5 + overlap / ramp
     return w, 0.5 * ramp * w * w
 
 
 @njit(cache=True, inline="always")
-def cundall_strack(shear, previous, kt, mu, fn_elastic, out_force):
+def end_impulse(last_overlap, gap, kn, cn, dt):
+    """Normal force [N] for one kick that supplies the impulse missed when a contact ended.
+
+    Called at the first step ``n+1`` that sees no overlap (``gap = delta_{n+1} <= 0``)
+    after the overlap ``delta_n > 0`` of step ``n``.  The overlap fell linearly,
+    ``delta(t) = delta_n - v (t - t_n)`` with ``v = (delta_n - delta_{n+1}) / dt``, and
+    reached zero at ``t_n + r dt``, ``r = delta_n / (v dt)`` in (0, 1].  The exact
+    elastic impulse from ``t_n - dt/2`` on is ``kn v dt^2 (r + 1/2)^2 / 2``; the kick of
+    step n applied ``kn delta_n dt``; the difference ``kn v dt^2 (r - 1/2)^2 / 2 >= 0`` is
+    applied now.  The dashpot (``-cn v`` while in contact) missed ``-cn v dt (r - 1/2)``.
+    Returns ``(elastic force, dashpot force)`` = missed impulses / dt.  The impulse
+    arrives one kick late, which leaves the momentum transfer of the collision exact to
+    the order of the linear overlap model (the restitution error stays fourth order).
+    """
+    ramp = last_overlap - gap
+    if ramp <= 0.0 or last_overlap <= 0.0:
+        return 0.0, 0.0
+    r = last_overlap / ramp
+    return 0.5 * kn * ramp * (r - 0.5) ** 2, -cn * ramp / dt * (r - 0.5)
+
+
+@njit(cache=True, inline="always")
+def cundall_strack(shear, kt, mu, fn_elastic, out_force):
     """Tangential force ``-kt u_s`` with Coulomb limit ``mu fn_elastic``.
 
-    ``shear`` is the trial displacement ``t = a + du`` (``a`` = ``previous``, the last
-    step's displacement carried into the new tangent plane); on sliding it is shortened
-    in place to ``b = s t`` with ``s = limit / |t|``.  Writes the force on partner j into
-    ``out_force``; returns the energy dissipated in this step [J]:
+    ``shear`` is the trial displacement ``t`` (last step's displacement carried into the
+    new tangent plane plus this step's tangential increment); on sliding it is shortened
+    in place to ``b = t limit / |t|`` (YADE's Law2_ScGeom_FrictPhys_CundallStrack).
+    Writes the force on partner j into ``out_force``.
 
-        D = mean force . du - change of stored energy
-          = kt/2 [(a + b) . (t - a) - |b|^2 + |a|^2] = kt/2 (1 - s) (a . t + s |t|^2).
-
-    D is exactly 0 while sticking and equals YADE's plastic work ``(|t| - |b|) kt |b|``
-    in steady sliding; unlike the latter (force at the end of the step times the slip)
-    it uses the trapezoidal mean force, so the energy balance closes to O(dt^2) when the
-    normal force varies during sliding.
+    The energy this removes is booked by the driver as the work of the tangential forces
+    that is not stored in the springs (see :func:`contact_power`), not as YADE's plastic
+    work ``(|t| - |b|) kt |b|`` per step: the latter pairs the force of one instant with a
+    displacement over the step and lets the balance drift at first order in dt.
     """
     tt = shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2]
     trial = kt * math.sqrt(tt)
     limit = mu * fn_elastic
-    dissipated = 0.0
     if trial > limit:
         s = limit / trial
-        at = previous[0] * shear[0] + previous[1] * shear[1] + previous[2] * shear[2]
-        dissipated = 0.5 * kt * (1.0 - s) * (at + s * tt)
         for d in range(3):
             shear[d] *= s
     for d in range(3):
         out_force[d] = -kt * shear[d]
-    return dissipated
 
 
 @njit(cache=True, inline="always")
@@ -389,9 +420,27 @@ def _apply(bodies, b, point, f, sign):
 
 
 @njit(cache=True, inline="always")
-def _separate(contacts, c):
-    """End contact c; returns its tangential elastic energy, which the Coulomb limit
-    (-> 0 with the normal force) releases by slip at separation: friction dissipation."""
+def _separate(bodies, spheres, contacts, c, bi, bj, n, gap, dt, point, f):
+    """End contact c at the first step without overlap (``gap <= 0``, normal ``n``).
+
+    Applies the impulse the last kick in contact missed (:func:`end_impulse`) and keeps
+    ``overlap = gap`` and ``vn`` = the separation speed of the last drift, from which the
+    event time is interpolated.  Returns the tangential elastic energy, which the Coulomb
+    limit (-> 0 with the normal force) releases by slip at separation (booked as friction
+    dissipation: minus the change of the stored energy).
+    """
+    last = contacts.overlap[c]
+    f_elastic, f_viscous = end_impulse(last, gap, contacts.kn[c], contacts.cn[c], dt)
+    contacts.fn[c] = f_elastic + f_viscous
+    contacts.fn_viscous[c] = f_viscous
+    contacts.vn[c] = (last - gap) / dt
+    contacts.overlap[c] = gap
+    if f_elastic + f_viscous != 0.0:
+        for d in range(3):
+            f[d] = (f_elastic + f_viscous) * n[d]
+        if bj >= 0:
+            _apply(bodies, bj, point, f, 1.0)
+        _apply(bodies, bi, point, f, -1.0)
     u = contacts.shear[c]
     released = 0.5 * contacts.kt[c] * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
     contacts.active[c] = 0
@@ -400,23 +449,24 @@ def _separate(contacts, c):
 
 
 @njit(cache=True)
-def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_step):
+def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_step, work):
     """Contact forces and torques on all bodies for the current positions.
 
-    ``ledger[0]`` += friction slip work (the viscous work is booked after the kick, from
-    :func:`viscous_power` with the full-step velocities).  Every contact that
+    ``ledger[0]`` -= change of the energy stored in the tangential springs (the work of
+    the tangential and dashpot forces is booked after the kick, from
+    :func:`contact_power` with the full-step velocities).  Every contact that
     starts or ends is appended to ``changes`` as ``(c, kind)`` rows; returns their count.
     ``first_step``: the initial configuration, no shear increment (no previous step).
+    ``work``: (6, 3) scratch array, preallocated by the caller (no allocation per step).
     """
     bodies.force[:, :] = 0.0
     bodies.torque[:, :] = 0.0
-    n = np.empty(3)
-    point = np.empty(3)
-    vi = np.empty(3)
-    vj = np.zeros(3)
-    fs = np.empty(3)
-    f = np.empty(3)
-    previous = np.empty(3)
+    n = work[0]
+    point = work[1]
+    vi = work[2]
+    vj = work[3]
+    fs = work[4]
+    f = work[5]
     n_changes = 0
     for c in range(contacts.n[0]):
         i = contacts.i[c]
@@ -430,12 +480,8 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
             dz = spheres.pos[j, 2] - spheres.pos[i, 2]
             rsum = Ri + spheres.radius[j]
             d2 = dx * dx + dy * dy + dz * dz
-            if d2 >= rsum * rsum:
-                if contacts.active[c]:
-                    ledger[0] += _separate(contacts, c)
-                    changes[n_changes, 0] = c
-                    changes[n_changes, 1] = END
-                    n_changes += 1
+            if d2 >= rsum * rsum and not contacts.active[c]:
+                contacts.fn_viscous[c] = 0.0
                 continue
             dist = math.sqrt(d2)
             n[0] = dx / dist
@@ -448,16 +494,21 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
             dist = 0.0
             for d in range(3):
                 dist += (spheres.pos[i, d] - walls.point[w, d]) * walls.normal[w, d]
-            if dist >= Ri:
-                if contacts.active[c]:
-                    ledger[0] += _separate(contacts, c)
-                    changes[n_changes, 0] = c
-                    changes[n_changes, 1] = END
-                    n_changes += 1
+            if dist >= Ri and not contacts.active[c]:
+                contacts.fn_viscous[c] = 0.0
                 continue
             for d in range(3):
                 n[d] = -walls.normal[w, d]
             overlap = Ri - dist
+        # contact point midway through the overlap (as YADE's ScGeom)
+        for d in range(3):
+            point[d] = spheres.pos[i, d] + (Ri - 0.5 * overlap) * n[d]
+        if overlap <= 0.0:  # an active contact opened in the last drift
+            ledger[0] += _separate(bodies, spheres, contacts, c, bi, bj, n, overlap, dt, point, f)
+            changes[n_changes, 0] = c
+            changes[n_changes, 1] = END
+            n_changes += 1
+            continue
         new_contact = not contacts.active[c]
         if new_contact:
             contacts.active[c] = 1
@@ -465,9 +516,6 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
             changes[n_changes, 0] = c
             changes[n_changes, 1] = ONSET
             n_changes += 1
-        # contact point midway through the overlap (as YADE's ScGeom)
-        for d in range(3):
-            point[d] = spheres.pos[i, d] + (Ri - 0.5 * overlap) * n[d]
         _point_velocity(bodies, bi, point, vi)
         spin = 0.0
         if bj >= 0:
@@ -483,22 +531,26 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
             vn += (vj[d] - vi[d]) * n[d]
         # tangential: rotate history, add the tangential relative displacement of this step
         shear = contacts.shear[c]
+        stored = shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2]
         rotate_shear(shear, n, spin * dt)
         # (none at the first step: the initial positions have no previous step)
         increment = 0.0 if first_step else dt
         for d in range(3):
-            previous[d] = shear[d]
             shear[d] += (vj[d] - vi[d] - vn * n[d]) * increment
-        weight, overlap_kick = kick_averaged_overlap(overlap, vn, dt, new_contact)
+        weight, overlap_kick = onset_averaged_overlap(overlap, vn, dt, new_contact)
         fn_elastic = contacts.kn[c] * overlap_kick
-        ledger[0] += cundall_strack(shear, previous, contacts.kt[c], contacts.mu[c], fn_elastic, fs)
+        cundall_strack(shear, contacts.kt[c], contacts.mu[c], fn_elastic, fs)
+        # friction ledger, part 1: minus the change of the energy stored in the spring
+        stored -= shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2]
+        ledger[0] += 0.5 * contacts.kt[c] * stored
         # dashpot: the normal velocity at t_n, extrapolated from the last two half steps
-        cn = contacts.cn[c]
         vn_dashpot = vn if new_contact else 1.5 * vn - 0.5 * contacts.vn[c]
         contacts.vn[c] = vn
-        fn = fn_elastic - cn * vn_dashpot * weight
+        fn_viscous = -contacts.cn[c] * vn_dashpot * weight
+        fn = fn_elastic + fn_viscous
         contacts.overlap[c] = overlap
         contacts.fn[c] = fn
+        contacts.fn_viscous[c] = fn_viscous
         for d in range(3):
             f[d] = fn * n[d] + fs[d]
         if bj >= 0:
@@ -508,21 +560,31 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
 
 
 @njit(cache=True)
-def viscous_power(bodies, spheres, walls, contacts):
-    """Power [W] of the dashpot forces at t_n: ``F_dashpot . vn_n`` (<= 0 mostly).
+def contact_power(bodies, spheres, walls, contacts, out, work):
+    """Power [W] at t_n of the dashpot forces (``out[0]``) and of the tangential forces
+    (``out[1]``) on the bodies: ``F . v_rel`` with the full-step relative velocity of the
+    contact point (``v_n``, the velocity in which the kinetic-energy change of velocity
+    Verlet is exact to O(dt^3) per step).  The caller integrates them with the trapezoidal
+    rule; the friction dissipation is minus the tangential work minus the change of the
+    energy stored in the springs (booked in :func:`compute_forces`), which closes the
+    balance to O(dt^2) with rotating bodies and turning contact frames as well.
 
-    The dashpot force ``fn - k_n delta`` times the full-step normal velocity ``vn_n``,
-    the velocity in which the kinetic-energy change of velocity Verlet is exact; the
-    caller integrates it with the trapezoidal rule.
+    The dashpot force is ``contacts.fn_viscous`` (including the dashpot part of an end
+    impulse, :func:`end_impulse`).  The elastic onset/end corrections are part of the
+    elastic force and are not booked, for elastic and viscous materials alike.
+    ``work``: (>= 4, 3) scratch array.
     """
-    n = np.empty(3)
-    point = np.empty(3)
-    vi = np.empty(3)
-    power = 0.0
+    n = work[0]
+    point = work[1]
+    vi = work[2]
+    vj = work[3]
+    p_viscous = 0.0
+    p_friction = 0.0
     for c in range(contacts.n[0]):
-        cn = contacts.cn[c]
-        if cn == 0.0 or not contacts.active[c]:
-            continue
+        fd = contacts.fn_viscous[c]
+        u = contacts.shear[c]
+        if fd == 0.0 and (not contacts.active[c] or u[0] == u[1] == u[2] == 0.0):
+            continue  # (ended contacts have zero shear)
         i = contacts.i[c]
         j = contacts.j[c]
         bi = spheres.body[i]
@@ -540,12 +602,17 @@ def viscous_power(bodies, spheres, walls, contacts):
         for d in range(3):
             point[d] = spheres.pos[i, d] + (spheres.radius[i] - 0.5 * contacts.overlap[c]) * n[d]
         _point_velocity_full(bodies, bi, point, vi)
-        vn_full = -(vi[0] * n[0] + vi[1] * n[1] + vi[2] * n[2])
         if j >= 0:
-            _point_velocity_full(bodies, spheres.body[j], point, vi)
-            vn_full += vi[0] * n[0] + vi[1] * n[1] + vi[2] * n[2]
-        power += (contacts.fn[c] - contacts.kn[c] * contacts.overlap[c]) * vn_full
-    return power
+            _point_velocity_full(bodies, spheres.body[j], point, vj)
+        else:
+            vj[:] = 0.0
+        kt = contacts.kt[c]
+        for d in range(3):
+            dv = vj[d] - vi[d]
+            p_viscous += fd * n[d] * dv
+            p_friction -= kt * u[d] * dv
+    out[0] = p_viscous
+    out[1] = p_friction
 
 
 @njit(cache=True, inline="always")

@@ -20,11 +20,12 @@ import numpy as np
 from numba import njit
 
 from dominowave.dem.contact import (
+    END,
     ONSET,
     build_verlet_list,
     compute_forces,
+    contact_power,
     needs_rebuild,
-    viscous_power,
 )
 from dominowave.dem.energy import energies, kinetic_energy
 from dominowave.dem.integrate import drift, kick, update_sphere_positions
@@ -55,7 +56,6 @@ Settings = namedtuple(
         "record_pairs",  # bool: body-pair statistics and the event log
         "record_peak_force",  # bool
         "check_every",  # steps between stop/energy checks
-        "viscous",  # bool: some material has restitution < 1
     ],
 )
 
@@ -64,7 +64,7 @@ Recorder = namedtuple(
     [
         "clock",  # (2,) time [s], energy scale for the runaway test [J]
         "ledger",  # (3,) dissipated by friction, viscous dashpots, local damping [J]
-        "power",  # (2,) power of the dashpots and of local damping at the last step [W]
+        "power",  # (3,) power of dashpots, local damping, tangential forces, last step [W]
         "step",  # (1,) int64 steps done since build
         "n_rebuilds",  # (1,) int64 Verlet-list builds since build
         "last_onset",  # (1,) time of the last body-body contact onset [s]
@@ -132,49 +132,78 @@ def _log_event(rec, t, bi, bj, kind):
 
 
 @njit(cache=True)
-def _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t):
-    """Held-body release, body-level onsets/ends, event log and pair statistics."""
-    for k in range(n_changes):
-        c = rec.changes[k, 0]
-        kind = rec.changes[k, 1]
-        bi = spheres.body[contacts.i[c]]
-        j = contacts.j[c]
-        if j >= 0:
-            bj = spheres.body[j]
-            if kind == ONSET:
-                if bodies.held[bi] and not bodies.held[bj]:
-                    _release(bodies, spheres, contacts, bi, t)
-                elif bodies.held[bj] and not bodies.held[bi]:
-                    _release(bodies, spheres, contacts, bj, t)
-            if not settings.record_pairs:
+def event_time(contacts, c, t, dt, onset, first_step):
+    """Interpolated time [s] at which contact c started or ended during the last drift.
+
+    The overlap is taken linear over the drift ``[t - dt, t]``: an onset seen at ``t``
+    with overlap ``delta`` and approach speed ``|vn|`` happened at ``t - delta / |vn|``;
+    an end seen at ``t`` with gap ``|g|`` and separation speed ``v`` (contact.end_impulse)
+    at ``t - |g| / v``.  Clipped to ``[t - dt, t]``; ``t`` for the contacts of the
+    initial configuration and for an onset without approach.
+    """
+    if first_step or (onset and contacts.vn[c] >= 0.0):
+        return t
+    speed = abs(contacts.vn[c])
+    depth = abs(contacts.overlap[c])
+    if speed == 0.0 or depth >= speed * dt:
+        return t if speed == 0.0 else t - dt
+    return t - depth / speed
+
+
+@njit(cache=True)
+def _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, first_step):
+    """Held-body release, body-level onsets/ends, event log and pair statistics.
+
+    Onsets are processed before ends, so that a body pair whose contact passes from one
+    sphere to another in the same step (count 1 -> 2 -> 1) keeps one continuous contact.
+    Event times are interpolated within the step (:func:`event_time`).
+    """
+    for sweep in (ONSET, END):
+        for k in range(n_changes):
+            c = rec.changes[k, 0]
+            kind = rec.changes[k, 1]
+            if kind != sweep:
                 continue
-            a = min(bi, bj)
-            b = max(bi, bj)
-            if kind == ONSET:
-                rec.pair_count[a, b] += 1
-                if rec.pair_count[a, b] == 1:
-                    _log_event(rec, t, a, b, ONSET)
-                    rec.n_contacts[a, b] += 1
-                    if math.isnan(rec.first_contact[a, b]):
-                        rec.first_contact[a, b] = t
-                    rec.last_onset[0] = t
-                    rec.touched[a] = 1
-                    rec.touched[b] = 1
-            else:
-                rec.pair_count[a, b] -= 1
-                if rec.pair_count[a, b] == 0:
-                    _log_event(rec, t, a, b, kind)
-                    rec.last_separation[a, b] = t
-        elif settings.record_pairs:
-            w = -j - 1
-            if kind == ONSET:
-                rec.wall_count[bi, w] += 1
-                if rec.wall_count[bi, w] == 1:
-                    _log_event(rec, t, bi, j, ONSET)
-            else:
-                rec.wall_count[bi, w] -= 1
-                if rec.wall_count[bi, w] == 0:
-                    _log_event(rec, t, bi, j, kind)
+            bi = spheres.body[contacts.i[c]]
+            j = contacts.j[c]
+            if j >= 0:
+                bj = spheres.body[j]
+                if kind == ONSET:
+                    if bodies.held[bi] and not bodies.held[bj]:
+                        _release(bodies, spheres, contacts, bi, t)
+                    elif bodies.held[bj] and not bodies.held[bi]:
+                        _release(bodies, spheres, contacts, bj, t)
+                if not settings.record_pairs:
+                    continue
+                a = min(bi, bj)
+                b = max(bi, bj)
+                te = event_time(contacts, c, t, settings.dt, kind == ONSET, first_step)
+                if kind == ONSET:
+                    rec.pair_count[a, b] += 1
+                    if rec.pair_count[a, b] == 1:
+                        _log_event(rec, te, a, b, ONSET)
+                        rec.n_contacts[a, b] += 1
+                        if math.isnan(rec.first_contact[a, b]):
+                            rec.first_contact[a, b] = te
+                        rec.last_onset[0] = t
+                        rec.touched[a] = 1
+                        rec.touched[b] = 1
+                else:
+                    rec.pair_count[a, b] -= 1
+                    if rec.pair_count[a, b] == 0:
+                        _log_event(rec, te, a, b, kind)
+                        rec.last_separation[a, b] = te
+            elif settings.record_pairs:
+                w = -j - 1
+                te = event_time(contacts, c, t, settings.dt, kind == ONSET, first_step)
+                if kind == ONSET:
+                    rec.wall_count[bi, w] += 1
+                    if rec.wall_count[bi, w] == 1:
+                        _log_event(rec, te, bi, j, ONSET)
+                else:
+                    rec.wall_count[bi, w] -= 1
+                    if rec.wall_count[bi, w] == 0:
+                        _log_event(rec, te, bi, j, kind)
 
 
 @njit(cache=True)
@@ -223,6 +252,8 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
     """
     dt = settings.dt
     kin = np.empty(2)
+    p_contacts = np.empty(2)
+    work = np.empty((6, 3))  # scratch vectors of the contact kernels
     touched_body = int(stop[1])
     for done in range(n_steps):
         t = rec.clock[0]
@@ -246,22 +277,22 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
                 return GROW_CONTACTS, done
             rec.n_rebuilds[0] += 1
         n_changes = compute_forces(
-            bodies, spheres, walls, contacts, dt, rec.ledger, rec.changes, step == 0
+            bodies, spheres, walls, contacts, dt, rec.ledger, rec.changes, step == 0, work
         )
         if n_changes > 0:
-            _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t)
+            _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, step == 0)
         if settings.record_peak_force:
             _record_peak_force(spheres, contacts, rec)
         p_damping = kick(bodies, settings.gravity, dt, settings.damping, settings.damp_gravity)
-        p_viscous = 0.0
-        if settings.viscous:
-            p_viscous = viscous_power(bodies, spheres, walls, contacts)
+        contact_power(bodies, spheres, walls, contacts, p_contacts, work)
         # trapezoidal rule for the work of the non-conservative forces since t_{n-1}
         if step > 0:
-            rec.ledger[1] -= 0.5 * dt * (rec.power[0] + p_viscous)
+            rec.ledger[1] -= 0.5 * dt * (rec.power[0] + p_contacts[0])
             rec.ledger[2] -= 0.5 * dt * (rec.power[1] + p_damping)
-        rec.power[0] = p_viscous
+            rec.ledger[0] -= 0.5 * dt * (rec.power[2] + p_contacts[1])
+        rec.power[0] = p_contacts[0]
         rec.power[1] = p_damping
+        rec.power[2] = p_contacts[1]
         if traj_due:
             _record_frame(bodies, rec, t)
         if energy_due:

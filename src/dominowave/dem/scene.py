@@ -119,7 +119,10 @@ class Scene:
         radii : (n,) or scalar [m]
         materials : (n,) material ids, or one id for every sphere
         blocked : DOFs to block, e.g. "y rx rz" (world axes x y z rx ry rz)
-        velocity, angular_velocity : initial values (world frame) [m/s], [rad/s]
+        velocity, angular_velocity : initial values (world frame) [m/s], [rad/s].  A
+            blocked component keeps its value (YADE semantics) for spheres; an aspherical
+            clump cannot turn about a blocked axis, so a nonzero blocked angular-velocity
+            component is a ValueError for it (not silently zeroed).
         held : keep the body fixed until a non-held body touches it
         """
         centres = np.asarray(centres, dtype=float).reshape(-1, 3)
@@ -230,10 +233,9 @@ class Scene:
             bodies.held[b] = spec["held"]
             v = spec["velocity"].copy()
             w = spec["angular_velocity"].copy()
+            check_blocked_spin(b, w, mode, bodies.axis[b])
             if mode == ROT_AXIS:
-                w = bodies.axis[b] * (w @ bodies.axis[b])
-            elif mode == ROT_NONE:
-                w[:] = 0.0
+                w = bodies.axis[b] * (w @ bodies.axis[b])  # (round-off of the check)
             if spec["held"]:
                 v, w = np.zeros(3), np.zeros(3)
             bodies.vel[b] = v
@@ -317,8 +319,9 @@ class Scene:
         check_positive("dt", dt)
         if dt > dt_crit:
             raise ValueError(
-                f"dt = {dt:.6g} s is outside the valid range (0, {dt_crit:.6g}]: above the "
-                "critical time step of the stiffest contact (timestep.critical_timestep)"
+                f"dt = {dt:.6g} s is above the critical time step estimate {dt_crit:.6g} s "
+                "(timestep.critical_timestep: stiffest single contact and the contacts present "
+                "at start); choose dt <= that, better safety * it (default safety 0.02)"
             )
         if skin is None:
             skin = 0.3 * float(spheres.radius.mean())
@@ -340,6 +343,27 @@ class Scene:
             record_pairs=bool(record_pairs),
             record_peak_force=bool(record_peak_force),
             check_every=int(check_every),
+        )
+
+
+def check_blocked_spin(body, omega, mode, axis):
+    """ValueError if an aspherical clump is given a spin about a blocked rotation axis.
+
+    Spheres keep a blocked component (YADE: a blocked DOF keeps its velocity); a planar
+    clump (``ROT_AXIS``) turns only about ``axis``, a clump with every rotation blocked
+    (``ROT_NONE``) not at all, so silently dropping the rest would change the input.
+    """
+    if mode == ROT_AXIS:
+        stray = omega - axis * (omega @ axis)
+    elif mode == ROT_NONE:
+        stray = omega
+    else:
+        return
+    if np.any(np.abs(stray) > 1e-12 * max(1.0, float(np.abs(omega).max()))):
+        raise ValueError(
+            f"angular_velocity = {omega.tolist()} rad/s of body {body} turns about a blocked "
+            "axis; an aspherical clump with blocked rotations can only turn about its free "
+            "axis (valid: components about blocked axes = 0)"
         )
 
 

@@ -131,7 +131,6 @@ class Simulation:
             record_pairs=record_pairs,
             record_peak_force=record_peak_force,
             check_every=check_every,
-            viscous=bool(np.any(mats.restitution < 1.0)),
         )
         capacity = 8 * spheres.body.shape[0] + 64
         self.contacts = _empty_contacts(capacity)
@@ -193,9 +192,15 @@ class Simulation:
     def set_velocity(self, body: int, velocity=None, angular_velocity=None):
         """Set a body's linear [m/s] and/or angular [rad/s] velocity (world frame).
 
-        Blocked components are kept (a blocked DOF keeps its velocity, YADE semantics).
+        Blocked components are kept (a blocked DOF keeps its velocity, YADE semantics);
+        an aspherical clump given a spin about a blocked axis is a ValueError
+        (scene.check_blocked_spin).  Between runs only: the next step's tangential
+        increment of the body's existing contacts uses the new velocity instead of the
+        one of the last drift, i.e. the shear springs jump by ``(v_new - v_old) dt``
+        (negligible unless set on a body in frictional contact).
         """
         from dominowave.dem.integrate import ROT_AXIS, ROT_FREE, ROT_NONE
+        from dominowave.dem.scene import check_blocked_spin
 
         check_in_range("body", body, 0, self.n_bodies - 1, lo_inclusive=True, hi_inclusive=True)
         b = self.bodies
@@ -212,11 +217,12 @@ class Simulation:
             w = np.asarray(angular_velocity, float)
             check_finite("angular_velocity", w)
             mode = b.rot_mode[body]
+            check_blocked_spin(body, w, mode, b.axis[body])
             if mode == ROT_NONE:
+                self._refresh_energy()
                 return
             if mode == ROT_AXIS:
-                e = b.axis[body]
-                w = e * (w @ e)
+                w = b.axis[body] * (w @ b.axis[body])
                 L = b.axis_inertia[body] * w
             elif mode == ROT_FREE:
                 R = b.rot[body]
@@ -260,6 +266,7 @@ class Simulation:
                 np.zeros(3),
                 self.rec.changes.copy(),
                 True,
+                np.empty((6, 3)),
             )
         energies(self.bodies, contacts, self.settings.gravity, self.rec.ledger, self.rec.energy_now)
 
@@ -503,7 +510,6 @@ class Simulation:
 
         s = group("settings", Settings)
         settings = {k: (v.item() if np.ndim(v) == 0 else v) for k, v in s._asdict().items()}
-        settings.pop("viscous")
         sim = cls(
             group("bodies", Bodies),
             group("spheres", Spheres),
@@ -547,6 +553,7 @@ def _empty_contacts(capacity):
         overlap=np.zeros(capacity),
         vn=np.zeros(capacity),
         fn=np.zeros(capacity),
+        fn_viscous=np.zeros(capacity),
     )
 
 
@@ -561,7 +568,7 @@ def _empty_recorder(nb, nw, capacity, record_pairs):
     return Recorder(
         clock=np.zeros(2),
         ledger=np.zeros(3),
-        power=np.zeros(2),
+        power=np.zeros(3),
         step=np.zeros(1, np.int64),
         n_rebuilds=np.zeros(1, np.int64),
         last_onset=np.array([-np.inf]),

@@ -96,9 +96,10 @@ Contacts = namedtuple(
         "kt",  # (C,) [N/m]
         "mu",  # (C,)
         "cn",  # (C,) viscous normal damping [N s/m]
-        "overlap",  # (C,) current overlap [m]
-        "vn",  # (C,) normal relative velocity at the last half step [m/s]
+        "overlap",  # (C,) overlap at the last step [m]; at the step a contact ends: the gap (<= 0)
+        "vn",  # (C,) normal relative velocity (> 0 separating) at the last half step [m/s]
         "fn",  # (C,) current normal force (elastic + viscous) [N]
+        "fn_viscous",  # (C,) dashpot part of the normal force at the last step [N]
     ],
 )
 
