@@ -148,7 +148,7 @@ class RodsScenario(DominoChainBase):
     """Hinged compliant dominoes simulated with Newton's laws (dominowave.rods, issue 5)."""
 
     kind: Literal["rods"] = "rods"
-    RECORDS_FRAMES: ClassVar = False  # dominowave.rods returns no per-frame angles yet
+    RECORDS_FRAMES: ClassVar = True  # interval: dominowave.sweep.run_rods.frame_schedule
     stiffness: float | None = quantity(
         None, "N/m", "contact stiffness k per particle; the contact spring is k/2 (eq 24)", gt=0
     )

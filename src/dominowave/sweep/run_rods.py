@@ -8,13 +8,21 @@ did not settle within the chain); the theory's ``v^s`` (eq 34) for the same
 parameters is stored beside it. Warnings of the simulation (e.g. an
 under-resolved contact) are kept in the summary.
 
+The angles and angular velocities of every domino are recorded as frames (at the
+interval :func:`frame_schedule` chooses) and returned as the side-view
+:class:`~dominowave.io.trajectory.ChainTrajectory` (:func:`rods_trajectory`) that
+``dominowave animate`` and ``--vtk`` draw.
+
 The run is checkpointable: :class:`RodsScenarioStepper` advances
 :class:`dominowave.rods.RodStepper` in pieces, and :func:`run_rods` drives it through
 :func:`dominowave.sweep.longrun.run_stepping` (checkpoints, resume, Ctrl-C, progress).
+The recorded frames are part of the stepper's state, so a resumed run has the frames of
+an uninterrupted one, bit for bit.
 """
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
@@ -24,13 +32,35 @@ from dominowave.chain.theory_vs_rods import paper_chain
 from dominowave.chain.wave import local_speeds, steady_speed
 from dominowave.io.models import RodsScenario
 from dominowave.io.results import RunResult
+from dominowave.io.trajectory import ChainTrajectory
 from dominowave.rods import RodChain, RodRun, RodStepper
 from dominowave.sweep.longrun import run_stepping
 from dominowave.sweep.registry import RunContext
 
-__all__ = ["RodsScenarioStepper", "rods_chain", "rods_result", "run_rods"]
+__all__ = [
+    "FRAME_INTERVAL",
+    "FRAME_VALUES",
+    "RodsScenarioStepper",
+    "frame_schedule",
+    "rods_chain",
+    "rods_result",
+    "rods_trajectory",
+    "run_rods",
+]
 
 _ENERGY_COLUMNS = ("kinetic", "gravitational", "elastic", "dissipated", "floor")
+
+FRAME_INTERVAL = 0.02
+"""Time between trajectory frames in units of ``sqrt(l/g)`` (~450 frames for the
+default 30-domino run, which lasts ~9 ``sqrt(l/g)``; the chain kind uses 0.01)."""
+
+FRAME_VALUES = 2_500_000
+"""At most this many angles (frames x dominoes) fit the frame buffer (40 MB with the
+angular velocities); long chains get a coarser interval instead of a truncated film."""
+
+TIME_LIMIT = 5.0
+"""The run ends at ``t_max = TIME_LIMIT N sqrt(l/g)`` at the latest (RodStepper's own
+default, given explicitly because the frame buffer is sized from it)."""
 
 
 def run_rods(cfg: RodsScenario, ctx: RunContext | None = None) -> RunResult:
@@ -56,17 +86,40 @@ def rods_chain(cfg: RodsScenario) -> RodChain:
     )
 
 
+def frame_schedule(t_max: float, dt: float, n: int, time_scale: float) -> tuple[int, int]:
+    """Steps between frames and frame-buffer rows for a run of ``n`` dominoes.
+
+    The interval is ``FRAME_INTERVAL * time_scale`` [s] (``time_scale = sqrt(l/g)``),
+    widened where needed so that frames over the whole ``t_max`` [s] hold at most
+    ``FRAME_VALUES`` angles: no run, however long, outgrows its buffer (with the
+    scenario's ``t_max = TIME_LIMIT N sqrt(l/g)`` the interval grows as ``N^2`` beyond
+    100 dominoes: fewer frames per domino toppled). ``dt`` [s] is the time step.
+    Returns ``(every, max_frames)``: frames are taken at the steps that are multiples
+    of ``every``, frame 0 included, into a buffer of ``max_frames`` rows.
+    """
+    interval = max(FRAME_INTERVAL * time_scale, t_max * n / FRAME_VALUES)
+    every = max(1, round(interval / dt))
+    max_frames = (math.ceil(t_max / dt) + 1) // every + 2
+    return every, max_frames
+
+
 class RodsScenarioStepper:
     """The rods run of ``cfg`` in resumable pieces (protocol: :mod:`dominowave.sweep.longrun`).
 
-    Everything but :meth:`result` is that of :class:`dominowave.rods.RodStepper`;
-    :meth:`result` measures the run so far into a :class:`RunResult`.
+    Everything but :meth:`result` is that of :class:`dominowave.rods.RodStepper`, which
+    records frames as :func:`frame_schedule` says; :meth:`result` measures the run so far
+    into a :class:`RunResult` with the trajectory.
     """
 
     def __init__(self, cfg: RodsScenario):
         self.cfg = cfg
+        chain = rods_chain(cfg)
+        dt = chain.time_step(cfg.steps_per_contact)
+        time_scale = math.sqrt(chain.l / chain.g)
+        t_max = TIME_LIMIT * chain.n * time_scale
+        every, max_frames = frame_schedule(t_max, dt, chain.n, time_scale)
         self.stepper = RodStepper(
-            rods_chain(cfg), cfg.push_omega, steps_per_contact=cfg.steps_per_contact
+            chain, cfg.push_omega, dt=dt, t_max=t_max, frame_every=every, max_frames=max_frames
         )
 
     @property
@@ -101,8 +154,31 @@ class RodsScenarioStepper:
         return rods_result(self.cfg, run, [str(w.message) for w in caught])
 
 
+def rods_trajectory(run: RodRun) -> ChainTrajectory:
+    """Side view of ``run``: its frames, plus the final state if later than the last frame.
+
+    The rods model and :class:`ChainTrajectory` share the geometry: domino ``i`` turns
+    about its front bottom edge at ``x_i = i (d + s)`` on the floor, its angle positive
+    towards +x (:mod:`dominowave.rods.contact`), so the pivots and angles pass unchanged.
+    """
+    chain = run.chain
+    time, theta, omega = run.frame_times, run.frame_theta, run.frame_omega
+    if time.size == 0 or run.t_end > time[-1]:
+        time = np.append(time, run.t_end)
+        theta = np.vstack([theta, run.theta])
+        omega = np.vstack([omega, run.omega])
+    return ChainTrajectory(
+        time=time,
+        base_x=run.positions,
+        angle=theta,
+        height=chain.l,
+        thickness=chain.s,
+        omega=omega,
+    )
+
+
 def rods_result(cfg: RodsScenario, run: RodRun, warned: list[str]) -> RunResult:
-    """Summary, per-domino events and energy/contact time series of ``run`` (SI units)."""
+    """Summary, per-domino events, energy/contact time series and trajectory of ``run``."""
     import xarray as xr
 
     l, m, s, g = cfg.height, cfg.mass, cfg.thickness, cfg.gravity
@@ -152,5 +228,6 @@ def rods_result(cfg: RodsScenario, run: RodRun, warned: list[str]) -> RunResult:
         summary=summary,
         events=events,
         timeseries=timeseries,
+        trajectory=rods_trajectory(run),
         may_be_nan=("speed", "speed_err"),
     )
