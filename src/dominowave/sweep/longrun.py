@@ -29,7 +29,52 @@ from dominowave.io.results import write_result_folder
 from dominowave.sweep.hashing import config_dict, point_key
 from dominowave.sweep.registry import RunContext
 
-__all__ = ["CheckpointPolicy", "resume_stepper", "run_stepper", "run_stepping"]
+__all__ = [
+    "CheckpointPolicy",
+    "ScenarioStepper",
+    "resume_stepper",
+    "run_stepper",
+    "run_stepping",
+]
+
+
+class ScenarioStepper:
+    """A scenario's stepper that wraps a simulation's own stepper (``self.stepper``).
+
+    Everything of the protocol but :meth:`result` is delegated to the wrapped
+    stepper; a subclass builds ``self.stepper`` in ``__init__`` and turns the run so
+    far into a ``RunResult`` in :meth:`result`.
+    """
+
+    stepper = None  # the simulation's stepper, set by the subclass
+
+    @property
+    def time(self) -> float:
+        return self.stepper.time
+
+    @property
+    def end_time(self) -> float:
+        return self.stepper.end_time
+
+    @property
+    def steps(self) -> int:
+        return self.stepper.steps
+
+    @property
+    def toppled(self) -> int:
+        return self.stepper.toppled
+
+    def advance(self, n_steps: int) -> bool:
+        return self.stepper.advance(n_steps)
+
+    def get_state(self) -> dict:
+        return self.stepper.get_state()
+
+    def set_state(self, state: dict) -> None:
+        self.stepper.set_state(state)
+
+    def result(self):
+        raise NotImplementedError("a scenario stepper turns its run into a RunResult")
 
 
 @dataclass(frozen=True)

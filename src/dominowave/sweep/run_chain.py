@@ -22,7 +22,7 @@ from dominowave.chain.scenario import ChainRun, DominoChain, Push
 from dominowave.io.models import ChainScenario
 from dominowave.io.results import RunResult
 from dominowave.io.trajectory import ChainTrajectory, SphereTrajectory
-from dominowave.sweep.longrun import run_stepping
+from dominowave.sweep.longrun import ScenarioStepper, run_stepping
 from dominowave.sweep.registry import RunContext
 
 __all__ = [
@@ -85,7 +85,7 @@ def run_chain(cfg: ChainScenario, ctx: RunContext | None = None) -> RunResult:
     return run_stepping(cfg, ctx, factory=factory)
 
 
-class ChainScenarioStepper:
+class ChainScenarioStepper(ScenarioStepper):
     """The chain run of ``cfg`` in resumable pieces (protocol: :mod:`dominowave.sweep.longrun`).
 
     Everything but :meth:`result` is that of :class:`dominowave.chain.stepper.ChainStepper`;
@@ -99,31 +99,6 @@ class ChainScenarioStepper:
         self.chain = DominoChain(cfg.params(), steps_per_collision=cfg.steps_per_collision)
         push = Push(omega=cfg.push_omega) if cfg.push_omega is not None else None
         self.stepper = self.chain.stepper(push)
-
-    @property
-    def time(self) -> float:
-        return self.stepper.time
-
-    @property
-    def end_time(self) -> float:
-        return self.stepper.end_time
-
-    @property
-    def steps(self) -> int:
-        return self.stepper.steps
-
-    @property
-    def toppled(self) -> int:
-        return self.stepper.toppled
-
-    def advance(self, n_steps: int) -> bool:
-        return self.stepper.advance(n_steps)
-
-    def get_state(self) -> dict[str, np.ndarray]:
-        return self.stepper.get_state()
-
-    def set_state(self, state: dict[str, np.ndarray]) -> None:
-        self.stepper.set_state(state)
 
     def result(self) -> RunResult:
         run = self.stepper.result(keep_record=True)

@@ -34,7 +34,7 @@ from dominowave.io.models import RodsScenario
 from dominowave.io.results import RunResult
 from dominowave.io.trajectory import ChainTrajectory
 from dominowave.rods import RodChain, RodRun, RodStepper
-from dominowave.sweep.longrun import run_stepping
+from dominowave.sweep.longrun import ScenarioStepper, run_stepping
 from dominowave.sweep.registry import RunContext
 
 __all__ = [
@@ -103,7 +103,7 @@ def frame_schedule(t_max: float, dt: float, n: int, time_scale: float) -> tuple[
     return every, max_frames
 
 
-class RodsScenarioStepper:
+class RodsScenarioStepper(ScenarioStepper):
     """The rods run of ``cfg`` in resumable pieces (protocol: :mod:`dominowave.sweep.longrun`).
 
     Everything but :meth:`result` is that of :class:`dominowave.rods.RodStepper`, which
@@ -121,31 +121,6 @@ class RodsScenarioStepper:
         self.stepper = RodStepper(
             chain, cfg.push_omega, dt=dt, t_max=t_max, frame_every=every, max_frames=max_frames
         )
-
-    @property
-    def time(self) -> float:
-        return self.stepper.time
-
-    @property
-    def end_time(self) -> float:
-        return self.stepper.end_time
-
-    @property
-    def steps(self) -> int:
-        return self.stepper.steps
-
-    @property
-    def toppled(self) -> int:
-        return self.stepper.toppled
-
-    def advance(self, n_steps: int) -> bool:
-        return self.stepper.advance(n_steps)
-
-    def get_state(self) -> dict[str, np.ndarray]:
-        return self.stepper.get_state()
-
-    def set_state(self, state: dict[str, np.ndarray]) -> None:
-        self.stepper.set_state(state)
 
     def result(self) -> RunResult:
         with warnings.catch_warnings(record=True) as caught:
