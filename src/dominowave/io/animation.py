@@ -83,7 +83,10 @@ def render_frames(traj: ChainTrajectory, times: np.ndarray, width_px: int = 960)
     ax.axhline(0.0, color="0.3", lw=1)
     ax.set_xlabel("x [m]")
     ax.set_yticks([])
-    polys = PolyCollection([], edgecolors="k", linewidths=0.5)
+    # Thin rods (s = 0) are zero-area polygons: draw their outline in the |omega|
+    # colour, thicker, so the colour stays visible.
+    thin = traj.thickness == 0.0
+    polys = PolyCollection([], edgecolors="k", linewidths=2.0 if thin else 0.5)
     ax.add_collection(polys)
     stamp = fig.text(0.03, (height_px - 24) / height_px, "", family="monospace")
     for t in times:
@@ -99,7 +102,10 @@ def render_frames(traj: ChainTrajectory, times: np.ndarray, width_px: int = 960)
             base_z=lift,
         )
         polys.set_verts(list(snapshot.corners(0)))
-        polys.set_facecolors(cmap(norm(_interp(traj, t, omega))))
+        colours = cmap(norm(_interp(traj, t, omega)))
+        polys.set_facecolors(colours)
+        if thin:
+            polys.set_edgecolors(colours)
         stamp.set_text(f"t = {t * 1e3:8.2f} ms")
         canvas.draw()
         yield np.asarray(canvas.buffer_rgba())[..., :3].copy()
