@@ -275,9 +275,10 @@ class DominoChain:
         }
 
     # --- running ------------------------------------------------------------------------
-    def stepper(self, push: Push | None = None) -> ChainStepper:
-        """The run pushed by ``push``, to be advanced in pieces (checkpoints, progress)."""
-        return ChainStepper(self, self.resolve(push))
+    def stepper(self, push: Push | None = None, contact_forces: bool = False) -> ChainStepper:
+        """The run pushed by ``push``, to be advanced in pieces (checkpoints, progress);
+        ``contact_forces``: also record the contact forces at the frames (for VTK)."""
+        return ChainStepper(self, self.resolve(push), contact_forces=contact_forces)
 
     def run(self, push: Push | None = None, keep_record: bool = False) -> ChainRun:
         """Push domino 0, run until quiet or ``max_time``, analyse; see ``ChainRun``.

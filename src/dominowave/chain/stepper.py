@@ -9,7 +9,9 @@ It satisfies the stepper protocol of :mod:`dominowave.sweep.longrun`:
 ``advance(n_steps) -> done``, ``time``, ``end_time``, ``steps``, ``toppled``,
 ``get_state()`` / ``set_state()`` (the engine state plus the phase, the trajectory
 frames and contact events recorded so far, the counters) and ``result()`` (the
-``ChainRun`` so far). ``advance(a); advance(b)`` gives the same bits as
+``ChainRun`` so far). With ``contact_forces=True`` the engine also records the force of
+every active contact at each frame (``dem.ContactFrames``), kept in the saved state and
+returned by :meth:`contact_frames`. ``advance(a); advance(b)`` gives the same bits as
 ``advance(a + b)``, so a run resumed from a checkpoint ends exactly as an
 uninterrupted one.
 
@@ -40,6 +42,10 @@ _EVENTS = ("time", "body_i", "body_j", "kind")
 """Contact event arrays of a ``dem`` run result, one row per event."""
 _EVENT_DTYPES = (np.float64, np.int64, np.int64, np.int8)
 """Their dtypes in the engine's recorder (``dem.engine.Recorder``)."""
+_CONTACTS = ("count", "first", "second", "point", "force")
+"""Recorded contact forces: rows per frame (``count``), then the ``dem.ContactFrames`` rows."""
+_CONTACT_SHAPES = (((), np.int64), ((), np.int64), ((), np.int64), ((3,), float), ((3,), float))
+"""Row shape and dtype of each of them (empty pieces)."""
 _REASONS = ("", "touched", "no_onset", "until")
 """Why phase 1 ended ('' while it runs), coded by index in the checkpoint."""
 
@@ -71,8 +77,9 @@ class ChainStepper:
     ``toppled`` dominoes the wave has reached (domino 0 counts once it hits domino 1).
     """
 
-    def __init__(self, chain, push):
+    def __init__(self, chain, push, contact_forces: bool = False):
         self.chain = chain
+        self.contact_forces = contact_forces
         self.push = push
         self.sim, self.omega_1 = chain.build(push)
         self.every = max(1, round(chain.frame_interval / self.sim.dt))
@@ -87,6 +94,8 @@ class ChainStepper:
         self.events = {
             k: [np.zeros(0, dtype)] for k, dtype in zip(_EVENTS, _EVENT_DTYPES, strict=True)
         }
+        # the initial frame (before the first step) has no recorded contacts
+        self.contacts = _empty_contacts(n_frames=1) if contact_forces else {}
 
     # --- where the run is ---------------------------------------------------------------
     @property
@@ -115,7 +124,12 @@ class ChainStepper:
         """One ``Simulation.run`` of at most ``limit`` steps; returns the steps done."""
         sim, chain = self.sim, self.chain
         if self.phase == 2:
-            res = sim.run(n_steps=limit, until=self.tail_end, trajectory_every=self.every)
+            res = sim.run(
+                n_steps=limit,
+                until=self.tail_end,
+                trajectory_every=self.every,
+                record_contact_forces=self.contact_forces,
+            )
             self._keep(res)
             self.done = res.stop_reason == "until"
             return res.n_steps
@@ -130,6 +144,7 @@ class ChainStepper:
             until=chain.max_time,
             stop=stop,
             trajectory_every=self.every,
+            record_contact_forces=self.contact_forces,
         )
         self._keep(res)
         reason = res.stop_reason
@@ -152,6 +167,11 @@ class ChainStepper:
         for k in _EVENTS:
             self.events[k].append(np.asarray(getattr(res.events, k)))
         self.reached = max(self.reached, _highest_hit(res.events.body_j, res.events.kind))
+        if self.contact_forces:
+            cf = res.contact_frames
+            self.contacts["count"].append(np.diff(cf.start))
+            for k in _CONTACTS[1:]:
+                self.contacts[k].append(getattr(cf, k))
 
     # --- checkpoints --------------------------------------------------------------------
     def get_state(self) -> dict[str, np.ndarray]:
@@ -160,6 +180,7 @@ class ChainStepper:
         state = {f"sim.{k}": v for k, v in self.sim.get_state().items()}
         state.update({f"frames.{k}": v[0].copy() for k, v in self.frames.items()})
         state.update({f"events.{k}": v[0].copy() for k, v in self.events.items()})
+        state.update({f"contacts.{k}": v[0].copy() for k, v in self.contacts.items()})
         state["steps"] = np.array(self.steps, np.int64)
         state["phase"] = np.array(self.phase, np.int64)
         state["done"] = np.array(self.done)
@@ -173,6 +194,12 @@ class ChainStepper:
         self.sim.set_state({k[4:]: v for k, v in state.items() if k.startswith("sim.")})
         self.frames = {k: [np.array(state[f"frames.{k}"])] for k in _FRAMES}
         self.events = {k: [np.array(state[f"events.{k}"])] for k in _EVENTS}
+        if not self.contact_forces:
+            self.contacts = {}
+        elif "contacts.count" in state:
+            self.contacts = {k: [np.array(state[f"contacts.{k}"])] for k in _CONTACTS}
+        else:  # a state saved without the recorder: its frames have no contacts
+            self.contacts = _empty_contacts(n_frames=len(self.frames["times"][0]))
         self.steps = int(state["steps"])
         self.phase = int(state["phase"])
         self.done = bool(state["done"])
@@ -183,7 +210,7 @@ class ChainStepper:
 
     def _compact(self) -> None:
         """Join the per-call pieces of frames and events into one array each."""
-        for pieces in (*self.frames.values(), *self.events.values()):
+        for pieces in (*self.frames.values(), *self.events.values(), *self.contacts.values()):
             pieces[:] = [np.concatenate(pieces)]
 
     # --- results ------------------------------------------------------------------------
@@ -193,6 +220,16 @@ class ChainStepper:
         frames = {k: v[0] for k, v in self.frames.items()}
         events = {k: v[0] for k, v in self.events.items()}
         return self.chain.record(frames, events, end_time=self.time)
+
+    def contact_frames(self) -> dem.ContactFrames | None:
+        """The recorded contact forces of every frame of :meth:`record` (None if not
+        recorded); frame 0, the state before the first step, has none."""
+        if not self.contact_forces:
+            return None
+        self._compact()
+        c = {k: v[0] for k, v in self.contacts.items()}
+        start = np.concatenate([[0], np.cumsum(c["count"])])
+        return dem.ContactFrames(start, c["first"], c["second"], c["point"], c["force"])
 
     def result(self, keep_record: bool = False):
         """The ``ChainRun`` of the run so far (analysed as a finished one would be;
@@ -207,6 +244,16 @@ class ChainStepper:
             stop_reason=self.stop_reason or "running",
             keep_record=keep_record,
         )
+
+
+def _empty_contacts(n_frames: int) -> dict[str, list[np.ndarray]]:
+    """Contact pieces for ``n_frames`` frames without contacts."""
+    out = {
+        k: [np.zeros((0, *shape), dtype)]
+        for k, (shape, dtype) in zip(_CONTACTS, _CONTACT_SHAPES, strict=True)
+    }
+    out["count"] = [np.zeros(n_frames, np.int64)]
+    return out
 
 
 def _highest_hit(body_j: np.ndarray, kind: np.ndarray) -> int:

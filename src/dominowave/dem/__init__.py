@@ -10,6 +10,7 @@ from dominowave.dem.energy import ENERGY_NAMES
 from dominowave.dem.scene import Scene
 from dominowave.dem.simulation import (
     ContactEvents,
+    ContactFrames,
     PairStats,
     RunResult,
     Simulation,
@@ -23,6 +24,7 @@ __all__ = [
     "ENERGY_NAMES",
     "ONSET",
     "ContactEvents",
+    "ContactFrames",
     "Material",
     "PairStats",
     "RunResult",

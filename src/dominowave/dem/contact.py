@@ -29,6 +29,7 @@ from numba import njit
 __all__ = [
     "RULE_PAPER",
     "RULE_YADE",
+    "active_contact_forces",
     "build_verlet_list",
     "compute_forces",
     "contact_power",
@@ -625,3 +626,50 @@ def _point_velocity_full(bodies, b, point, out):
     out[0] = bodies.vel_full[b, 0] + w[b, 1] * rz - w[b, 2] * ry
     out[1] = bodies.vel_full[b, 1] + w[b, 2] * rx - w[b, 0] * rz
     out[2] = bodies.vel_full[b, 2] + w[b, 0] * ry - w[b, 1] * rx
+
+
+@njit(cache=True)
+def active_contact_forces(spheres, walls, contacts, first, second, point, force):
+    """The contact forces of the last :func:`compute_forces`, one row per active contact.
+
+    Writes from row 0 on and returns the number of rows.  Sphere-sphere contact:
+    ``first = i``, ``second = j`` (sphere ids), ``force`` the force on ``j``
+    (``fn n - kt u_s``, normal + tangential, as applied in the last kick).  Sphere-wall
+    contact: ``first = -(wall + 1)``, ``second = i``, ``force`` the force on the sphere
+    (so that ``force`` always acts on ``second``).  ``point`` (3,) [m] the contact point
+    midway through the overlap (as in :func:`compute_forces`).  The end impulse of a
+    contact that opened in the last drift (:func:`end_impulse`) is not recorded.
+    Row arrays: ``first, second`` (K,) int64, ``point, force`` (K, 3), K >= active count.
+    """
+    k = 0
+    for c in range(contacts.n[0]):
+        if not contacts.active[c]:
+            continue
+        i = contacts.i[c]
+        j = contacts.j[c]
+        u = contacts.shear[c]
+        kt = contacts.kt[c]
+        fn = contacts.fn[c]
+        if j >= 0:
+            dist = 0.0
+            for d in range(3):  # (point[k] holds the centre-to-centre vector first)
+                point[k, d] = spheres.pos[j, d] - spheres.pos[i, d]
+                dist += point[k, d] * point[k, d]
+            dist = math.sqrt(dist)
+            reach = spheres.radius[i] - 0.5 * contacts.overlap[c]
+            for d in range(3):
+                nd = point[k, d] / dist
+                force[k, d] = fn * nd - kt * u[d]
+                point[k, d] = spheres.pos[i, d] + reach * nd
+            first[k] = i
+            second[k] = j
+        else:
+            reach = spheres.radius[i] - 0.5 * contacts.overlap[c]
+            for d in range(3):
+                nd = -walls.normal[-j - 1, d]
+                force[k, d] = -(fn * nd - kt * u[d])  # on the sphere
+                point[k, d] = spheres.pos[i, d] + reach * nd
+            first[k] = j
+            second[k] = i
+        k += 1
+    return k

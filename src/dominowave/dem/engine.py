@@ -8,7 +8,8 @@ being untouched by the interrupted step), or when the run must be aborted.
 One step (see integrate.py for the scheme):
 rebuild the Verlet list if a sphere moved more than skin/2 -> contact forces -> contact
 onset/end bookkeeping (held bodies, events, pair statistics) -> kick -> recorders at t_n
--> drift -> stop conditions.
+-> drift -> stop conditions.  The optional contact-force recorder (``rec.cf_on``) copies
+the forces of the active contacts at each trajectory frame; off, it costs one test per frame.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from numba import njit
 from dominowave.dem.contact import (
     END,
     ONSET,
+    active_contact_forces,
     build_verlet_list,
     compute_forces,
     contact_power,
@@ -42,6 +44,7 @@ GROW_CONTACTS = 10
 GROW_EVENTS = 11
 GROW_TRAJECTORY = 12
 GROW_ENERGY = 13
+GROW_CONTACT_FORCES = 14
 ABORT_NAN = 20
 ABORT_RUNAWAY = 21
 
@@ -88,6 +91,13 @@ Recorder = namedtuple(
         "traj_quat",  # (F, nb, 4)
         "traj_vel",  # (F, nb, 3)
         "traj_omega",  # (F, nb, 3)
+        "cf_on",  # (1,) int64: 1 = record the contact forces at trajectory frames
+        "cf_n",  # (1,) int64 contact rows recorded
+        "cf_start",  # (F,) int64 first contact row of each trajectory frame
+        "cf_first",  # (K,) int64 sphere i, or -(wall + 1)
+        "cf_second",  # (K,) int64 sphere j (or i for a wall contact): the force acts on it
+        "cf_point",  # (K, 3) contact point [m]
+        "cf_force",  # (K, 3) total contact force on `cf_second` [N]
         "energy_every",  # (1,) int64, 0 = off
         "energy_n",  # (1,) int64
         "energy_t",  # (G,)
@@ -234,6 +244,22 @@ def _record_frame(bodies, rec, t):
 
 
 @njit(cache=True)
+def _record_contact_forces(spheres, walls, contacts, rec):
+    """Append the active contacts of this step as the rows of trajectory frame traj_n."""
+    k0 = rec.cf_n[0]
+    rec.cf_start[rec.traj_n[0]] = k0
+    rec.cf_n[0] = k0 + active_contact_forces(
+        spheres,
+        walls,
+        contacts,
+        rec.cf_first[k0:],
+        rec.cf_second[k0:],
+        rec.cf_point[k0:],
+        rec.cf_force[k0:],
+    )
+
+
+@njit(cache=True)
 def _finite(bodies):
     for b in range(bodies.mass.shape[0]):
         for k in range(3):
@@ -270,6 +296,9 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
             return GROW_TRAJECTORY, done
         if energy_due and rec.energy_n[0] == rec.energy_t.shape[0]:
             return GROW_ENERGY, done
+        forces_due = traj_due and rec.cf_on[0] == 1
+        if forces_due and rec.cf_first.shape[0] - rec.cf_n[0] < contacts.i.shape[0]:
+            return GROW_CONTACT_FORCES, done
         if needs_rebuild(spheres, settings.skin, contacts.n[0]):
             if not _finite(bodies):
                 return ABORT_NAN, done
@@ -293,6 +322,8 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
         rec.power[0] = p_contacts[0]
         rec.power[1] = p_damping
         rec.power[2] = p_contacts[1]
+        if forces_due:  # (before _record_frame: the frame index is traj_n)
+            _record_contact_forces(spheres, walls, contacts, rec)
         if traj_due:
             _record_frame(bodies, rec, t)
         if energy_due:

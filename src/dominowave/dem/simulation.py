@@ -16,7 +16,14 @@ from dominowave.dem.energy import ENERGY_NAMES, energies
 from dominowave.dem.engine import Recorder, Settings, run_loop
 from dominowave.dem.state import Bodies, Contacts, MaterialTable, Spheres, Walls
 
-__all__ = ["ContactEvents", "PairStats", "RunResult", "Simulation", "StopCondition"]
+__all__ = [
+    "ContactEvents",
+    "ContactFrames",
+    "PairStats",
+    "RunResult",
+    "Simulation",
+    "StopCondition",
+]
 
 STOP_REASONS = {
     engine.DONE_STEPS: "n_steps",
@@ -58,6 +65,30 @@ class ContactEvents:
 
 
 @dataclass(frozen=True)
+class ContactFrames:
+    """Contact forces at the trajectory frames of one run (``record_contact_forces=True``).
+
+    Flat rows, frame ``f`` owning rows ``start[f]:start[f + 1]`` (start (F + 1,) int64).
+    Per row (K,): ``first`` sphere id, or ``-(wall + 1)``; ``second`` sphere id;
+    ``point`` (K, 3) contact point [m] (midway through the overlap); ``force`` (K, 3) [N]
+    total contact force (normal elastic + dashpot + tangential) acting on sphere
+    ``second`` as applied at that step (``-force`` acts on ``first``).  Every active
+    sphere-sphere and sphere-wall contact; the one-kick end impulse of a contact that
+    opened in the last drift (contact.end_impulse) is not a row.
+    """
+
+    start: np.ndarray
+    first: np.ndarray
+    second: np.ndarray
+    point: np.ndarray
+    force: np.ndarray
+
+    def frame(self, f: int) -> slice:
+        """The rows of trajectory frame ``f``."""
+        return slice(int(self.start[f]), int(self.start[f + 1]))
+
+
+@dataclass(frozen=True)
 class PairStats:
     """Per body pair (n_bodies, n_bodies), symmetric, cumulative over all runs.
 
@@ -87,6 +118,7 @@ class RunResult:
     energy_times: np.ndarray  # (G,)
     energy: dict = field(default_factory=dict)  # name -> (G,)
     events: ContactEvents | None = None
+    contact_frames: ContactFrames | None = None  # with record_contact_forces=True
 
 
 def _symmetric(a, fill):
@@ -279,6 +311,7 @@ class Simulation:
         *,
         trajectory_every: int = 0,
         energy_every: int = 0,
+        record_contact_forces: bool = False,
     ) -> RunResult:
         """Advance the simulation in compiled code; see the module docstring of engine.py.
 
@@ -288,6 +321,8 @@ class Simulation:
         until : stop when the time reaches this value [s].
         stop : compiled stop conditions (:class:`StopCondition`).
         trajectory_every, energy_every : record a frame every this many steps (0 = never).
+        record_contact_forces : also record every active contact's force at each
+            trajectory frame (``RunResult.contact_frames``, :class:`ContactFrames`).
         """
         stop = stop or StopCondition()
         if n_steps is None and until is None and stop == StopCondition():
@@ -324,7 +359,7 @@ class Simulation:
         )
         remaining = np.iinfo(np.int64).max if n_steps is None else int(n_steps)
         t_end = np.inf if until is None else float(until)
-        self._start_run(trajectory_every, energy_every)
+        self._start_run(trajectory_every, energy_every, record_contact_forces)
         done_total = 0
         while True:
             code, done = run_loop(
@@ -348,7 +383,7 @@ class Simulation:
             self._grow(code)
         return self._result(STOP_REASONS[code], done_total)
 
-    def _start_run(self, trajectory_every, energy_every):
+    def _start_run(self, trajectory_every, energy_every, record_contact_forces):
         r = self.rec
         r.energy_ref[:] = r.energy_now
         active = np.abs(r.energy_now[[0, 1, 3, 4, 5, 6, 7]]).sum()
@@ -359,6 +394,8 @@ class Simulation:
         r.traj_n[0] = 0
         r.energy_every[0] = energy_every
         r.energy_n[0] = 0
+        r.cf_on[0] = 1 if record_contact_forces else 0
+        r.cf_n[0] = 0
 
     def _abort(self, code):
         if code == engine.ABORT_NAN:
@@ -393,13 +430,28 @@ class Simulation:
             self.rec = r._replace(
                 **{
                     k: _grow_rows(getattr(r, k), need)
-                    for k in ("traj_t", "traj_pos", "traj_quat", "traj_vel", "traj_omega")
+                    for k in (
+                        "traj_t",
+                        "traj_pos",
+                        "traj_quat",
+                        "traj_vel",
+                        "traj_omega",
+                        "cf_start",
+                    )
                 }
             )
         elif code == engine.GROW_ENERGY:
             need = 2 * r.energy_t.shape[0] + 16
             self.rec = r._replace(
                 **{k: _grow_rows(getattr(r, k), need) for k in ("energy_t", "energy_val")}
+            )
+        elif code == engine.GROW_CONTACT_FORCES:
+            need = 2 * r.cf_first.shape[0] + self.contacts.i.shape[0]
+            self.rec = r._replace(
+                **{
+                    k: _grow_rows(getattr(r, k), need)
+                    for k in ("cf_first", "cf_second", "cf_point", "cf_force")
+                }
             )
         else:  # pragma: no cover - defensive
             raise RuntimeError(f"unknown return code {code} of run_loop")
@@ -429,6 +481,20 @@ class Simulation:
             energy_times=r.energy_t[:g].copy(),
             energy={name: r.energy_val[:g, k].copy() for k, name in enumerate(ENERGY_NAMES)},
             events=events,
+            contact_frames=self._contact_frames(f),
+        )
+
+    def _contact_frames(self, n_frames):
+        r = self.rec
+        if not r.cf_on[0]:
+            return None
+        k = int(r.cf_n[0])
+        return ContactFrames(
+            start=np.append(r.cf_start[:n_frames], k),
+            first=r.cf_first[:k].copy(),
+            second=r.cf_second[:k].copy(),
+            point=r.cf_point[:k].copy(),
+            force=r.cf_force[:k].copy(),
         )
 
     # ------------------------------------------------------------------ checkpoints
@@ -443,6 +509,13 @@ class Simulation:
         "traj_quat",
         "traj_vel",
         "traj_omega",
+        "cf_on",
+        "cf_n",
+        "cf_start",
+        "cf_first",
+        "cf_second",
+        "cf_point",
+        "cf_force",
         "energy_t",
         "energy_val",
     )
@@ -592,6 +665,13 @@ def _empty_recorder(nb, nw, capacity, record_pairs):
         traj_quat=np.zeros((0, nb, 4)),
         traj_vel=np.zeros((0, nb, 3)),
         traj_omega=np.zeros((0, nb, 3)),
+        cf_on=np.zeros(1, np.int64),
+        cf_n=np.zeros(1, np.int64),
+        cf_start=np.zeros(0, np.int64),
+        cf_first=np.zeros(0, np.int64),
+        cf_second=np.zeros(0, np.int64),
+        cf_point=np.zeros((0, 3)),
+        cf_force=np.zeros((0, 3)),
         energy_every=np.zeros(1, np.int64),
         energy_n=np.zeros(1, np.int64),
         energy_t=np.zeros(0),

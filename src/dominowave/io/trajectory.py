@@ -134,6 +134,10 @@ class SphereTrajectory:
 
     time (F,) [s]; centres (F, S, 3) [m]; velocities (F, S, 3) [m/s] or None;
     radii (S,) [m]; clump_ids (S,) int (the body each sphere belongs to).
+    Optionally the contact forces as lines, per frame (empty tuples: not recorded):
+    contact_segments, a (C, 2, 3) array [m] per frame (sphere centre to sphere centre,
+    or sphere centre to the contact point on a wall), and contact_forces, a (C, 3)
+    array [N] per frame, the total force on the sphere at the segment's first end.
     """
 
     time: np.ndarray
@@ -141,3 +145,5 @@ class SphereTrajectory:
     radii: np.ndarray
     clump_ids: np.ndarray
     velocities: np.ndarray | None = None
+    contact_segments: tuple = ()
+    contact_forces: tuple = ()

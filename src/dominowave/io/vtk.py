@@ -152,6 +152,11 @@ def write_trajectory_vtk(
             frame.clump_ids = spheres.clump_ids
             if spheres.velocities is not None:
                 frame.sphere_velocities = spheres.velocities[f]
+            # meshio cannot write a mesh of zero line cells: frames without contacts
+            # (always frame 0) get no contacts file entry.
+            if spheres.contact_segments and len(spheres.contact_segments[f]):
+                frame.contact_segments = spheres.contact_segments[f]
+                frame.contact_forces = spheres.contact_forces[f]
         series.write(frame)
     return series.count
 

@@ -4,7 +4,8 @@
 chain; this adapter turns its :class:`ChainRun` into result files: the summary
 (measured steady speed with its error, the theory beside it), one event row per
 domino (``DominoEvents``), the tilt and angular velocity of every domino per frame,
-the side-view trajectory for ``animate`` and, when VTK is wanted, every sphere.
+the side-view trajectory for ``animate`` and, when VTK is wanted, every sphere and the
+contact forces (:class:`~dominowave.io.trajectory.SphereTrajectory`).
 
 The run is checkpointable: :class:`ChainScenarioStepper` advances
 :class:`dominowave.chain.stepper.ChainStepper` in pieces, and :func:`run_chain` drives it
@@ -64,8 +65,28 @@ def _distinct_frames(times: np.ndarray) -> np.ndarray:
     return np.concatenate([[True], np.diff(times) > 0])
 
 
-def sphere_trajectory(chain: DominoChain, record, push: Push) -> SphereTrajectory:
-    """Every sphere of the chain at every recorded frame (rigid clumps: from COM and rotation)."""
+def contact_lines(contacts, centres: np.ndarray, f: int) -> tuple[np.ndarray, np.ndarray]:
+    """Frame ``f`` of ``contacts`` (``dem.ContactFrames``) as force lines.
+
+    ``centres`` (S, 3) [m] the sphere centres of that frame.  Returns segments
+    (C, 2, 3) [m] and forces (C, 3) [N] on the first end: for a sphere pair the first
+    sphere (``-force``: the recorded force acts on the second), for a wall contact the
+    sphere (the recorded force).
+    """
+    rows = contacts.frame(f)
+    first, second = contacts.first[rows], contacts.second[rows]
+    force = contacts.force[rows].copy()
+    wall = first < 0
+    segments = np.empty((first.size, 2, 3))
+    segments[:, 0] = np.where(wall[:, None], centres[second], centres[np.maximum(first, 0)])
+    segments[:, 1] = np.where(wall[:, None], contacts.point[rows], centres[second])
+    force[~wall] *= -1.0
+    return segments, force
+
+
+def sphere_trajectory(chain: DominoChain, record, push: Push, contacts=None) -> SphereTrajectory:
+    """Every sphere of the chain at every recorded frame (rigid clumps: from COM and rotation);
+    with ``contacts`` (``dem.ContactFrames`` of the same frames) also the force lines."""
     sim, _ = chain.build(push)
     start = np.asarray(sim.sphere_positions(), dtype=float)  # (S, 3) at t = 0
     body = np.asarray(sim.sphere_body)
@@ -75,7 +96,18 @@ def sphere_trajectory(chain: DominoChain, record, push: Push) -> SphereTrajector
     velocities = record.velocity[:, body] + np.cross(record.angular_velocity[:, body], arms)
     radii = np.tile(chain.shape.radii, chain.params.n_dominoes)
     keep = _distinct_frames(record.times)
-    return SphereTrajectory(record.times[keep], centres[keep], radii, body, velocities[keep])
+    if contacts is None:
+        return SphereTrajectory(record.times[keep], centres[keep], radii, body, velocities[keep])
+    lines = [contact_lines(contacts, centres[f], f) for f in np.flatnonzero(keep)]
+    return SphereTrajectory(
+        record.times[keep],
+        centres[keep],
+        radii,
+        body,
+        velocities[keep],
+        contact_segments=tuple(seg for seg, _ in lines),
+        contact_forces=tuple(force for _, force in lines),
+    )
 
 
 def run_chain(cfg: ChainScenario, ctx: RunContext | None = None) -> RunResult:
@@ -98,15 +130,20 @@ class ChainScenarioStepper(ScenarioStepper):
         self.spheres = spheres
         self.chain = DominoChain(cfg.params(), steps_per_collision=cfg.steps_per_collision)
         push = Push(omega=cfg.push_omega) if cfg.push_omega is not None else None
-        self.stepper = self.chain.stepper(push)
+        self.stepper = self.chain.stepper(push, contact_forces=spheres)
 
     def result(self) -> RunResult:
         run = self.stepper.result(keep_record=True)
-        return chain_result(self.chain, run, spheres=self.spheres)
+        return chain_result(
+            self.chain, run, spheres=self.spheres, contacts=self.stepper.contact_frames()
+        )
 
 
-def chain_result(chain: DominoChain, run: ChainRun, spheres: bool = False) -> RunResult:
-    """Summary, per-domino events, tilt/omega time series and trajectory of ``run``."""
+def chain_result(
+    chain: DominoChain, run: ChainRun, spheres: bool = False, contacts=None
+) -> RunResult:
+    """Summary, per-domino events, tilt/omega time series and trajectory of ``run``
+    (with ``contacts``, ``dem.ContactFrames`` of its frames, the VTK force lines too)."""
     import xarray as xr
 
     params = chain.params
@@ -151,5 +188,5 @@ def chain_result(chain: DominoChain, run: ChainRun, spheres: bool = False) -> Ru
         timeseries=timeseries,
         trajectory=traj,
         may_be_nan=("speed", "speed_err", "speed_theory_window"),
-        spheres=sphere_trajectory(chain, record, run.push) if spheres else None,
+        spheres=sphere_trajectory(chain, record, run.push, contacts) if spheres else None,
     )
