@@ -231,6 +231,26 @@ def _fit_slowness(t: np.ndarray, x: np.ndarray) -> tuple[float, float, float, fl
     return p, p_fit_err, p_int_err, t0, rms
 
 
+def _fit_window(t, x, first: int, last: int, reached: int) -> SteadySpeed:
+    """Least-squares speed over dominoes ``first..last`` of arrival times ``t`` [s]."""
+    p, p_fit_err, p_int_err, t0, rms = _fit_slowness(t[first : last + 1], x[first : last + 1])
+    if not p > 0:
+        raise ValueError(f"fitted slowness {p:.6g} s/m is not positive: arrival times unordered")
+    fit_err, interval_err = p_fit_err / p**2, p_int_err / p**2
+    return SteadySpeed(
+        speed=1.0 / p,
+        speed_err=max(fit_err, interval_err),
+        fit_err=fit_err,
+        interval_err=interval_err,
+        first=first,
+        last=last,
+        settled=True,
+        reached=reached,
+        intercept=t0,
+        residual_rms=rms,
+    )
+
+
 def steady_speed(arrival_times, positions, rtol: float = 0.01, min_points: int = 5) -> SteadySpeed:
     """Steady wave speed [m/s] with uncertainty from the settled part of the chain.
 
@@ -255,24 +275,7 @@ def steady_speed(arrival_times, positions, rtol: float = 0.01, min_points: int =
     if k is None:
         nan = math.nan
         return SteadySpeed(nan, nan, nan, nan, -1, -1, False, reached, nan, nan)
-    first, last = start + k, reached - 1
-    p, p_fit_err, p_int_err, t0, rms = _fit_slowness(t[first : last + 1], x[first : last + 1])
-    if not p > 0:
-        raise ValueError(f"fitted slowness {p:.6g} s/m is not positive: arrival times unordered")
-    fit_err = p_fit_err / p**2
-    interval_err = p_int_err / p**2
-    return SteadySpeed(
-        speed=1.0 / p,
-        speed_err=max(fit_err, interval_err),
-        fit_err=fit_err,
-        interval_err=interval_err,
-        first=first,
-        last=last,
-        settled=True,
-        reached=reached,
-        intercept=t0,
-        residual_rms=rms,
-    )
+    return _fit_window(t, x, start + k, reached - 1, reached)
 
 
 @dataclass(frozen=True)
@@ -400,23 +403,9 @@ def fit_speed(arrival_times, positions, first: int, last: int) -> SteadySpeed:
     t_all, x_all = _as_times_positions(arrival_times, positions)
     if not 0 <= first < last < t_all.size:
         raise ValueError(f"first, last = {first}, {last} must satisfy 0 <= first < last < N")
-    t, x = t_all[first : last + 1], x_all[first : last + 1]
-    if not np.all(np.isfinite(t)):
+    if not np.all(np.isfinite(t_all[first : last + 1])):
         raise ValueError(f"arrival times of dominoes {first}..{last} must be finite")
-    p, p_fit_err, p_int_err, t0, rms = _fit_slowness(t, x)
-    fit_err, interval_err = p_fit_err / p**2, p_int_err / p**2
-    return SteadySpeed(
-        speed=1.0 / p,
-        speed_err=max(fit_err, interval_err),
-        fit_err=fit_err,
-        interval_err=interval_err,
-        first=first,
-        last=last,
-        settled=True,
-        reached=reached_count(t_all),
-        intercept=t0,
-        residual_rms=rms,
-    )
+    return _fit_window(t_all, x_all, first, last, reached_count(t_all))
 
 
 def secondary_wave(

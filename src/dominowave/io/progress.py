@@ -24,7 +24,22 @@ def _progress(*columns):
     return Progress(*columns, console=Console(stderr=True), transient=False)
 
 
-class SweepProgress:
+class _Bar:
+    """A rich progress bar (``self._bar``, None when off) used as a context manager."""
+
+    _bar = None
+
+    def __enter__(self):
+        if self._bar is not None:
+            self._bar.start()
+        return self
+
+    def __exit__(self, *exc):
+        if self._bar is not None:
+            self._bar.stop()
+
+
+class SweepProgress(_Bar):
     """Points finished / total, failures, elapsed time and ETA of a sweep."""
 
     def __init__(self, total: int, done: int = 0, quiet: bool = False):
@@ -51,22 +66,13 @@ class SweepProgress:
             )
             self._task = self._bar.add_task("sweep", total=total, completed=done, failed=0)
 
-    def __enter__(self):
-        if self._bar is not None:
-            self._bar.start()
-        return self
-
-    def __exit__(self, *exc):
-        if self._bar is not None:
-            self._bar.stop()
-
     def advance(self, status: str) -> None:
         self.failed += status == "failed"
         if self._bar is not None:
             self._bar.update(self._task, advance=1, failed=self.failed)
 
 
-class RunProgress:
+class RunProgress(_Bar):
     """Simulated time / end time, steps/s, ETA and dominoes toppled of one run.
 
     Pass the instance as ``RunContext.progress``; the scenario calls it with
@@ -91,15 +97,6 @@ class RunProgress:
                 TimeRemainingColumn(),
             )
             self._task = self._bar.add_task("run", total=1.0, rate=0.0, toppled=0)
-
-    def __enter__(self):
-        if self._bar is not None:
-            self._bar.start()
-        return self
-
-    def __exit__(self, *exc):
-        if self._bar is not None:
-            self._bar.stop()
 
     def __call__(self, *, sim_time: float, end_time: float, steps: int, toppled: int) -> None:
         if self._bar is None:
