@@ -103,7 +103,10 @@ def compare(d_over_l: float, members: int, seed: int = 0, jitter: float = 1e-3) 
         walls_yade.append(y["wall_time"])
         ours.append(run.arrival)
         theirs.append(np.array(y["arrival"], dtype=float))
-    first3 = np.abs(theirs[0][1:4] / ours[0][1:4] - 1.0)
+    # YADE logs an onset at the step that first sees the overlap; dominowave interpolates
+    # it inside the step. Compare on YADE's step grid: ceil(t/dt) dt.
+    ours_on_grid = np.ceil(ours[0][1:4] / chain.dt - 1e-9) * chain.dt
+    first3 = np.abs(theirs[0][1:4] / ours_on_grid - 1.0)
     v_ours = ensemble_stats([steady_speed(a, chain.positions).speed for a in ours])
     v_yade = ensemble_stats([steady_speed(a, chain.positions).speed for a in theirs])
     combined = math.hypot(v_ours.stderr, v_yade.stderr)
@@ -112,7 +115,7 @@ def compare(d_over_l: float, members: int, seed: int = 0, jitter: float = 1e-3) 
         "dt": chain.dt,
         "first_three_ours": ours[0][1:4].tolist(),
         "first_three_yade": theirs[0][1:4].tolist(),
-        "first_three_max_rel_diff": float(first3.max()),
+        "first_three_max_rel_diff_on_step_grid": float(first3.max()),
         "speed_ours": [v_ours.mean, v_ours.stderr, v_ours.n],
         "speed_yade": [v_yade.mean, v_yade.stderr, v_yade.n],
         "speed_diff_over_combined_stderr": abs(v_ours.mean - v_yade.mean) / combined,
