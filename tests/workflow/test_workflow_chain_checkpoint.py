@@ -5,21 +5,15 @@ uninterrupted run (dominowave.chain.stepper.ChainStepper through `run --checkpoi
 from __future__ import annotations
 
 import json
-import os
-import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
-import pytest
-import xarray as xr
+from checkpoint_helpers import assert_netcdf_identical, interrupt_then_resume, kill_after_checkpoint
 
-from dominowave.io.checkpoint import load_checkpoint
 from dominowave.io.models import ChainScenario
-from dominowave.io.results import read_summary
-from dominowave.sweep.registry import RunContext, is_steppable
+from dominowave.sweep.registry import is_steppable
 from dominowave.sweep.run_chain import run_chain
 
 CLI = [sys.executable, "-m", "dominowave"]
@@ -39,27 +33,10 @@ EVERY = 20_000
 """Checkpoint interval [steps]."""
 
 
-def _dataset(path: Path) -> xr.Dataset:
-    with xr.open_dataset(path) as ds:
-        return ds.load()
-
-
 def _summary(folder: Path) -> dict:
     summary = json.loads((folder / "summary.json").read_text())
     summary.pop("engine_wall_time")  # CPU time spent, the one number that may differ
     return summary
-
-
-def _kill_after_checkpoint(proc: subprocess.Popen, checkpoint: Path, steps: int) -> int:
-    """SIGKILL ``proc`` once ``checkpoint`` holds at least ``steps``; its step count."""
-    end = time.monotonic() + 60
-    while time.monotonic() < end and proc.poll() is None:
-        if checkpoint.is_file() and load_checkpoint(checkpoint)[1]["steps"] >= steps:
-            break
-        time.sleep(0.01)
-    os.kill(proc.pid, signal.SIGKILL)
-    proc.wait(timeout=30)
-    return load_checkpoint(checkpoint)[1]["steps"]
 
 
 def test_sigkilled_chain_run_resumes_bit_identically(tmp_path):
@@ -71,7 +48,7 @@ def test_sigkilled_chain_run_resumes_bit_identically(tmp_path):
     proc = subprocess.Popen(
         [*CLI, "run", str(study), "--out", str(out), "--checkpoint", f"steps={EVERY}", "--quiet"]
     )
-    steps_at_kill = _kill_after_checkpoint(proc, out / "checkpoint" / "state.npz", 2 * EVERY)
+    steps_at_kill = kill_after_checkpoint(proc, out / "checkpoint" / "state.npz", 2 * EVERY)
     assert not (out / "summary.json").exists(), "the run must be killed before it ends"
     summary = _summary(ref)
     assert steps_at_kill % EVERY == 0 and 2 * EVERY <= steps_at_kill < summary["n_steps"]
@@ -81,11 +58,7 @@ def test_sigkilled_chain_run_resumes_bit_identically(tmp_path):
     assert json.dumps(_summary(out)) == json.dumps(summary)  # every number, to the last digit
     assert (out / "events.csv").read_bytes() == (ref / "events.csv").read_bytes()
     for name in ("timeseries.nc", "trajectory.nc"):  # tilt, omega, base of every domino
-        a, b = _dataset(ref / name), _dataset(out / name)
-        assert set(a.variables) == set(b.variables) and a.sizes["time"] > 100
-        for var in a.variables:
-            assert a[var].dtype == b[var].dtype
-            assert np.array_equal(a[var].values, b[var].values, equal_nan=True), (name, var)
+        assert assert_netcdf_identical(ref / name, out / name).sizes["time"] > 100
     assert not (out / "checkpoint").exists()  # a finished run keeps no checkpoint
 
 
@@ -96,20 +69,9 @@ def test_interrupted_chain_run_saves_state_and_partial_results_then_resumes(tmp_
     cfg = ChainScenario(n_dominoes=6, d_over_l=0.5, damping=0.02)
     reference = run_chain(cfg)
 
-    def interrupt(**progress):
-        if progress["steps"] >= 3000:
-            raise KeyboardInterrupt
-
-    checkpoint = tmp_path / "run" / "checkpoint"
-    checkpoint.mkdir(parents=True)
-    ctx = RunContext(progress=interrupt, checkpoint_dir=checkpoint, checkpoint_every_seconds=3600)
-    with pytest.raises(KeyboardInterrupt):
-        run_chain(cfg, ctx)
-    assert load_checkpoint(checkpoint / "state.npz")[1]["steps"] == 3000
-    partial = read_summary(tmp_path / "run" / "partial")
+    partial, resumed = interrupt_then_resume(run_chain, cfg, tmp_path / "run", at_step=3000)
     assert partial["n_steps"] == 3000 and partial["stop_reason"] == "running"
     assert partial["dominoes_toppled"] < cfg.n_dominoes
-    resumed = run_chain(cfg, RunContext(checkpoint_dir=checkpoint))
     for summary in (resumed.summary, reference.summary):
         summary.pop("engine_wall_time")
     assert json.dumps(resumed.summary) == json.dumps(reference.summary)
