@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import logging
 import sys
 from pathlib import Path
 
@@ -17,17 +16,9 @@ import workflow_helpers  # noqa: E402,F401  (registers the test scenarios)
 
 @pytest.fixture(scope="session")
 def dask_client():
-    """A dask Client on a LocalCluster with 2 single-threaded worker processes."""
-    from distributed import Client, LocalCluster
+    """A dask Client on a LocalCluster with 2 single-threaded worker processes (the
+    package's own cluster set-up, ``sweep.runner.dask_client``)."""
+    from dominowave.sweep.runner import dask_client as package_client
 
-    with (
-        LocalCluster(
-            n_workers=2,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=":0",
-            silence_logs=logging.ERROR,
-        ) as cluster,
-        Client(cluster) as client,
-    ):
+    with package_client(n_workers=2) as client:
         yield client

@@ -396,15 +396,18 @@ def cundall_strack(shear, kt, mu, fn_elastic, out_force):
 
 
 @njit(cache=True, inline="always")
-def _point_velocity(bodies, b, point, out):
-    """Velocity of the material point ``point`` of body b: v + omega x (point - x)."""
-    rx = point[0] - bodies.pos[b, 0]
-    ry = point[1] - bodies.pos[b, 1]
-    rz = point[2] - bodies.pos[b, 2]
-    w = bodies.omega
-    out[0] = bodies.vel[b, 0] + w[b, 1] * rz - w[b, 2] * ry
-    out[1] = bodies.vel[b, 1] + w[b, 2] * rx - w[b, 0] * rz
-    out[2] = bodies.vel[b, 2] + w[b, 0] * ry - w[b, 1] * rx
+def _point_velocity(pos, vel, omega, b, point, out):
+    """Velocity of the material point ``point`` of body b: v + omega x (point - x).
+
+    ``vel``/``omega`` are the body velocities to use: the half-step ones for the
+    contact law, the full-step ones for the energy ledger.
+    """
+    rx = point[0] - pos[b, 0]
+    ry = point[1] - pos[b, 1]
+    rz = point[2] - pos[b, 2]
+    out[0] = vel[b, 0] + omega[b, 1] * rz - omega[b, 2] * ry
+    out[1] = vel[b, 1] + omega[b, 2] * rx - omega[b, 0] * rz
+    out[2] = vel[b, 2] + omega[b, 0] * ry - omega[b, 1] * rx
 
 
 @njit(cache=True, inline="always")
@@ -517,10 +520,10 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
             changes[n_changes, 0] = c
             changes[n_changes, 1] = ONSET
             n_changes += 1
-        _point_velocity(bodies, bi, point, vi)
+        _point_velocity(bodies.pos, bodies.vel, bodies.omega, bi, point, vi)
         spin = 0.0
         if bj >= 0:
-            _point_velocity(bodies, bj, point, vj)
+            _point_velocity(bodies.pos, bodies.vel, bodies.omega, bj, point, vj)
             for d in range(3):
                 spin += 0.5 * n[d] * (bodies.omega[bi, d] + bodies.omega[bj, d])
         else:
@@ -602,9 +605,11 @@ def contact_power(bodies, spheres, walls, contacts, out, work):
                 n[d] = -walls.normal[-j - 1, d]
         for d in range(3):
             point[d] = spheres.pos[i, d] + (spheres.radius[i] - 0.5 * contacts.overlap[c]) * n[d]
-        _point_velocity_full(bodies, bi, point, vi)
+        _point_velocity(bodies.pos, bodies.vel_full, bodies.omega_full, bi, point, vi)
         if j >= 0:
-            _point_velocity_full(bodies, spheres.body[j], point, vj)
+            _point_velocity(
+                bodies.pos, bodies.vel_full, bodies.omega_full, spheres.body[j], point, vj
+            )
         else:
             vj[:] = 0.0
         kt = contacts.kt[c]
@@ -614,18 +619,6 @@ def contact_power(bodies, spheres, walls, contacts, out, work):
             p_friction -= kt * u[d] * dv
     out[0] = p_viscous
     out[1] = p_friction
-
-
-@njit(cache=True, inline="always")
-def _point_velocity_full(bodies, b, point, out):
-    """Full-step velocity of the material point ``point`` of body b."""
-    rx = point[0] - bodies.pos[b, 0]
-    ry = point[1] - bodies.pos[b, 1]
-    rz = point[2] - bodies.pos[b, 2]
-    w = bodies.omega_full
-    out[0] = bodies.vel_full[b, 0] + w[b, 1] * rz - w[b, 2] * ry
-    out[1] = bodies.vel_full[b, 1] + w[b, 2] * rx - w[b, 0] * rz
-    out[2] = bodies.vel_full[b, 2] + w[b, 0] * ry - w[b, 1] * rx
 
 
 @njit(cache=True)
