@@ -4,12 +4,16 @@ checkpoints, bad input and aborts."""
 import numpy as np
 import pytest
 from dem_scenes import RHO, R, column
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy.spatial import cKDTree
+from scipy.spatial.transform import Rotation
 
 from dominowave.dem import END, ONSET, Material, Scene, Simulation, StopCondition
+from dominowave.dem.contact import needs_rebuild
 
 
-def _box_scene(n=60, seed=0, friction=0.3, damping=0.0, restitution=0.5):
+def _box_scene(n=60, seed=0, friction=0.3, damping=0.0, restitution=0.5, skin=None):
     """Spheres dropped into a box of 5 walls (settling packing)."""
     rng = np.random.default_rng(seed)
     scene = Scene()
@@ -27,7 +31,7 @@ def _box_scene(n=60, seed=0, friction=0.3, damping=0.0, restitution=0.5):
         radius = R * rng.uniform(0.7, 1.0)
         centre = (grid[k] + 0.5) * 2.4 * R + np.array([0.0, 0.0, 0.001])
         scene.add_sphere(centre, radius, m, velocity=rng.normal(size=3) * 0.05)
-    return scene.build(safety=0.1, damping=damping)
+    return scene.build(safety=0.1, damping=damping, skin=skin)
 
 
 def test_validate_neighbour_list_finds_every_contact():
@@ -98,6 +102,80 @@ def test_validate_energy_conserved_elastic_chain(seed):
     assert res.events.time.size > 40
     e = res.energy["total"]
     assert abs(e[-1] / e[0] - 1) < 1e-5
+
+
+def _bodies_moved(pos0, quat0, pos1, quat1, extent):
+    """A one-body ``Bodies``-like tuple for :func:`needs_rebuild` (COM, orientation, and
+    the same at the last list build)."""
+    from collections import namedtuple
+
+    B = namedtuple("B", "pos pos_at_build quat quat_at_build extent mass")
+    return B(
+        pos=np.array([pos1], float),
+        pos_at_build=np.array([pos0], float),
+        quat=np.array([quat1], float),
+        quat_at_build=np.array([quat0], float),
+        extent=np.array([extent], float),
+        mass=np.ones(1),
+    )
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    shift=st.floats(0.0, 1e-3),
+    angle=st.floats(0.0, 0.3),
+)
+def test_validate_displacement_bound_covers_every_member_sphere(seed, shift, angle):
+    """The per-body rebuild test bounds the largest displacement of any member sphere,
+    ``|x1 - x0 + (R1 - R0) u|`` computed directly, for random rigid motions; and it is
+    tight: for a pure rotation the farthest sphere on the circle of the rotation moves by
+    exactly the bound ``2 sin(theta/2) |u|``."""
+    rng = np.random.default_rng(seed)
+    members = rng.normal(size=(12, 3)) * 0.01
+    extent = np.linalg.norm(members, axis=1).max()
+    r0 = Rotation.random(random_state=rng)
+    turn = Rotation.from_rotvec(angle * Rotation.random(random_state=rng).apply([1, 0, 0]))
+    r1 = turn * r0
+    x0 = rng.normal(size=3)
+    x1 = x0 + shift * rng.normal(size=3) / np.sqrt(3)
+    moved = np.linalg.norm(x1 + r1.apply(members) - x0 - r0.apply(members), axis=1).max()
+
+    def quat(r):  # scipy (x, y, z, w) -> (w, x, y, z)
+        x, y, z, w = r.as_quat()
+        return [w, x, y, z]
+
+    bodies = _bodies_moved(x0, quat(r0), x1, quat(r1), extent)
+    assert needs_rebuild(bodies, 2.0 * (moved * (1.0 - 1e-9) - 1e-15), 1) or moved < 1e-15
+    # pure rotation: the sphere at |u| = extent perpendicular to the axis moves by the bound
+    axis = turn.as_rotvec() / angle if angle > 1e-12 else np.array([1.0, 0.0, 0.0])
+    u = np.cross(axis, rng.normal(size=3))
+    u *= extent / np.linalg.norm(u)
+    exact = np.linalg.norm(turn.apply(u) - u)
+    bodies = _bodies_moved(x0, quat(r0), x0, quat(r1), extent)
+    assert not needs_rebuild(bodies, 2.0 * (exact * (1.0 + 1e-6) + 1e-12), 1)
+    if angle > 1e-6:
+        assert needs_rebuild(bodies, 2.0 * exact * (1.0 - 1e-6), 1)
+
+
+def test_validate_results_independent_of_verlet_skin():
+    """The skin changes only how often the list is rebuilt and how many inactive pairs it
+    holds: inactive pairs contribute nothing and active ones keep their key order, so the
+    trajectory is bit-identical for skins from 0.1 to 3 sphere radii.  Between builds
+    the engine moves only the spheres of the list; after a run every sphere is placed."""
+    final = []
+    for skin in (0.1 * R, 0.3 * R, 3.0 * R):
+        sim = _box_scene(n=60, damping=0.2, skin=skin)
+        sim.run(until=0.05)
+        final.append((sim.positions(), sim.sphere_positions(), sim.rec.n_rebuilds[0]))
+        local = sim.spheres.local
+        rot = sim.bodies.rot[sim.sphere_body]
+        placed = sim.bodies.pos[sim.sphere_body] + np.einsum("nij,nj->ni", rot, local)
+        np.testing.assert_allclose(sim.sphere_positions(), placed, rtol=0, atol=1e-16)
+    for pos, spheres, _ in final[1:]:
+        np.testing.assert_array_equal(pos, final[0][0])
+        np.testing.assert_array_equal(spheres, final[0][1])
+    assert final[0][2] > final[1][2] > final[2][2]  # the skins did change the builds
 
 
 def test_event_log_sees_repeated_collisions_and_pair_stats():

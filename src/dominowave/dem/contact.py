@@ -45,7 +45,7 @@ ONSET = 1
 END = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def particle_stiffness(modulus, radius, given_kn, rule):
     """Stiffness of one particle [N/m]: pi R E ("paper", eq. 20), E R ("yade") or kn."""
     if given_kn:
@@ -55,7 +55,7 @@ def particle_stiffness(modulus, radius, given_kn, rule):
     return modulus * radius
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def pair_stiffness(k1, k2, given_kn, rule):
     """Contact stiffness of two particles [N/m].
 
@@ -70,7 +70,7 @@ def pair_stiffness(k1, k2, given_kn, rule):
     return 2.0 * series
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def viscous_coefficient(restitution, m_eff, kn):
     """Dashpot coefficient c_n [N s/m] giving restitution ``e`` for a linear spring-dashpot.
 
@@ -87,7 +87,7 @@ def viscous_coefficient(restitution, m_eff, kn):
     return 2.0 * zeta * math.sqrt(m_eff * kn)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", _nrt=False)
 def pair_properties(si, sj_or_wall, spheres, walls, bodies, mats, out):
     """kn, kt, mu, cn of a candidate pair into ``out[0:4]``."""
     rule = mats.rule[0]
@@ -117,32 +117,57 @@ def pair_properties(si, sj_or_wall, spheres, walls, bodies, mats, out):
 # --------------------------------------------------------------------------- neighbours
 
 
-@njit(cache=True)
-def needs_rebuild(spheres, skin, n_candidates):
-    """True if any sphere moved more than skin/2 since the last Verlet-list build."""
+@njit(cache=True, error_model="numpy", _nrt=False)
+def needs_rebuild(bodies, skin, n_candidates):
+    """True if a member sphere of some body may have moved more than skin/2 since the last
+    Verlet-list build.
+
+    Tested per body, not per sphere: a sphere at ``x + R u`` moves by at most
+    ``|x - x0| + |R - R0| |u|``, and the spectral norm of ``R - R0`` is ``2 sin(theta/2)``
+    for the angle theta of the rotation between the two orientations; ``|u| <= extent``.
+    With ``d = |q - q0|`` (q0 taken with the sign that makes ``q . q0 >= 0``),
+    ``d = 2 sin(theta/4)`` and ``sin(theta/2) = d sqrt(1 - d^2/4)``, free of the
+    cancellation of ``sqrt(1 - (q . q0)^2)`` at small angles.  The bound is attained by
+    a sphere at distance ``extent`` moving along the translation, so the list is rebuilt no
+    earlier than a per-sphere test would; the forces do not depend on when it is (inactive
+    pairs contribute nothing, active pairs are kept in key order).
+    """
     if n_candidates < 0:
         return True
-    limit = 0.25 * skin * skin
-    for s in range(spheres.pos.shape[0]):
-        dx = spheres.pos[s, 0] - spheres.pos_at_build[s, 0]
-        dy = spheres.pos[s, 1] - spheres.pos_at_build[s, 1]
-        dz = spheres.pos[s, 2] - spheres.pos_at_build[s, 2]
-        if dx * dx + dy * dy + dz * dz > limit:
+    return _moved_beyond(
+        bodies.pos, bodies.pos_at_build, bodies.quat, bodies.quat_at_build, bodies.extent, skin
+    )
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _moved_beyond(pos, pos0, quat, quat0, extent, skin):
+    half = 0.5 * skin
+    for b in range(pos.shape[0]):
+        dx = pos[b, 0] - pos0[b, 0]
+        dy = pos[b, 1] - pos0[b, 1]
+        dz = pos[b, 2] - pos0[b, 2]
+        dot = quat[b, 0] * quat0[b, 0] + quat[b, 1] * quat0[b, 1]
+        dot += quat[b, 2] * quat0[b, 2] + quat[b, 3] * quat0[b, 3]
+        sign = 1.0 if dot >= 0.0 else -1.0
+        d2 = 0.0
+        for k in range(4):
+            diff = quat[b, k] - sign * quat0[b, k]
+            d2 += diff * diff
+        sin_half = math.sqrt(d2 * max(0.0, 1.0 - 0.25 * d2))
+        if math.sqrt(dx * dx + dy * dy + dz * dz) + 2.0 * sin_half * extent[b] > half:
             return True
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _candidate_pairs(spheres, walls, skin):
     """All sphere-sphere (different bodies) and sphere-wall pairs closer than the skin.
 
     Linked-cell search with cells of edge >= 2 R_max + skin.  Returns sorted int64 keys
     ``i * (ns + nw) + jj`` with ``jj = j`` for spheres and ``ns + w`` for walls.
     """
-    pos = spheres.pos
+    pos, radius = spheres.pos, spheres.radius
     ns = pos.shape[0]
-    nw = walls.point.shape[0]
-    stride = ns + nw
     rmax = 0.0
     lo = np.empty(3)
     hi = np.empty(3)
@@ -150,7 +175,7 @@ def _candidate_pairs(spheres, walls, skin):
         lo[d] = np.inf
         hi[d] = -np.inf
     for s in range(ns):
-        rmax = max(rmax, spheres.radius[s])
+        rmax = max(rmax, radius[s])
         for d in range(3):
             lo[d] = min(lo[d], pos[s, d])
             hi[d] = max(hi[d], pos[s, d])
@@ -171,14 +196,45 @@ def _candidate_pairs(spheres, walls, skin):
     head = -np.ones(total, np.int64)
     nxt = -np.ones(ns, np.int64)
     cidx = np.empty((ns, 3), np.int64)
-    for s in range(ns):
+    _bin_spheres(pos, lo, width, ncell, head, nxt, cidx)
+    keys = np.empty(16 * ns + 16, np.int64)
+    n = _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys)
+    while n < 0:  # keys too short: the scan wrote nothing that counts, redo with room
+        keys = np.empty(2 * keys.shape[0], np.int64)
+        n = _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys)
+    return np.sort(keys[:n])
+
+
+# The two loops of the search are compiled without numba's reference counting
+# (``_nrt=False``): they allocate nothing, and with it every pass through the loops paid
+# atomic increments and decrements of the arrays' reference counts (the loops could not
+# be pruned), which made a list build cost ~10x its arithmetic.  The other per-step kernels
+# are compiled the same way for the same reason.
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _bin_spheres(pos, lo, width, ncell, head, nxt, cidx):
+    """Linked lists of the spheres in each cell: ``head[cell]`` -> ``nxt[s]`` -> ...;
+    ``cidx[s]`` the (3,) cell index of sphere s."""
+    for s in range(pos.shape[0]):
         for d in range(3):
             c = int((pos[s, d] - lo[d]) / width[d])
             cidx[s, d] = min(max(c, 0), ncell[d] - 1)
         flat = (cidx[s, 0] * ncell[1] + cidx[s, 1]) * ncell[2] + cidx[s, 2]
         nxt[s] = head[flat]
         head[flat] = s
-    keys = np.empty(16 * ns + 16, np.int64)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys):
+    """Write the keys of all pairs closer than the skin into ``keys``; return their number,
+    or -1 if ``keys`` is too short."""
+    pos, radius, body = spheres.pos, spheres.radius, spheres.body
+    wall_point, wall_normal = walls.point, walls.normal
+    ns = pos.shape[0]
+    nw = wall_point.shape[0]
+    stride = ns + nw
+    capacity = keys.shape[0]
     n = 0
     for s in range(ns):
         for ox in range(-1, 2):
@@ -195,37 +251,30 @@ def _candidate_pairs(spheres, walls, skin):
                         continue
                     t = head[(cx * ncell[1] + cy) * ncell[2] + cz]
                     while t >= 0:
-                        if t > s and spheres.body[t] != spheres.body[s]:
+                        if t > s and body[t] != body[s]:
                             dx = pos[t, 0] - pos[s, 0]
                             dy = pos[t, 1] - pos[s, 1]
                             dz = pos[t, 2] - pos[s, 2]
-                            reach = spheres.radius[s] + spheres.radius[t] + skin
+                            reach = radius[s] + radius[t] + skin
                             if dx * dx + dy * dy + dz * dz < reach * reach:
-                                if n == keys.shape[0]:
-                                    keys = _grow(keys)
+                                if n == capacity:
+                                    return -1
                                 keys[n] = s * stride + t
                                 n += 1
                         t = nxt[t]
         for w in range(nw):
             dist = 0.0
             for d in range(3):
-                dist += (pos[s, d] - walls.point[w, d]) * walls.normal[w, d]
-            if dist < spheres.radius[s] + skin:
-                if n == keys.shape[0]:
-                    keys = _grow(keys)
+                dist += (pos[s, d] - wall_point[w, d]) * wall_normal[w, d]
+            if dist < radius[s] + skin:
+                if n == capacity:
+                    return -1
                 keys[n] = s * stride + ns + w
                 n += 1
-    return np.sort(keys[:n])
+    return n
 
 
-@njit(cache=True)
-def _grow(a):
-    b = np.empty(2 * a.shape[0], a.dtype)
-    b[: a.shape[0]] = a
-    return b
-
-
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def build_verlet_list(spheres, walls, bodies, mats, contacts, skin):
     """Rebuild the Verlet list, carrying the history of every existing pair over.
 
@@ -287,45 +336,68 @@ def build_verlet_list(spheres, walls, bodies, mats, contacts, skin):
         contacts.mu[c] = props[2]
         contacts.cn[c] = props[3]
     contacts.n[0] = n_new
-    for s in range(ns):
+    _list_spheres(spheres, contacts)
+    for b in range(bodies.mass.shape[0]):
         for d in range(3):
-            spheres.pos_at_build[s, d] = spheres.pos[s, d]
+            bodies.pos_at_build[b, d] = bodies.pos[b, d]
+        for d in range(4):
+            bodies.quat_at_build[b, d] = bodies.quat[b, d]
     return n_new
+
+
+@njit(cache=True, error_model="numpy")
+def _list_spheres(spheres, contacts):
+    """``spheres.listed``: the spheres of the Verlet list, the only ones whose positions
+    the contact kernels read until the next build (the engine updates just these)."""
+    ns = spheres.pos.shape[0]
+    seen = np.zeros(ns, np.uint8)
+    for c in range(contacts.n[0]):
+        seen[contacts.i[c]] = 1
+        if contacts.j[c] >= 0:
+            seen[contacts.j[c]] = 1
+    k = 0
+    for s in range(ns):
+        if seen[s]:
+            spheres.listed[k] = s
+            k += 1
+    spheres.n_listed[0] = k
 
 
 # --------------------------------------------------------------------------- contact law
 
 
-@njit(cache=True, inline="always")
-def rotate_shear(shear, n, spin):
-    """Carry the shear displacement into the new tangent plane (norm kept), then turn it
-    about ``n`` by the angle ``spin`` [rad] (mean rotation of the two bodies about n)."""
-    old = math.sqrt(shear[0] ** 2 + shear[1] ** 2 + shear[2] ** 2)
+@njit(cache=True, error_model="numpy", inline="always")
+def rotate_shear(shear, c, n, spin):
+    """Carry the shear displacement ``shear[c]`` into the new tangent plane (norm kept),
+    then turn it about ``n`` by the angle ``spin`` [rad] (mean rotation of the two bodies
+    about n).  ``shear``: (C, 3), row ``c`` changed in place (rows are indexed, not taken
+    as views: a view costs numba an atomic reference-count pair)."""
+    old = math.sqrt(shear[c, 0] ** 2 + shear[c, 1] ** 2 + shear[c, 2] ** 2)
     if old == 0.0:
         return
-    un = shear[0] * n[0] + shear[1] * n[1] + shear[2] * n[2]
+    un = shear[c, 0] * n[0] + shear[c, 1] * n[1] + shear[c, 2] * n[2]
     for d in range(3):
-        shear[d] -= un * n[d]
-    new = math.sqrt(shear[0] ** 2 + shear[1] ** 2 + shear[2] ** 2)
+        shear[c, d] -= un * n[d]
+    new = math.sqrt(shear[c, 0] ** 2 + shear[c, 1] ** 2 + shear[c, 2] ** 2)
     if new > 0.0:
         for d in range(3):
-            shear[d] *= old / new
+            shear[c, d] *= old / new
     if spin != 0.0:
         # Rodrigues for a vector perpendicular to n: u cos + (n x u) sin, with the Cayley
         # (rational) cos/sin of the small angle: an exact rotation (norm kept) by
         # 2 atan(spin/2) = spin (1 - spin^2/12 + ...), without trigonometric calls
         h = 0.25 * spin * spin
-        c = (1.0 - h) / (1.0 + h)
-        s = spin / (1.0 + h)
-        x = n[1] * shear[2] - n[2] * shear[1]
-        y = n[2] * shear[0] - n[0] * shear[2]
-        z = n[0] * shear[1] - n[1] * shear[0]
-        shear[0] = shear[0] * c + x * s
-        shear[1] = shear[1] * c + y * s
-        shear[2] = shear[2] * c + z * s
+        cos_ = (1.0 - h) / (1.0 + h)
+        sin_ = spin / (1.0 + h)
+        x = n[1] * shear[c, 2] - n[2] * shear[c, 1]
+        y = n[2] * shear[c, 0] - n[0] * shear[c, 2]
+        z = n[0] * shear[c, 1] - n[1] * shear[c, 0]
+        shear[c, 0] = shear[c, 0] * cos_ + x * sin_
+        shear[c, 1] = shear[c, 1] * cos_ + y * sin_
+        shear[c, 2] = shear[c, 2] * cos_ + z * sin_
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def onset_averaged_overlap(overlap, vn, dt, new_contact):
     """Contact onset inside a kick interval: the overlap averaged over the interval.
 
@@ -348,7 +420,7 @@ def onset_averaged_overlap(overlap, vn, dt, new_contact):
     return w, 0.5 * ramp * w * w
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def end_impulse(last_overlap, gap, kn, cn, dt):
     """Normal force [N] for one kick that supplies the impulse missed when a contact ended.
 
@@ -370,32 +442,32 @@ def end_impulse(last_overlap, gap, kn, cn, dt):
     return 0.5 * kn * ramp * (r - 0.5) ** 2, -cn * ramp / dt * (r - 0.5)
 
 
-@njit(cache=True, inline="always")
-def cundall_strack(shear, kt, mu, fn_elastic, out_force):
+@njit(cache=True, error_model="numpy", inline="always")
+def cundall_strack(shear, c, kt, mu, fn_elastic, out_force):
     """Tangential force ``-kt u_s`` with Coulomb limit ``mu fn_elastic``.
 
-    ``shear`` is the trial displacement ``t`` (last step's displacement carried into the
-    new tangent plane plus this step's tangential increment); on sliding it is shortened
-    in place to ``b = t limit / |t|`` (YADE's Law2_ScGeom_FrictPhys_CundallStrack).
-    Writes the force on partner j into ``out_force``.
+    ``shear[c]`` (row c of a (C, 3) array) is the trial displacement ``t`` (last step's
+    displacement carried into the new tangent plane plus this step's tangential
+    increment); on sliding it is shortened in place to ``b = t limit / |t|`` (YADE's
+    Law2_ScGeom_FrictPhys_CundallStrack).  Writes the force on partner j into ``out_force``.
 
     The energy this removes is booked by the driver as the work of the tangential forces
     that is not stored in the springs (see :func:`contact_power`), not as YADE's plastic
     work ``(|t| - |b|) kt |b|`` per step: the latter pairs the force of one instant with a
     displacement over the step and lets the balance drift at first order in dt.
     """
-    tt = shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2]
+    tt = shear[c, 0] * shear[c, 0] + shear[c, 1] * shear[c, 1] + shear[c, 2] * shear[c, 2]
     trial = kt * math.sqrt(tt)
     limit = mu * fn_elastic
     if trial > limit:
         s = limit / trial
         for d in range(3):
-            shear[d] *= s
+            shear[c, d] *= s
     for d in range(3):
-        out_force[d] = -kt * shear[d]
+        out_force[d] = -kt * shear[c, d]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _point_velocity(pos, vel, omega, b, point, out):
     """Velocity of the material point ``point`` of body b: v + omega x (point - x).
 
@@ -410,7 +482,7 @@ def _point_velocity(pos, vel, omega, b, point, out):
     out[2] = vel[b, 2] + omega[b, 0] * ry - omega[b, 1] * rx
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _apply(bodies, b, point, f, sign):
     bodies.force[b, 0] += sign * f[0]
     bodies.force[b, 1] += sign * f[1]
@@ -423,7 +495,7 @@ def _apply(bodies, b, point, f, sign):
     bodies.torque[b, 2] += sign * (rx * f[1] - ry * f[0])
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _separate(bodies, spheres, contacts, c, bi, bj, n, gap, dt, point, f):
     """End contact c at the first step without overlap (``gap <= 0``, normal ``n``).
 
@@ -445,14 +517,15 @@ def _separate(bodies, spheres, contacts, c, bi, bj, n, gap, dt, point, f):
         if bj >= 0:
             _apply(bodies, bj, point, f, 1.0)
         _apply(bodies, bi, point, f, -1.0)
-    u = contacts.shear[c]
-    released = 0.5 * contacts.kt[c] * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+    u = contacts.shear
+    released = 0.5 * contacts.kt[c] * (u[c, 0] * u[c, 0] + u[c, 1] * u[c, 1] + u[c, 2] * u[c, 2])
     contacts.active[c] = 0
-    contacts.shear[c, :] = 0.0
+    for d in range(3):
+        u[c, d] = 0.0
     return released
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", _nrt=False)
 def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_step, work):
     """Contact forces and torques on all bodies for the current positions.
 
@@ -516,7 +589,8 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
         new_contact = not contacts.active[c]
         if new_contact:
             contacts.active[c] = 1
-            contacts.shear[c, :] = 0.0
+            for d in range(3):
+                contacts.shear[c, d] = 0.0
             changes[n_changes, 0] = c
             changes[n_changes, 1] = ONSET
             n_changes += 1
@@ -534,18 +608,18 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
         for d in range(3):
             vn += (vj[d] - vi[d]) * n[d]
         # tangential: rotate history, add the tangential relative displacement of this step
-        shear = contacts.shear[c]
-        stored = shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2]
-        rotate_shear(shear, n, spin * dt)
+        shear = contacts.shear
+        stored = shear[c, 0] * shear[c, 0] + shear[c, 1] * shear[c, 1] + shear[c, 2] * shear[c, 2]
+        rotate_shear(shear, c, n, spin * dt)
         # (none at the first step: the initial positions have no previous step)
         increment = 0.0 if first_step else dt
         for d in range(3):
-            shear[d] += (vj[d] - vi[d] - vn * n[d]) * increment
+            shear[c, d] += (vj[d] - vi[d] - vn * n[d]) * increment
         weight, overlap_kick = onset_averaged_overlap(overlap, vn, dt, new_contact)
         fn_elastic = contacts.kn[c] * overlap_kick
-        cundall_strack(shear, contacts.kt[c], contacts.mu[c], fn_elastic, fs)
+        cundall_strack(shear, c, contacts.kt[c], contacts.mu[c], fn_elastic, fs)
         # friction ledger, part 1: minus the change of the energy stored in the spring
-        stored -= shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2]
+        stored -= shear[c, 0] * shear[c, 0] + shear[c, 1] * shear[c, 1] + shear[c, 2] * shear[c, 2]
         ledger[0] += 0.5 * contacts.kt[c] * stored
         # dashpot: the normal velocity at t_n, extrapolated from the last two half steps
         vn_dashpot = vn if new_contact else 1.5 * vn - 0.5 * contacts.vn[c]
@@ -563,7 +637,7 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
     return n_changes
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", _nrt=False)
 def contact_power(bodies, spheres, walls, contacts, out, work):
     """Power [W] at t_n of the dashpot forces (``out[0]``) and of the tangential forces
     (``out[1]``) on the bodies: ``F . v_rel`` with the full-step relative velocity of the
@@ -586,8 +660,8 @@ def contact_power(bodies, spheres, walls, contacts, out, work):
     p_friction = 0.0
     for c in range(contacts.n[0]):
         fd = contacts.fn_viscous[c]
-        u = contacts.shear[c]
-        if fd == 0.0 and (not contacts.active[c] or u[0] == u[1] == u[2] == 0.0):
+        u = contacts.shear
+        if fd == 0.0 and (not contacts.active[c] or u[c, 0] == u[c, 1] == u[c, 2] == 0.0):
             continue  # (ended contacts have zero shear)
         i = contacts.i[c]
         j = contacts.j[c]
@@ -611,17 +685,18 @@ def contact_power(bodies, spheres, walls, contacts, out, work):
                 bodies.pos, bodies.vel_full, bodies.omega_full, spheres.body[j], point, vj
             )
         else:
-            vj[:] = 0.0
+            for d in range(3):
+                vj[d] = 0.0
         kt = contacts.kt[c]
         for d in range(3):
             dv = vj[d] - vi[d]
             p_viscous += fd * n[d] * dv
-            p_friction -= kt * u[d] * dv
+            p_friction -= kt * u[c, d] * dv
     out[0] = p_viscous
     out[1] = p_friction
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def active_contact_forces(spheres, walls, contacts, first, second, point, force):
     """The contact forces of the last :func:`compute_forces`, one row per active contact.
 

@@ -34,7 +34,7 @@ LEDGER_VISCOUS = 1
 LEDGER_DAMPING = 2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", _nrt=False)
 def kinetic_energy(bodies, out):
     """Translational and rotational kinetic energy [J] at the last full step into out[0:2]."""
     et = 0.0
@@ -49,7 +49,7 @@ def kinetic_energy(bodies, out):
     out[1] = er
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", _nrt=False)
 def energies(bodies, contacts, gravity, ledger, out):
     """All entries of ``ENERGY_NAMES`` [J] into ``out`` (length 9)."""
     kinetic_energy(bodies, out)

@@ -6,7 +6,8 @@ buffer or the Verlet list needs more room (Python grows it and calls again, the 
 being untouched by the interrupted step), or when the run must be aborted.
 
 One step (see integrate.py for the scheme):
-rebuild the Verlet list if a sphere moved more than skin/2 -> contact forces -> contact
+rebuild the Verlet list if a body's spheres may have moved more than skin/2 (then place
+every sphere; between builds only the listed ones are moved) -> contact forces -> contact
 onset/end bookkeeping (held bodies, events, pair statistics) -> kick -> recorders at t_n
 -> drift -> stop conditions.  The optional contact-force recorder (``rec.cf_on``) copies
 the forces of the active contacts at each trajectory frame; off, it costs one test per frame.
@@ -17,7 +18,6 @@ from __future__ import annotations
 import math
 from collections import namedtuple
 
-import numpy as np
 from numba import njit
 
 from dominowave.dem.contact import (
@@ -30,7 +30,12 @@ from dominowave.dem.contact import (
     needs_rebuild,
 )
 from dominowave.dem.energy import energies, kinetic_energy
-from dominowave.dem.integrate import drift, kick, update_sphere_positions
+from dominowave.dem.integrate import (
+    drift,
+    kick,
+    update_listed_sphere_positions,
+    update_sphere_positions,
+)
 
 __all__ = ["Recorder", "Settings", "run_loop"]
 
@@ -108,7 +113,7 @@ Recorder = namedtuple(
 )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _release(bodies, spheres, contacts, b, t):
     """Free a held body, and (transitively) held bodies it already touches."""
     bodies.held[b] = 0
@@ -131,7 +136,7 @@ def _release(bodies, spheres, contacts, b, t):
                 changed = True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _log_event(rec, t, bi, bj, kind):
     k = rec.ev_n[0]
     rec.ev_time[k] = t
@@ -141,7 +146,7 @@ def _log_event(rec, t, bi, bj, kind):
     rec.ev_n[0] = k + 1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", _nrt=False)
 def event_time(contacts, c, t, dt, onset, first_step):
     """Interpolated time [s] at which contact c started or ended during the last drift.
 
@@ -160,7 +165,7 @@ def event_time(contacts, c, t, dt, onset, first_step):
     return t - depth / speed
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, first_step):
     """Held-body release, body-level onsets/ends, event log and pair statistics.
 
@@ -216,7 +221,7 @@ def _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, first_step
                         _log_event(rec, te, bi, j, kind)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _record_peak_force(spheres, contacts, rec):
     for c in range(contacts.n[0]):
         j = contacts.j[c]
@@ -229,7 +234,7 @@ def _record_peak_force(spheres, contacts, rec):
                 rec.peak_force[a, b] = contacts.fn[c]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _record_frame(bodies, rec, t):
     f = rec.traj_n[0]
     rec.traj_t[f] = t
@@ -243,7 +248,7 @@ def _record_frame(bodies, rec, t):
     rec.traj_n[0] = f + 1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _record_contact_forces(spheres, walls, contacts, rec):
     """Append the active contacts of this step as the rows of trajectory frame traj_n."""
     k0 = rec.cf_n[0]
@@ -259,7 +264,7 @@ def _record_contact_forces(spheres, walls, contacts, rec):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _finite(bodies):
     for b in range(bodies.mass.shape[0]):
         for k in range(3):
@@ -268,18 +273,22 @@ def _finite(bodies):
     return True
 
 
-@njit(cache=True)
-def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_end, stop):
+@njit(cache=True, error_model="numpy", _nrt=False)
+def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_end, stop, work):
     """Advance up to ``n_steps`` steps or until ``time >= t_end`` or a stop condition.
 
     ``stop`` = (no_onset_for [s] or inf, touched_body or -1, kinetic_below [J] or -1,
-    start time of the run [s]).  Returns ``(code, steps_done)``; see the module constants.
-    ``rec.energy_now`` holds the energies of the last step done (time ``clock[0] - dt``).
+    start time of the run [s]).  ``work``: (8, 3) scratch array.  Returns
+    ``(code, steps_done)``; see the module constants.  ``rec.energy_now`` holds the
+    energies of the last step done (time ``clock[0] - dt``).
+
+    Compiled without numba's reference counting, as the kernels it calls every step
+    (contact.py): it allocates nothing itself, and every pass through the loop would
+    otherwise pay atomic reference-count updates of the ~100 state arrays.
     """
     dt = settings.dt
-    kin = np.empty(2)
-    p_contacts = np.empty(2)
-    work = np.empty((6, 3))  # scratch vectors of the contact kernels
+    kin = work[6]
+    p_contacts = work[7]
     touched_body = int(stop[1])
     for done in range(n_steps):
         t = rec.clock[0]
@@ -299,9 +308,10 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
         forces_due = traj_due and rec.cf_on[0] == 1
         if forces_due and rec.cf_first.shape[0] - rec.cf_n[0] < contacts.i.shape[0]:
             return GROW_CONTACT_FORCES, done
-        if needs_rebuild(spheres, settings.skin, contacts.n[0]):
+        if needs_rebuild(bodies, settings.skin, contacts.n[0]):
             if not _finite(bodies):
                 return ABORT_NAN, done
+            update_sphere_positions(bodies, spheres)  # the search sees every sphere
             if build_verlet_list(spheres, walls, bodies, mats, contacts, settings.skin) < 0:
                 return GROW_CONTACTS, done
             rec.n_rebuilds[0] += 1
@@ -353,7 +363,7 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
                 if kin[0] + kin[1] < stop[2]:
                     code = STOP_KINETIC
         drift(bodies, dt)
-        update_sphere_positions(bodies, spheres)
+        update_listed_sphere_positions(bodies, spheres)
         rec.clock[0] = t + dt
         rec.step[0] = step + 1
         if code >= 0:

@@ -40,10 +40,15 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
-__all__ = ["drift", "kick", "quat_to_matrix", "update_sphere_positions"]
+__all__ = [
+    "drift",
+    "kick",
+    "quat_to_matrix",
+    "update_listed_sphere_positions",
+    "update_sphere_positions",
+]
 
 ROT_ISOTROPIC = 0
 ROT_FREE = 1
@@ -51,7 +56,7 @@ ROT_AXIS = 2
 ROT_NONE = 3
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _sign(x):
     if x > 0.0:
         return 1.0
@@ -60,91 +65,95 @@ def _sign(x):
     return 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def damped(a, v, dt, damping):
     """YADE's local damping of one acceleration component: a (1 - lambda sign(a (v + dt a/2)))."""
     return a * (1.0 - damping * _sign(a * (v + 0.5 * dt * a)))
 
 
-@njit(cache=True, inline="always")
-def quat_to_matrix(q, R):
-    """Rotation matrix of the unit quaternion ``q = (w, x, y, z)`` written into ``R``."""
-    w, x, y, z = q[0], q[1], q[2], q[3]
-    R[0, 0] = 1.0 - 2.0 * (y * y + z * z)
-    R[0, 1] = 2.0 * (x * y - w * z)
-    R[0, 2] = 2.0 * (x * z + w * y)
-    R[1, 0] = 2.0 * (x * y + w * z)
-    R[1, 1] = 1.0 - 2.0 * (x * x + z * z)
-    R[1, 2] = 2.0 * (y * z - w * x)
-    R[2, 0] = 2.0 * (x * z - w * y)
-    R[2, 1] = 2.0 * (y * z + w * x)
-    R[2, 2] = 1.0 - 2.0 * (x * x + y * y)
+@njit(cache=True, error_model="numpy", inline="always")
+def quat_to_matrix(quat, rot, b):
+    """Rotation matrix ``rot[b]`` of the unit quaternion ``quat[b] = (w, x, y, z)``.
+
+    The kernels index rows of the (nb, 4) / (nb, 3, 3) arrays instead of taking row
+    views: in numba a view costs an atomic reference-count pair, which dominated the
+    cost of a step before.
+    """
+    w, x, y, z = quat[b, 0], quat[b, 1], quat[b, 2], quat[b, 3]
+    rot[b, 0, 0] = 1.0 - 2.0 * (y * y + z * z)
+    rot[b, 0, 1] = 2.0 * (x * y - w * z)
+    rot[b, 0, 2] = 2.0 * (x * z + w * y)
+    rot[b, 1, 0] = 2.0 * (x * y + w * z)
+    rot[b, 1, 1] = 1.0 - 2.0 * (x * x + z * z)
+    rot[b, 1, 2] = 2.0 * (y * z - w * x)
+    rot[b, 2, 0] = 2.0 * (x * z - w * y)
+    rot[b, 2, 1] = 2.0 * (y * z + w * x)
+    rot[b, 2, 2] = 1.0 - 2.0 * (x * x + y * y)
 
 
-@njit(cache=True, inline="always")
-def _turn_world(q, wx, wy, wz, dt):
-    """q <- exp(omega dt) * q: rotate the body by the world-frame angle vector omega dt."""
+@njit(cache=True, error_model="numpy", inline="always")
+def _turn_world(q, b, wx, wy, wz, dt):
+    """q[b] <- exp(omega dt) * q[b]: rotate body b by the world-frame angle vector omega dt."""
     wn = math.sqrt(wx * wx + wy * wy + wz * wz)
     if wn == 0.0:
         return
     half = 0.5 * wn * dt
     s = math.sin(half) / wn
     a0, a1, a2, a3 = math.cos(half), wx * s, wy * s, wz * s
-    q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
-    q[0] = a0 * q0 - a1 * q1 - a2 * q2 - a3 * q3
-    q[1] = a0 * q1 + a1 * q0 + a2 * q3 - a3 * q2
-    q[2] = a0 * q2 - a1 * q3 + a2 * q0 + a3 * q1
-    q[3] = a0 * q3 + a1 * q2 - a2 * q1 + a3 * q0
+    q0, q1, q2, q3 = q[b, 0], q[b, 1], q[b, 2], q[b, 3]
+    q[b, 0] = a0 * q0 - a1 * q1 - a2 * q2 - a3 * q3
+    q[b, 1] = a0 * q1 + a1 * q0 + a2 * q3 - a3 * q2
+    q[b, 2] = a0 * q2 - a1 * q3 + a2 * q0 + a3 * q1
+    q[b, 3] = a0 * q3 + a1 * q2 - a2 * q1 + a3 * q0
 
 
-@njit(cache=True, inline="always")
-def _turn_body_axis(q, Lb, k, phi):
-    """Free rotation about principal axis k by angle phi: q <- q * (cos phi/2, sin phi/2 e_k);
-    the body components of the (fixed) world angular momentum turn by -phi."""
+@njit(cache=True, error_model="numpy", inline="always")
+def _turn_body_axis(q, b, L0, L1, L2, k, phi):
+    """Free rotation of body b about principal axis k by angle phi:
+    q[b] <- q[b] * (cos phi/2, sin phi/2 e_k).  Returns the body components
+    ``(L0, L1, L2)`` of the (fixed) world angular momentum, turned by -phi."""
     c = math.cos(0.5 * phi)
     s = math.sin(0.5 * phi)
-    q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
-    if k == 0:
-        q[0] = q0 * c - q1 * s
-        q[1] = q1 * c + q0 * s
-        q[2] = q2 * c + q3 * s
-        q[3] = q3 * c - q2 * s
-    elif k == 1:
-        q[0] = q0 * c - q2 * s
-        q[1] = q1 * c - q3 * s
-        q[2] = q2 * c + q0 * s
-        q[3] = q3 * c + q1 * s
-    else:
-        q[0] = q0 * c - q3 * s
-        q[1] = q1 * c + q2 * s
-        q[2] = q2 * c - q1 * s
-        q[3] = q3 * c + q0 * s
-    a = (k + 1) % 3
-    b = (k + 2) % 3
+    q0, q1, q2, q3 = q[b, 0], q[b, 1], q[b, 2], q[b, 3]
     cp = math.cos(phi)
     sp = math.sin(phi)
-    la = Lb[a]
-    lb = Lb[b]
-    Lb[a] = cp * la + sp * lb
-    Lb[b] = -sp * la + cp * lb
+    if k == 0:
+        q[b, 0] = q0 * c - q1 * s
+        q[b, 1] = q1 * c + q0 * s
+        q[b, 2] = q2 * c + q3 * s
+        q[b, 3] = q3 * c - q2 * s
+        return L0, cp * L1 + sp * L2, -sp * L1 + cp * L2
+    if k == 1:
+        q[b, 0] = q0 * c - q2 * s
+        q[b, 1] = q1 * c - q3 * s
+        q[b, 2] = q2 * c + q0 * s
+        q[b, 3] = q3 * c + q1 * s
+        return -sp * L2 + cp * L0, L1, cp * L2 + sp * L0
+    q[b, 0] = q0 * c - q3 * s
+    q[b, 1] = q1 * c + q2 * s
+    q[b, 2] = q2 * c - q1 * s
+    q[b, 3] = q3 * c + q0 * s
+    return cp * L0 + sp * L1, -sp * L0 + cp * L1, L2
 
 
-@njit(cache=True, inline="always")
-def _omega_from_angmom(R, inertia, L, out):
-    """omega = R I^-1 R^T L (world frame)."""
+@njit(cache=True, error_model="numpy", inline="always")
+def _omega_from_angmom(rot, inertia, L, out, b):
+    """out[b] = R I^-1 R^T L[b] (world frame) for body b."""
     for k in range(3):
-        lb = (R[0, k] * L[0] + R[1, k] * L[1] + R[2, k] * L[2]) / inertia[k]
+        lb = (rot[b, 0, k] * L[b, 0] + rot[b, 1, k] * L[b, 1] + rot[b, 2, k] * L[b, 2]) / inertia[
+            b, k
+        ]
         if k == 0:
-            out[0] = R[0, 0] * lb
-            out[1] = R[1, 0] * lb
-            out[2] = R[2, 0] * lb
+            out[b, 0] = rot[b, 0, 0] * lb
+            out[b, 1] = rot[b, 1, 0] * lb
+            out[b, 2] = rot[b, 2, 0] * lb
         else:
-            out[0] += R[0, k] * lb
-            out[1] += R[1, k] * lb
-            out[2] += R[2, k] * lb
+            out[b, 0] += rot[b, 0, k] * lb
+            out[b, 1] += rot[b, 1, k] * lb
+            out[b, 2] += rot[b, 2, k] * lb
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", _nrt=False)
 def kick(bodies, gravity, dt, damping, damp_gravity):
     """Half-step velocities v_{n-1/2} -> v_{n+1/2} from the current forces (module doc).
 
@@ -154,7 +163,6 @@ def kick(bodies, gravity, dt, damping, damp_gravity):
     (negative), booked by the caller with the trapezoidal rule.
     """
     power = 0.0
-    damping_torque = np.empty(3)
     for b in range(bodies.mass.shape[0]):
         if bodies.held[b]:
             continue
@@ -198,20 +206,22 @@ def kick(bodies, gravity, dt, damping, damp_gravity):
                 power += inertia * (alpha_d - alpha) * w_full
         elif mode == ROT_AXIS:
             inertia = bodies.axis_inertia[b]
-            e = bodies.axis[b]
-            w = bodies.omega[b, 0] * e[0] + bodies.omega[b, 1] * e[1] + bodies.omega[b, 2] * e[2]
-            torque = bodies.torque[b, 0] * e[0] + bodies.torque[b, 1] * e[1]
-            alpha = (torque + bodies.torque[b, 2] * e[2]) / inertia
+            e0, e1, e2 = bodies.axis[b, 0], bodies.axis[b, 1], bodies.axis[b, 2]
+            w = bodies.omega[b, 0] * e0 + bodies.omega[b, 1] * e1 + bodies.omega[b, 2] * e2
+            torque = bodies.torque[b, 0] * e0 + bodies.torque[b, 1] * e1
+            alpha = (torque + bodies.torque[b, 2] * e2) / inertia
             alpha_d = damped(alpha, w, dt, damping) if damping != 0.0 else alpha
             w_new = w + h * alpha_d
             w_full = w_new - 0.5 * dt * alpha_d
             for k in range(3):
-                bodies.omega[b, k] = w_new * e[k]
-                bodies.angmom[b, k] = inertia * w_new * e[k]
-                bodies.omega_full[b, k] = w_full * e[k]
-                bodies.angmom_full[b, k] = inertia * w_full * e[k]
+                e = bodies.axis[b, k]
+                bodies.omega[b, k] = w_new * e
+                bodies.angmom[b, k] = inertia * w_new * e
+                bodies.omega_full[b, k] = w_full * e
+                bodies.angmom_full[b, k] = inertia * w_full * e
             power += inertia * (alpha_d - alpha) * w_full
         elif mode == ROT_FREE:
+            d0 = d1 = d2 = 0.0  # damping torque
             for k in range(3):
                 t = bodies.torque[b, k]
                 w = bodies.omega[b, k]
@@ -219,56 +229,77 @@ def kick(bodies, gravity, dt, damping, damp_gravity):
                 L_new = bodies.angmom[b, k] + h * t_d
                 bodies.angmom[b, k] = L_new
                 bodies.angmom_full[b, k] = L_new - 0.5 * dt * t_d
-                damping_torque[k] = t_d - t
+                if k == 0:
+                    d0 = t_d - t
+                elif k == 1:
+                    d1 = t_d - t
+                else:
+                    d2 = t_d - t
             # full-step omega at the current orientation, for recorders and energies
-            _omega_from_angmom(
-                bodies.rot[b], bodies.inertia[b], bodies.angmom_full[b], bodies.omega_full[b]
-            )
-            for k in range(3):
-                power += damping_torque[k] * bodies.omega_full[b, k]
+            _omega_from_angmom(bodies.rot, bodies.inertia, bodies.angmom_full, bodies.omega_full, b)
+            power += d0 * bodies.omega_full[b, 0]
+            power += d1 * bodies.omega_full[b, 1]
+            power += d2 * bodies.omega_full[b, 2]
     return power
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", _nrt=False)
 def drift(bodies, dt):
     """Positions and orientations n -> n+1 from the half-step velocities."""
-    Lb = np.empty(3)
     for b in range(bodies.mass.shape[0]):
         if bodies.held[b]:
             continue
         for k in range(3):
             bodies.pos[b, k] += dt * bodies.vel[b, k]
         mode = bodies.rot_mode[b]
-        q = bodies.quat[b]
+        q = bodies.quat
         if mode == ROT_NONE:
             continue
         if mode == ROT_FREE:
-            R = bodies.rot[b]
-            L = bodies.angmom[b]
-            inertia = bodies.inertia[b]
-            for k in range(3):
-                Lb[k] = R[0, k] * L[0] + R[1, k] * L[1] + R[2, k] * L[2]
-            _turn_body_axis(q, Lb, 0, 0.5 * dt * Lb[0] / inertia[0])
-            _turn_body_axis(q, Lb, 1, 0.5 * dt * Lb[1] / inertia[1])
-            _turn_body_axis(q, Lb, 2, dt * Lb[2] / inertia[2])
-            _turn_body_axis(q, Lb, 1, 0.5 * dt * Lb[1] / inertia[1])
-            _turn_body_axis(q, Lb, 0, 0.5 * dt * Lb[0] / inertia[0])
+            R = bodies.rot
+            L = bodies.angmom
+            inertia = bodies.inertia
+            l0 = R[b, 0, 0] * L[b, 0] + R[b, 1, 0] * L[b, 1] + R[b, 2, 0] * L[b, 2]
+            l1 = R[b, 0, 1] * L[b, 0] + R[b, 1, 1] * L[b, 1] + R[b, 2, 1] * L[b, 2]
+            l2 = R[b, 0, 2] * L[b, 0] + R[b, 1, 2] * L[b, 1] + R[b, 2, 2] * L[b, 2]
+            # NO_SQUISH splitting: half turns about axes 0 and 1, a full turn about 2
+            l0, l1, l2 = _turn_body_axis(q, b, l0, l1, l2, 0, 0.5 * dt * l0 / inertia[b, 0])
+            l0, l1, l2 = _turn_body_axis(q, b, l0, l1, l2, 1, 0.5 * dt * l1 / inertia[b, 1])
+            l0, l1, l2 = _turn_body_axis(q, b, l0, l1, l2, 2, dt * l2 / inertia[b, 2])
+            l0, l1, l2 = _turn_body_axis(q, b, l0, l1, l2, 1, 0.5 * dt * l1 / inertia[b, 1])
+            l0, l1, l2 = _turn_body_axis(q, b, l0, l1, l2, 0, 0.5 * dt * l0 / inertia[b, 0])
         else:
-            _turn_world(q, bodies.omega[b, 0], bodies.omega[b, 1], bodies.omega[b, 2], dt)
-        norm = math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+            _turn_world(q, b, bodies.omega[b, 0], bodies.omega[b, 1], bodies.omega[b, 2], dt)
+        norm = math.sqrt(
+            q[b, 0] * q[b, 0] + q[b, 1] * q[b, 1] + q[b, 2] * q[b, 2] + q[b, 3] * q[b, 3]
+        )
         for k in range(4):
-            q[k] /= norm
-        quat_to_matrix(q, bodies.rot[b])
+            q[b, k] /= norm
+        quat_to_matrix(q, bodies.rot, b)
         if mode == ROT_FREE:
-            _omega_from_angmom(bodies.rot[b], bodies.inertia[b], bodies.angmom[b], bodies.omega[b])
+            _omega_from_angmom(bodies.rot, bodies.inertia, bodies.angmom, bodies.omega, b)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
+def _place_sphere(bodies, spheres, s):
+    # (full indexing, no row views: a view costs an atomic incref/decref pair in numba)
+    b = spheres.body[s]
+    R = bodies.rot
+    u0, u1, u2 = spheres.local[s, 0], spheres.local[s, 1], spheres.local[s, 2]
+    for k in range(3):
+        spheres.pos[s, k] = bodies.pos[b, k] + R[b, k, 0] * u0 + R[b, k, 1] * u1 + R[b, k, 2] * u2
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
 def update_sphere_positions(bodies, spheres):
     """World centres of all spheres from their owners' COM and orientation."""
     for s in range(spheres.body.shape[0]):
-        b = spheres.body[s]
-        R = bodies.rot[b]
-        u = spheres.local[s]
-        for k in range(3):
-            spheres.pos[s, k] = bodies.pos[b, k] + R[k, 0] * u[0] + R[k, 1] * u[1] + R[k, 2] * u[2]
+        _place_sphere(bodies, spheres, s)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def update_listed_sphere_positions(bodies, spheres):
+    """World centres of the spheres in the Verlet list (``spheres.listed``): between two
+    list builds no other sphere can touch anything, and only these are read."""
+    for k in range(spheres.n_listed[0]):
+        _place_sphere(bodies, spheres, spheres.listed[k])

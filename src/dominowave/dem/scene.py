@@ -196,6 +196,9 @@ class Scene:
             angmom_full=z3(),
             force=z3(),
             torque=z3(),
+            extent=np.zeros(nb),
+            pos_at_build=z3(),
+            quat_at_build=np.zeros((nb, 4)),
         )
         local = np.zeros((ns, 3))
         for b, spec in enumerate(self._bodies):
@@ -251,13 +254,15 @@ class Scene:
             bodies.angmom[b] = L
             bodies.angmom_full[b] = L
             local[members] = (centres[members] - com) @ axes
+            bodies.extent[b] = np.linalg.norm(local[members], axis=1).max()
         spheres = Spheres(
             body=sphere_body,
             radius=radii,
             local=local,
             material=materials,
             pos=centres.copy(),
-            pos_at_build=centres.copy(),
+            listed=np.arange(ns, dtype=np.int64),
+            n_listed=np.array([ns], np.int64),
         )
         return bodies, spheres
 

@@ -14,6 +14,7 @@ from dominowave.dem import engine
 from dominowave.dem.contact import build_verlet_list, compute_forces
 from dominowave.dem.energy import ENERGY_NAMES, energies
 from dominowave.dem.engine import Recorder, Settings, run_loop
+from dominowave.dem.integrate import update_sphere_positions
 from dominowave.dem.state import Bodies, Contacts, MaterialTable, Spheres, Walls
 
 __all__ = [
@@ -373,9 +374,12 @@ class Simulation:
                 remaining,
                 t_end,
                 stop_array,
+                np.empty((8, 3)),  # scratch vectors of the kernels
             )
             done_total += done
             remaining -= done
+            # the loop moves only the spheres of the Verlet list: place all for Python
+            update_sphere_positions(self.bodies, self.spheres)
             if code in STOP_REASONS:
                 break
             if code >= engine.ABORT_NAN:

@@ -55,6 +55,9 @@ Bodies = namedtuple(
         "angmom_full",  # (nb, 3) full-step angular momentum of the last step [kg m^2/s]
         "force",  # (nb, 3) contact force of the current step [N]
         "torque",  # (nb, 3) contact torque about the COM, world frame [N m]
+        "extent",  # (nb,) largest distance of a member sphere's centre from the COM [m]
+        "pos_at_build",  # (nb, 3) COM at the last neighbour-list build [m]
+        "quat_at_build",  # (nb, 4) orientation at the last neighbour-list build
     ],
 )
 
@@ -65,8 +68,9 @@ Spheres = namedtuple(
         "radius",  # (ns,) [m]
         "local",  # (ns, 3) centre in the owner's principal frame [m]
         "material",  # (ns,) int material id
-        "pos",  # (ns, 3) world centre [m]
-        "pos_at_build",  # (ns, 3) world centre at the last neighbour-list build [m]
+        "pos",  # (ns, 3) world centre [m]; between list builds only for `listed` spheres
+        "listed",  # (ns,) int64: ids of the spheres in the Verlet list, ascending
+        "n_listed",  # (1,) int64: how many entries of `listed` are used
     ],
 )
 
