@@ -7,8 +7,9 @@ and no holding so that YADE runs the identical scene without Python callbacks):
 * large -- N = 300, the same number of steps per domino.
 
 For each: the number of steps S to the last collision (from a recorded dominowave run);
-dominowave engines-only (event log and pair statistics off, no trajectory) for S steps;
-dominowave with event recording (log + pair statistics + trajectory every 100 steps);
+dominowave engines-only (event log, pair statistics and energy ledger off, no trajectory:
+what YADE's engines do by default) for S steps; the same with the energy ledger; with
+event recording (log + pair statistics + trajectory every 100 steps + ledger, a real run);
 YADE engines-only (``yade -n -j1``, O.run(S) timed inside YADE, no PyRunner); the profile
 split of bench_engine.py (contact detection, forces, integration) on the chain's state.
 
@@ -59,11 +60,20 @@ def steps_to_last_collision(chain: DominoChain) -> int:
     return int(np.ceil(run.arrival[-1] / chain.dt))
 
 
-def time_ours(chain: DominoChain, steps: int, record: bool, repeat: int) -> float:
+MODES = {
+    # name: (event log + pair statistics + trajectory, energy ledger)
+    "engines": (False, False),  # what YADE's engines do by default (no trackEnergy)
+    "ledger": (False, True),
+    "recording": (True, True),  # a real chain run
+}
+
+
+def time_ours(chain: DominoChain, steps: int, mode: str, repeat: int) -> float:
+    record, ledger = MODES[mode]
     push = chain.resolve(None)
     times = []
     for _ in range(repeat):
-        sim, _ = chain.build(push, record=record)
+        sim, _ = chain.build(push, record=record, track_energy=ledger)
         start = time.perf_counter()
         sim.run(n_steps=steps, trajectory_every=100 if record else 0)
         times.append(time.perf_counter() - start)
@@ -89,9 +99,11 @@ def main(argv=None) -> int:
             steps_per_domino = steps / n
         else:
             steps = int(steps_per_domino * n)
-        time_ours(chain, 100, False, 1)  # compile / warm up
-        bare = time_ours(chain, steps, False, args.repeat)
-        rec = time_ours(chain, steps, True, args.repeat)
+        for mode in MODES:
+            time_ours(chain, 100, mode, 1)  # compile / warm up
+        bare = time_ours(chain, steps, "engines", args.repeat)
+        ledger = time_ours(chain, steps, "ledger", args.repeat)
+        rec = time_ours(chain, steps, "recording", args.repeat)
         yade = time_yade(chain, steps) if have_yade else float("nan")
 
         def make(_n, record, chain=chain):
@@ -105,6 +117,7 @@ def main(argv=None) -> int:
             "steps": steps,
             "dt": chain.dt,
             "ours_engines_s": bare,
+            "ours_ledger_s": ledger,
             "ours_recording_s": rec,
             "recording_overhead": rec / bare,
             "yade_engines_s": yade,

@@ -33,7 +33,12 @@ from numba import njit
 
 from dominowave.dem import Material, Scene
 from dominowave.dem.contact import build_verlet_list, compute_forces, needs_rebuild
-from dominowave.dem.integrate import drift, kick, update_sphere_positions
+from dominowave.dem.integrate import (
+    drift,
+    kick,
+    update_listed_sphere_positions,
+    update_sphere_positions,
+)
 
 R = 0.005
 
@@ -97,35 +102,41 @@ def _leaning_tilt(heights, spacing, gap):
     raise ValueError(f"spacing = {spacing} m: the columns never touch")
 
 
-@njit(cache=True)
+# The phase loops are compiled like the engine's run_loop, without numba's reference
+# counting (engine.py): otherwise each call would pay atomic reference-count updates of
+# every array of the state tuples, which the engine does not.
+
+
+@njit(cache=True, _nrt=False)
 def _loop_detection(spheres, walls, bodies, mats, contacts, skin, n):
     rebuilt = 0
     for _ in range(n):
-        if needs_rebuild(spheres, skin, contacts.n[0]):
+        if needs_rebuild(bodies, skin, contacts.n[0]):
+            update_sphere_positions(bodies, spheres)
             build_verlet_list(spheres, walls, bodies, mats, contacts, skin)
             rebuilt += 1
     return rebuilt
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _loop_rebuild(spheres, walls, bodies, mats, contacts, skin, n):
     for _ in range(n):
+        update_sphere_positions(bodies, spheres)
         build_verlet_list(spheres, walls, bodies, mats, contacts, skin)
 
 
-@njit(cache=True)
-def _loop_forces(bodies, spheres, walls, contacts, dt, ledger, changes, n):
-    work = np.empty((6, 3))
+@njit(cache=True, _nrt=False)
+def _loop_forces(bodies, spheres, walls, contacts, dt, ledger, changes, n, work):
     for _ in range(n):
         compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, False, work)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _loop_integration(bodies, spheres, gravity, dt, damping, n):
     for _ in range(n):
         kick(bodies, gravity, dt, damping, True)
         drift(bodies, dt)
-        update_sphere_positions(bodies, spheres)
+        update_listed_sphere_positions(bodies, spheres)
 
 
 def timed(fn, repeat):
@@ -170,8 +181,10 @@ def measure(make, n, steps, repeat):
     check = timed(lambda: _loop_detection(sp, sim.walls, b, sim.mats, c, s.skin, steps), repeat)
     n_build = max(1, steps // 50)
     build = timed(lambda: _loop_rebuild(sp, sim.walls, b, sim.mats, c, s.skin, n_build), repeat)
+    work = np.empty((8, 3))
     forces = timed(
-        lambda: _loop_forces(b, sp, sim.walls, c, s.dt, ledger, sim.rec.changes, steps), repeat
+        lambda: _loop_forces(b, sp, sim.walls, c, s.dt, ledger, sim.rec.changes, steps, work),
+        repeat,
     )
     integ = timed(lambda: _loop_integration(b, sp, s.gravity, s.dt, s.damping, steps), repeat)
     row["rebuild_every"] = 1.0 / rebuild_rate if rebuild_rate > 0 else np.inf

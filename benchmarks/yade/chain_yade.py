@@ -8,14 +8,32 @@ step and standing rule (a two-sphere base: YADE has no "held until touched" flag
 
 Contact law: YADE's Ip2_FrictMat_FrictMat_FrictPhys gives k_n = 2 E1 R1 E2 R2 /
 (E1 R1 + E2 R2) and a wall takes the sphere's radius. With E = k_n / R for spheres of
-radius R and 2 E for the base spheres of radius R/2, every contact has the same k_n as
-dominowave's (kn given per material); k_s = poisson * k_n with poisson = kt_ratio.
-Friction angle atan(mu), min rule per contact (YADE's default).
+radius R and 2 E for the base spheres of radius R/2, every sphere-sphere contact has the
+same k_n as dominowave's (kn given per material); k_s = poisson * k_n with poisson =
+kt_ratio. Friction angle atan(mu), min rule per contact (YADE's default).
+
+Two scene mismatches of earlier versions (together the cause of the 0.07-0.8 % differences
+of the 2nd and 3rd collision times; see benchmarks/README.md):
+
+* The floor: a wall-sphere contact uses the wall's E with the *sphere's* radius, so one
+  wall of E = k_n / R gave the R/2 base spheres k_n = 2 (k_n/2) k_n / (3 k_n/2) = 2/3 k_n
+  (a softer floor under every base; standing dominoes out of equilibrium at the sink
+  computed for k_n). Now: one wall per sphere radius, both at z = 0, E_wall = k_n / r,
+  and collision masks so that each sphere only meets the wall of its own radius (bit 0:
+  all spheres, bit 1 + i: wall i). Every floor contact has k_n, as in dominowave.
+* Blocked rotations (2D): YADE then integrates the clump with its spherical integrator,
+  torque[i] / state.inertia[i] in world components, but a clump's state.inertia holds
+  its principal moments in the body frame (here body z = world y): the domino turned
+  with I_xx instead of I_yy (7.3e-4 smaller). Now state.inertia is set to the moments
+  about the world axes (``probe_clump_blocked_inertia.py`` shows the YADE behaviour).
 
 Modes: ``record`` -- a PyRunner after the InteractionLoop (every step) notes the step
 time t_n at which each domino first has a real interaction with a lower-numbered one
-(dominowave logs onsets at the same t_n); ``engines`` -- no Python callback, run a
-given number of steps and time it (speed benchmark).
+(``arrival``) and the onset interpolated inside that step exactly as dominowave's event
+log does, ``t_n - delta_n / |v_n|`` (overlap over approach speed of the member spheres
+from the half-step velocities, clipped to one step; earliest of the new contacts;
+``onset``); ``engines`` -- no Python callback, run a given number of steps and time it
+(speed benchmark).
 """
 
 import json
@@ -45,11 +63,19 @@ def material(radius, density, friction):
     return materials[key]
 
 
-O.bodies.append(
-    utils.wall(
-        0.0, axis=2, sense=0, material=material(R, scene["density"], scene["friction_floor"])
+# one floor wall per sphere radius (see the module docstring), masks 0b10, 0b100, ...
+radii_all = sorted({r for body in scene["bodies"] for r in body["radii"]})
+wall_mask = {r: 1 << (1 + i) for i, r in enumerate(radii_all)}
+for r in radii_all:
+    O.bodies.append(
+        utils.wall(
+            0.0,
+            axis=2,
+            sense=0,
+            material=material(r, scene["density"], scene["friction_floor"]),
+            mask=wall_mask[r],
+        )
     )
-)
 clumps, members = [], []
 for body in scene["bodies"]:
     spheres = [
@@ -59,6 +85,7 @@ for body in scene["bodies"]:
             material=material(
                 r, rho, scene["friction_floor"] if bottom else scene["friction_dominoes"]
             ),
+            mask=1 | wall_mask[r],
         )
         for c, r, rho, bottom in zip(
             body["centres"], body["radii"], body["density"], body["bottom"], strict=True
@@ -75,6 +102,16 @@ for body in scene["bodies"]:
     w_body = b.state.ori.conjugate() * w
     inertia = b.state.inertia
     b.state.angMom = b.state.ori * Vector3(*(inertia[i] * w_body[i] for i in range(3)))
+    if any(axis in scene["blocked"] for axis in "XYZ"):
+        # With a rotation blocked, NewtonIntegrator uses its *spherical* integrator,
+        # angAccel[i] = torque[i] / inertia[i] with world components, while a clump's
+        # state.inertia holds the principal moments of its *body* frame (here body z =
+        # world y). Without this the 2D domino turns with I_xx instead of I_yy (7.3e-4
+        # smaller). Give it the moments about the world axes: diag(R diag(I) R^T).
+        rot = b.state.ori.toRotationMatrix()
+        b.state.inertia = Vector3(
+            *(sum(rot[i, j] ** 2 * inertia[j] for j in range(3)) for i in range(3))
+        )
     clumps.append(cid)
     members.append(ids)
 
@@ -85,14 +122,37 @@ for k, ids in enumerate(members):
 n = len(clumps)
 arrival = [float("nan")] * n
 arrival[0] = 0.0
+onset = [float("nan")] * n  # interpolated inside the step, as dominowave's event log
+onset[0] = 0.0
 state = {"next": 1}
 
 
 trace = []
 
 
+def member_velocity(body):
+    # velocity of a clump member over the last drift: clump v + omega x r (half-step values)
+    c = O.bodies[body.clumpId].state
+    return c.vel + c.angVel.cross(body.state.pos - c.pos)
+
+
+def onset_time(it, t, dt):
+    # dominowave's event_time: overlap linear over the drift [t - dt, t], approach speed
+    # from the half-step velocities: t - delta / |v_n|, clipped to [t - dt, t]
+    speed = (member_velocity(O.bodies[it.id1]) - member_velocity(O.bodies[it.id2])).dot(
+        it.geom.normal
+    )
+    depth = it.geom.penetrationDepth
+    if speed <= 0.0:
+        return t
+    if depth >= speed * dt:
+        return t - dt
+    return t - depth / speed
+
+
 def record():
-    # first real interaction of domino `next` with a lower-numbered domino, at t_n
+    # first real interaction of domino `next` with a lower-numbered domino: the step time
+    # t_n (arrival) and the onset interpolated inside the step (onset)
     if scene.get("trace_every") and O.iter % scene["trace_every"] == 0:
         trace.append(
             [O.time]
@@ -101,18 +161,16 @@ def record():
         )
     while state["next"] < n:
         m = state["next"]
-        hit = False
+        hits = []
         for i in members[m]:
             for it in O.bodies[i].intrs():
                 other = it.id1 if it.id2 == i else it.id2
                 if it.isReal and owner.get(other, n) < m:
-                    hit = True
-                    break
-            if hit:
-                break
-        if not hit:
+                    hits.append(it)
+        if not hits:
             return
         arrival[m] = O.time
+        onset[m] = min(onset_time(it, O.time, O.dt) for it in hits)
         state["next"] = m + 1
         if m + 1 == n and scene["mode"] == "record":
             O.pause()
@@ -140,6 +198,13 @@ else:
     O.run(int(scene["n_steps"]), True)
 wall = time.perf_counter() - start
 json.dump(
-    {"arrival": arrival, "wall_time": wall, "n_steps": O.iter, "time": O.time, "trace": trace},
+    {
+        "arrival": arrival,
+        "onset": onset,
+        "wall_time": wall,
+        "n_steps": O.iter,
+        "time": O.time,
+        "trace": trace,
+    },
     open(os.environ["CHAIN_OUT"], "w"),
 )

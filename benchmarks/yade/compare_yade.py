@@ -3,7 +3,10 @@
 For d/l in {0.2, 0.4, 0.6}, the identical 2D chain (N = 30, s/l = 0.1, k/k* = 1e4,
 phi_f = 0.3, phi_d = 0, no damping, two-sphere base, no holding) is run in both codes:
 
-(a) the first three collision times (not yet chaotic), relative difference;
+(a) the first three collision times (not yet chaotic), relative difference; both codes'
+    onsets interpolated inside the step the same way (``t_n - delta_n / |v_n|``: dominowave's
+    event log, ``chain_yade.py``'s ``onset``); also YADE's step times against ours rounded
+    up to its step grid;
 (b) ensembles of ``--members`` perturbed pushes (same factors in both codes): mean
     steady speeds must agree within twice their combined standard error;
 (c) wall time of one run, both with contact recording (YADE: a PyRunner every step).
@@ -92,7 +95,7 @@ def compare(d_over_l: float, members: int, seed: int = 0, jitter: float = 1e-3) 
     chain = DominoChain(params(d_over_l))
     base = chain.resolve(None)
     max_steps = math.ceil(chain.max_time / chain.dt)
-    ours, theirs, walls_ours, walls_yade = [], [], [], []
+    ours, theirs, theirs_steps, walls_ours, walls_yade = [], [], [], [], []
     for i in range(members):
         factor = 1.0 + jitter * np.random.default_rng([seed, i]).standard_normal()
         push = base.scaled(factor)
@@ -102,23 +105,32 @@ def compare(d_over_l: float, members: int, seed: int = 0, jitter: float = 1e-3) 
         y = run_yade(scene_dict(chain, push, "record", max_steps))
         walls_yade.append(y["wall_time"])
         ours.append(run.arrival)
-        theirs.append(np.array(y["arrival"], dtype=float))
-    # YADE logs an onset at the step that first sees the overlap; dominowave interpolates
-    # it inside the step. Compare on YADE's step grid: ceil(t/dt) dt.
+        theirs.append(np.array(y["onset"], dtype=float))
+        theirs_steps.append(np.array(y["arrival"], dtype=float))
+        if i == 0:
+            yade_steps = np.array(y["arrival"][1:4], dtype=float)
+    # both interpolated inside the step (same rule)
+    first3 = np.abs(theirs[0][1:4] / ours[0][1:4] - 1.0)
+    # YADE's step times (first step that sees the overlap) vs ours rounded up to that grid
     ours_on_grid = np.ceil(ours[0][1:4] / chain.dt - 1e-9) * chain.dt
-    first3 = np.abs(theirs[0][1:4] / ours_on_grid - 1.0)
+    first3_grid = np.abs(yade_steps / ours_on_grid - 1.0)
     v_ours = ensemble_stats([steady_speed(a, chain.positions).speed for a in ours])
     v_yade = ensemble_stats([steady_speed(a, chain.positions).speed for a in theirs])
+    v_steps = ensemble_stats([steady_speed(a, chain.positions).speed for a in theirs_steps])
     combined = math.hypot(v_ours.stderr, v_yade.stderr)
     return {
         "d_over_l": d_over_l,
         "dt": chain.dt,
         "first_three_ours": ours[0][1:4].tolist(),
         "first_three_yade": theirs[0][1:4].tolist(),
-        "first_three_max_rel_diff_on_step_grid": float(first3.max()),
+        "first_three_rel_diff": first3.tolist(),
+        "first_three_max_rel_diff": float(first3.max()),
+        "first_three_yade_step_times": yade_steps.tolist(),
+        "first_three_max_rel_diff_on_step_grid": float(first3_grid.max()),
         "speed_ours": [v_ours.mean, v_ours.stderr, v_ours.n],
         "speed_yade": [v_yade.mean, v_yade.stderr, v_yade.n],
         "speed_diff_over_combined_stderr": abs(v_ours.mean - v_yade.mean) / combined,
+        "speed_yade_from_step_times": [v_steps.mean, v_steps.stderr, v_steps.n],
         "wall_ours_mean": float(np.mean(walls_ours)),
         "wall_yade_record_mean": float(np.mean(walls_yade)),
     }

@@ -13,7 +13,7 @@ from dominowave.dem import END, ONSET, Material, Scene, Simulation, StopConditio
 from dominowave.dem.contact import needs_rebuild
 
 
-def _box_scene(n=60, seed=0, friction=0.3, damping=0.0, restitution=0.5, skin=None):
+def _box_scene(n=60, seed=0, friction=0.3, damping=0.0, restitution=0.5, **build):
     """Spheres dropped into a box of 5 walls (settling packing)."""
     rng = np.random.default_rng(seed)
     scene = Scene()
@@ -31,7 +31,7 @@ def _box_scene(n=60, seed=0, friction=0.3, damping=0.0, restitution=0.5, skin=No
         radius = R * rng.uniform(0.7, 1.0)
         centre = (grid[k] + 0.5) * 2.4 * R + np.array([0.0, 0.0, 0.001])
         scene.add_sphere(centre, radius, m, velocity=rng.normal(size=3) * 0.05)
-    return scene.build(safety=0.1, damping=damping, skin=skin)
+    return scene.build(safety=0.1, damping=damping, **build)
 
 
 def test_validate_neighbour_list_finds_every_contact():
@@ -405,6 +405,32 @@ def test_unstable_step_aborts_with_cause():
     sim = _box_scene(n=30, restitution=None)
     sim.settings = sim.settings._replace(dt=50 * sim.critical_dt)
     with pytest.raises(RuntimeError, match="time step"):
+        sim.run(n_steps=100_000)
+
+
+def test_energy_tracking_off_keeps_the_trajectory_and_reports_nan():
+    """``track_energy=False`` (YADE's default) skips the dissipation ledger only: the
+    trajectory is bit-identical, the dissipated energies and the total read nan, and the
+    mechanical energy still is what it is with tracking."""
+    runs = []
+    for track in (True, False):
+        sim = _box_scene(n=40, damping=0.2, track_energy=track)
+        sim.run(until=0.03)
+        runs.append(sim)
+    np.testing.assert_array_equal(runs[0].positions(), runs[1].positions())
+    e_on, e_off = runs[0].energy(), runs[1].energy()
+    for name in ("dissipated_friction", "dissipated_viscous", "dissipated_damping", "total"):
+        assert np.isnan(e_off[name]) and np.isfinite(e_on[name])
+    for name in ("kinetic_translational", "gravitational", "elastic_normal"):
+        assert e_off[name] == e_on[name]
+
+
+def test_unstable_step_aborts_without_energy_tracking():
+    """Without the ledger a blow-up is caught as growth of the mechanical energy (at 3x
+    the critical step, at the same step as the ledger catches it)."""
+    sim = _box_scene(n=30, restitution=None, track_energy=False)
+    sim.settings = sim.settings._replace(dt=3 * sim.critical_dt)
+    with pytest.raises(RuntimeError, match="mechanical energy grew"):
         sim.run(n_steps=100_000)
 
 

@@ -558,7 +558,8 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
             rsum = Ri + spheres.radius[j]
             d2 = dx * dx + dy * dy + dz * dz
             if d2 >= rsum * rsum and not contacts.active[c]:
-                contacts.fn_viscous[c] = 0.0
+                if contacts.fn_viscous[c] != 0.0:  # (store only if needed: most pairs idle)
+                    contacts.fn_viscous[c] = 0.0
                 continue
             dist = math.sqrt(d2)
             n[0] = dx / dist
@@ -572,7 +573,8 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
             for d in range(3):
                 dist += (spheres.pos[i, d] - walls.point[w, d]) * walls.normal[w, d]
             if dist >= Ri and not contacts.active[c]:
-                contacts.fn_viscous[c] = 0.0
+                if contacts.fn_viscous[c] != 0.0:
+                    contacts.fn_viscous[c] = 0.0
                 continue
             for d in range(3):
                 n[d] = -walls.normal[w, d]

@@ -166,8 +166,10 @@ def kick(bodies, gravity, dt, damping, damp_gravity):
     for b in range(bodies.mass.shape[0]):
         if bodies.held[b]:
             continue
-        h = 0.5 * dt if bodies.fresh[b] else dt
-        bodies.fresh[b] = 0
+        h = dt
+        if bodies.fresh[b]:
+            h = 0.5 * dt
+            bodies.fresh[b] = 0
         m = bodies.mass[b]
         for k in range(3):
             v = bodies.vel[b, k]

@@ -149,6 +149,7 @@ class Simulation:
         record_pairs,
         record_peak_force,
         check_every,
+        track_energy=True,
     ):
         self.bodies = bodies
         self.spheres = spheres
@@ -164,12 +165,15 @@ class Simulation:
             record_pairs=record_pairs,
             record_peak_force=record_peak_force,
             check_every=check_every,
+            track_energy=bool(track_energy),
         )
         capacity = 8 * spheres.body.shape[0] + 64
         self.contacts = _empty_contacts(capacity)
         self.rec = _empty_recorder(
             bodies.mass.shape[0], walls.point.shape[0], capacity, record_pairs
         )
+        if not track_energy:  # not tracked: the dissipated energies and the total are nan
+            self.rec.ledger[:] = np.nan
         self._refresh_energy()
 
     # ------------------------------------------------------------------ properties
@@ -390,8 +394,7 @@ class Simulation:
     def _start_run(self, trajectory_every, energy_every, record_contact_forces):
         r = self.rec
         r.energy_ref[:] = r.energy_now
-        active = np.abs(r.energy_now[[0, 1, 3, 4, 5, 6, 7]]).sum()
-        r.clock[1] = max(active, 1e-300)
+        r.clock[1] = max(engine.active_energy(r.energy_now, self.settings.track_energy), 1e-300)
         r.touched[:] = 0
         r.ev_n[0] = 0
         r.traj_every[0] = trajectory_every
@@ -404,11 +407,17 @@ class Simulation:
     def _abort(self, code):
         if code == engine.ABORT_NAN:
             cause = "a position or velocity became NaN/inf"
-        else:
+        elif self.settings.track_energy:
             e = self.energy()
             cause = (
                 f"the energy balance broke down (total {e['total']:.6g} J, "
                 f"{self.rec.energy_ref[8]:.6g} J at the start of the run)"
+            )
+        else:
+            now, ref = self.rec.energy_now[:5].sum(), self.rec.energy_ref[:5].sum()
+            cause = (
+                f"the mechanical energy grew from {ref:.6g} J to {now:.6g} J (without "
+                "energy tracking; every dissipative force can only lower it)"
             )
         raise RuntimeError(
             f"DEM run aborted at t = {self.time:.6g} s: {cause}. Likely cause: the time step "
