@@ -10,7 +10,8 @@ For each: the number of steps S to the last collision (from a recorded dominowav
 dominowave engines-only (event log, pair statistics and energy ledger off, no trajectory:
 what YADE's engines do by default) for S steps; the same with the energy ledger; with
 event recording (log + pair statistics + trajectory every 100 steps + ledger, a real run);
-YADE engines-only (``yade -n -j1``, O.run(S) timed inside YADE, no PyRunner); the profile
+YADE engines-only (``yade -n -j1``, O.run(S) timed inside YADE, no PyRunner), with the
+identical scene and with the one-wall floor of earlier versions (faster in YADE); the profile
 split of bench_engine.py (contact detection, forces, integration) on the chain's state.
 
 Run:  python benchmarks/bench_chain.py [--repeat 3] [--large-n 300]
@@ -80,8 +81,12 @@ def time_ours(chain: DominoChain, steps: int, mode: str, repeat: int) -> float:
     return float(np.median(times))
 
 
-def time_yade(chain: DominoChain, steps: int) -> float:
+def time_yade(chain: DominoChain, steps: int, floor: str = "per_radius") -> float:
+    """YADE engines-only wall time [s]; ``floor``: "per_radius" = the identical scene (one
+    floor wall per sphere radius, chain_yade.py), "single" = one wall (YADE's faster
+    configuration of earlier versions, whose R/2 base spheres meet a softer floor)."""
     scene = compare_yade.scene_dict(chain, chain.resolve(None), "engines", steps)
+    scene["floor"] = floor
     return float(compare_yade.run_yade(scene)["wall_time"])
 
 
@@ -105,6 +110,7 @@ def main(argv=None) -> int:
         ledger = time_ours(chain, steps, "ledger", args.repeat)
         rec = time_ours(chain, steps, "recording", args.repeat)
         yade = time_yade(chain, steps) if have_yade else float("nan")
+        yade_single = time_yade(chain, steps, "single") if have_yade else float("nan")
 
         def make(_n, record, chain=chain):
             return chain.build(chain.resolve(None), record=record)[0]
@@ -122,6 +128,8 @@ def main(argv=None) -> int:
             "recording_overhead": rec / bare,
             "yade_engines_s": yade,
             "speedup_vs_yade": yade / bare,
+            "yade_single_wall_s": yade_single,
+            "speedup_vs_yade_single_wall": yade_single / bare,
             "us_detect": prof["us_detect"],
             "us_forces": prof["us_forces"],
             "us_integrate": prof["us_integrate"],

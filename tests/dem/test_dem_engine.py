@@ -161,11 +161,12 @@ def test_validate_displacement_bound_covers_every_member_sphere(seed, shift, ang
 def test_validate_results_independent_of_verlet_skin():
     """The skin changes only how often the list is rebuilt and how many inactive pairs it
     holds: inactive pairs contribute nothing and active ones keep their key order, so the
-    trajectory is bit-identical for skins from 0.1 to 3 sphere radii.  Between builds
+    trajectory is bit-identical for skins from 0.1 to 3 sphere radii, and with the
+    recorders on or off (on, the loop hands back to Python to grow its buffers).  Between builds
     the engine moves only the spheres of the list; after a run every sphere is placed."""
     final = []
-    for skin in (0.1 * R, 0.3 * R, 3.0 * R):
-        sim = _box_scene(n=60, damping=0.2, skin=skin)
+    for skin, record in ((0.1 * R, True), (0.3 * R, True), (3.0 * R, True), (0.3 * R, False)):
+        sim = _box_scene(n=60, damping=0.2, skin=skin, record_pairs=record)
         sim.run(until=0.05)
         final.append((sim.positions(), sim.sphere_positions(), sim.rec.n_rebuilds[0]))
         local = sim.spheres.local
@@ -176,6 +177,35 @@ def test_validate_results_independent_of_verlet_skin():
         np.testing.assert_array_equal(pos, final[0][0])
         np.testing.assert_array_equal(spheres, final[0][1])
     assert final[0][2] > final[1][2] > final[2][2]  # the skins did change the builds
+    # (the last run, without recorders, never hands back to Python before its first step)
+
+
+def test_validate_recorders_do_not_change_a_clump_trajectory():
+    """Toppling planar columns (clumps: member centres are placed from COM + R u, which
+    differ from the scene's given centres by round-off) give bit-identical trajectories
+    with the recorders on (the loop hands back to Python to grow its buffers, even before
+    the first step) and off."""
+    runs = []
+    for record in (True, False):
+        scene = Scene()
+        floor = scene.add_material(Material(density=RHO, kn=1e4, friction=0.3))
+        face = scene.add_material(Material(density=RHO, kn=1e4, friction=0.0))
+        scene.add_wall((0, 0, 0), (0, 0, 1), floor)
+        for c in range(4):
+            tilt = 0.3 if c % 2 == 0 else 0.0
+            scene.add_clump(
+                column(6, base=(0.04 * c, 0.0, R), tilt=tilt),
+                R,
+                [floor] + [face] * 5,
+                blocked="y rx rz",
+                angular_velocity=(0.0, 2.0 if c % 2 == 0 else 0.0, 0.0),
+            )
+        sim = scene.build(record_pairs=record)
+        sim.run(n_steps=4000)
+        runs.append(sim)
+    assert runs[0].rec.ev_n[0] > 0  # contacts were logged
+    np.testing.assert_array_equal(runs[0].bodies.pos, runs[1].bodies.pos)
+    np.testing.assert_array_equal(runs[0].bodies.omega, runs[1].bodies.omega)
 
 
 def test_event_log_sees_repeated_collisions_and_pair_stats():

@@ -383,7 +383,10 @@ class Simulation:
             done_total += done
             remaining -= done
             # the loop moves only the spheres of the Verlet list: place all for Python
-            update_sphere_positions(self.bodies, self.spheres)
+            # (not before the first step: the spheres still sit at the scene's centres,
+            # which the first step uses, and which differ from the placed ones by round-off)
+            if self.rec.step[0] > 0:
+                update_sphere_positions(self.bodies, self.spheres)
             if code in STOP_REASONS:
                 break
             if code >= engine.ABORT_NAN:
