@@ -125,6 +125,15 @@ def test_validate_secondary_wave_overtaking():
     assert sw2.overtakes and sw2.merged_pair == 23
 
 
+def test_no_secondary_wave_when_recontacts_run_backwards():
+    """Second contacts that run *against* the chain (dominoes toppling backwards onto their
+    predecessors, found at d/l = 0.8 with phi_f = 0.2) are no secondary wave, not an
+    error that aborts the run."""
+    x = np.arange(10, dtype=float)
+    second = 20.0 - x / 2.0  # later pairs re-contact earlier
+    assert secondary_wave(x, second, x) is None
+
+
 def test_no_secondary_wave_when_no_recontacts():
     first, second = first_and_second_onsets([[1.0], [2.0, 0.5], [3.0]])
     np.testing.assert_allclose(first, [1.0, 0.5, 3.0])

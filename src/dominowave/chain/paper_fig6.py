@@ -232,7 +232,10 @@ def summarise(rows: Iterable[dict]) -> list[dict]:
     for r in rows:
         groups.setdefault((r["config"], float(r["d_over_l"])), []).append(r)
     out = []
-    for (config, dl), rs in sorted(groups.items()):
+    for (config, dl), unordered in sorted(groups.items()):
+        # member order, not the workers' completion order: the sums are then reproducible
+        # to the last bit
+        rs = sorted(unordered, key=lambda r: int(r["member"]))
 
         def col(name, rs=rs):
             return np.array([float(r[name]) for r in rs])

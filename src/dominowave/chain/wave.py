@@ -436,7 +436,8 @@ def secondary_wave(
     -------
     SecondaryWave or None
         ``None`` if fewer than ``min_pairs`` contiguous pairs from the first pair
-        with a second contact had one (no secondary wave).
+        with a second contact had one, or if the first or second onsets of those pairs
+        do not advance along the chain (fitted slowness <= 0): no secondary wave.
     """
     check_in_range("merge_lag", merge_lag, 0.0, math.inf, lo_inclusive=True)
     check_in_range("min_pairs", min_pairs, 3, math.inf, lo_inclusive=True)
@@ -455,6 +456,11 @@ def secondary_wave(
     if i1 - i0 < min_pairs:
         return None
     pairs = np.arange(i0, i1)
+    for t in (t1, t2):
+        if not _fit_slowness(t[pairs], x[pairs])[0] > 0:
+            # the onsets do not run along the chain (e.g. dominoes falling backwards onto
+            # their predecessors re-contact them in reverse order): no wave to fit
+            return None
     primary = fit_speed(t1, x, i0, i1 - 1)
     secondary = fit_speed(t2, x, i0, i1 - 1)
     drift, drift_err = _linear_drift(lag[pairs])
