@@ -21,7 +21,6 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent / "workflow"))
 import workflow_helpers  # noqa: F401  (registers the steppable toy scenario)
 
-from dominowave.cli import main
 from dominowave.io.checkpoint import save_checkpoint
 
 GOOD = '[scenario]\nkind = "theory"\nn_dominoes = 6\nn_frames = 10\n'
@@ -199,16 +198,6 @@ def results(tmp_path_factory):
     return root
 
 
-def invoke(monkeypatch, capsys, *args) -> tuple[int, str]:
-    monkeypatch.setattr(sys, "argv", ["dominowave", *map(str, args)])
-    try:
-        main()
-        code = 0
-    except SystemExit as exc:
-        code = exc.code if isinstance(exc.code, int) else 1
-    return code, capsys.readouterr().err
-
-
 def check_one_line(code: int, err: str, fragments) -> None:
     assert code == 2, err
     lines = err.strip().splitlines()
@@ -222,36 +211,36 @@ def check_one_line(code: int, err: str, fragments) -> None:
 @pytest.mark.parametrize(
     ("text", "args", "fragments"), [c[1:] for c in STUDY_CASES], ids=[c[0] for c in STUDY_CASES]
 )
-def test_bad_study_or_option(text, args, fragments, results, tmp_path, monkeypatch, capsys):
+def test_bad_study_or_option(text, args, fragments, results, tmp_path, cli):
     before = tree_digest(results)
     study = tmp_path / "study.toml"
     study.write_text(text)
     command = args[0] if args else "run"
     for target in ("run", "sweep"):  # write into the existing results: must be refused or
         out = results / target  # fail before anything is written
-        code, err = invoke(monkeypatch, capsys, command, study, "--out", out, *args[1:])
+        code, _, err = cli(command, study, "--out", out, *args[1:])
         check_one_line(code, err, fragments)
     assert tree_digest(results) == before
 
 
-def test_unwritable_output_folder(results, tmp_path, monkeypatch, capsys):
+def test_unwritable_output_folder(results, tmp_path, cli):
     blocker = tmp_path / "a_file"
     blocker.write_text("x")
     study = tmp_path / "s.toml"
     study.write_text(GOOD + "[sweep.grid]\nspacing = [0.01]\n")
     for command in ("run", "sweep"):
-        code, err = invoke(monkeypatch, capsys, command, study, "--out", blocker / "out")
+        code, _, err = cli(command, study, "--out", blocker / "out")
         check_one_line(code, err, [str(blocker)])
         assert "is not a folder" in err or "is not writable (Not a directory)" in err
 
 
 @pytest.mark.skipif(os.geteuid() == 0, reason="root ignores folder permissions")
-def test_read_only_output_folder(tmp_path, monkeypatch, capsys):
+def test_read_only_output_folder(tmp_path, cli):
     ro = tmp_path / "ro"
     ro.mkdir(mode=0o555)
     study = tmp_path / "s.toml"
     study.write_text(GOOD)
-    code, err = invoke(monkeypatch, capsys, "run", study, "--out", ro / "out")
+    code, _, err = cli("run", study, "--out", ro / "out")
     check_one_line(code, err, ["not writable"])
 
 
@@ -292,17 +281,17 @@ def test_read_only_output_folder(tmp_path, monkeypatch, capsys):
     ],
     ids=lambda v: "-".join(v) if isinstance(v, list) and v and v[0].isalpha() else None,
 )
-def test_bad_arguments(args, fragments, results, tmp_path, monkeypatch, capsys):
+def test_bad_arguments(args, fragments, results, tmp_path, cli):
     before = tree_digest(results)
     args = [a.format(tmp=tmp_path, results=results) for a in args]
-    code, err = invoke(monkeypatch, capsys, *args)
+    code, _, err = cli(*args)
     check_one_line(code, err, [f.format(tmp=tmp_path, results=results) for f in fragments])
     assert tree_digest(results) == before
     assert not list(tmp_path.glob("*.gif")) and not list(tmp_path.glob("*.avi"))
 
 
 @pytest.mark.parametrize("damage", ["truncated", "tampered", "foreign"])
-def test_corrupt_checkpoint_is_refused_on_resume(damage, tmp_path, monkeypatch, capsys):
+def test_corrupt_checkpoint_is_refused_on_resume(damage, tmp_path, cli):
     study = tmp_path / "toy.toml"
     study.write_text('[scenario]\nkind = "toy_pendulums"\nn_steps = 200\n')
     out = tmp_path / "run"
@@ -328,7 +317,7 @@ def test_corrupt_checkpoint_is_refused_on_resume(damage, tmp_path, monkeypatch, 
         i = raw.index(b"\x00" * 8)  # inside the zero-filled theta array
         (ck / "state.npz").write_bytes(raw[:i] + b"\x01" + raw[i + 1 :])
     before = tree_digest(out)
-    code, err = invoke(monkeypatch, capsys, "resume", out)
+    code, _, err = cli("resume", out)
     check_one_line(code, err, ["checkpoint", str(ck / "state.npz")])
     assert tree_digest(out) == before
     assert not (out / "summary.json").exists()
