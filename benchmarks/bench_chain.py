@@ -16,6 +16,7 @@ identical scene and with the one-wall floor of earlier versions (faster in YADE)
 split of bench_engine.py (contact detection, forces, integration) on the chain's state.
 
 Run:  python benchmarks/bench_chain.py [--repeat 3] [--large-n 300]
+      python benchmarks/bench_chain.py --interleave 7   (alternating pairs, ratios only)
 YADE is skipped if not installed.
 """
 
@@ -91,12 +92,48 @@ def time_yade(chain: DominoChain, steps: int, floor: str = "per_radius") -> floa
     return float(compare_yade.run_yade(scene)["wall_time"])
 
 
+def interleaved(chain: DominoChain, steps: int, pairs: int) -> dict:
+    """``pairs`` engines-only runs of each code, alternating (ours, YADE identical scene):
+    the per-pair ratios do not suffer from the VM's speed drifting between blocks of runs."""
+    time_ours(chain, 100, "engines", 1)  # compile / warm up
+    ours, yade = [], []
+    for _ in range(pairs):
+        ours.append(time_ours(chain, steps, "engines", 1))
+        yade.append(time_yade(chain, steps))
+    ratios = np.array(yade) / np.array(ours)
+    return {
+        "n_dominoes": len(chain.positions),
+        "steps": steps,
+        "ours_s": ours,
+        "yade_s": yade,
+        "ratios": ratios.tolist(),
+        "median_ratio": float(np.median(ratios)),
+    }
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--large-n", type=int, default=300)
+    ap.add_argument(
+        "--interleave",
+        type=int,
+        default=0,
+        metavar="K",
+        help="only the interleaved comparison: K alternating pairs at N = 30 (full run) "
+        "and max(1, K // 2) at --large-n (first 40 000 steps)",
+    )
     args = ap.parse_args(argv)
     have_yade = shutil.which("yade") is not None
+    if args.interleave:
+        if not have_yade:
+            raise SystemExit("--interleave needs YADE (yade not found)")
+        paper = case(30)
+        steps = steps_to_last_collision(paper)
+        print(json.dumps(interleaved(paper, steps, args.interleave)), flush=True)
+        large = case(args.large_n)
+        print(json.dumps(interleaved(large, 40_000, max(1, args.interleave // 2))), flush=True)
+        return 0
     rows = []
     for name, n in (("paper", 30), ("large", args.large_n)):
         chain = case(n)
