@@ -76,8 +76,7 @@ def quat_to_matrix(quat, rot, b):
     """Rotation matrix ``rot[b]`` of the unit quaternion ``quat[b] = (w, x, y, z)``.
 
     The kernels index rows of the (nb, 4) / (nb, 3, 3) arrays instead of taking row
-    views: in numba a view costs an atomic reference-count pair, which dominated the
-    cost of a step before.
+    views: wherever numba's reference counting is on, a view costs an atomic pair.
     """
     w, x, y, z = quat[b, 0], quat[b, 1], quat[b, 2], quat[b, 3]
     rot[b, 0, 0] = 1.0 - 2.0 * (y * y + z * z)
