@@ -1,7 +1,8 @@
 """Large ensembles for phi_f comparison. Usage: python ens.py OUT.npz MEMBERS phi1,phi2 d1,d2
+Chain length: 30 dominoes, or the environment variable NDOM (60-domino study).
 Each member is built exactly as paper_fig6._run_one (push omega=sqrt(g/l)*(1+1e-3 N(0,1)),
 rng default_rng([0, member])), so members 0-7 are the docs' Fig 6 members."""
-import sys, time, pickle
+import os, sys, time, pickle
 import numpy as np
 from dominowave.chain.build import ChainParams
 from dominowave.chain.scenario import DominoChain
@@ -14,7 +15,7 @@ res = {}
 t0 = time.time()
 for d in dls:
     for phi in phis:
-        chain = DominoChain(ChainParams(n_dominoes=30, d_over_l=d, friction_floor=phi))
+        chain = DominoChain(ChainParams(n_dominoes=int(os.environ.get("NDOM", "30")), d_over_l=d, friction_floor=phi))
         base = chain.resolve(None)
         vs = (chain.params.g * chain.params.height) ** 0.5
         rows = []
