@@ -126,9 +126,9 @@ def _loop_rebuild(spheres, walls, bodies, mats, contacts, skin, n):
 
 
 @njit(cache=True, _nrt=False)
-def _loop_forces(bodies, spheres, walls, contacts, dt, ledger, changes, n, work):
+def _loop_forces(bodies, spheres, walls, contacts, dt, ledger, changes, n):
     for _ in range(n):
-        compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, False, work)
+        compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, False)
 
 
 @njit(cache=True, _nrt=False)
@@ -178,17 +178,16 @@ def measure(make, n, steps, repeat):
     s = sim.settings
     b, sp, c = copy.deepcopy(sim.bodies), copy.deepcopy(sim.spheres), copy.deepcopy(sim.contacts)
     ledger = np.zeros(3)
-    work = np.empty((8, 3))
     # compile / load each phase loop before timing it
     _loop_detection(sp, sim.walls, b, sim.mats, c, s.skin, 1)
     _loop_rebuild(sp, sim.walls, b, sim.mats, c, s.skin, 1)
-    _loop_forces(b, sp, sim.walls, c, s.dt, ledger, sim.rec.changes, 1, work)
+    _loop_forces(b, sp, sim.walls, c, s.dt, ledger, sim.rec.changes, 1)
     _loop_integration(b, sp, s.gravity, s.dt, s.damping, 1)
     check = timed(lambda: _loop_detection(sp, sim.walls, b, sim.mats, c, s.skin, steps), repeat)
     n_build = max(1, steps // 50)
     build = timed(lambda: _loop_rebuild(sp, sim.walls, b, sim.mats, c, s.skin, n_build), repeat)
     forces = timed(
-        lambda: _loop_forces(b, sp, sim.walls, c, s.dt, ledger, sim.rec.changes, steps, work),
+        lambda: _loop_forces(b, sp, sim.walls, c, s.dt, ledger, sim.rec.changes, steps),
         repeat,
     )
     integ = timed(lambda: _loop_integration(b, sp, s.gravity, s.dt, s.damping, steps), repeat)

@@ -184,13 +184,13 @@ def _candidate_pairs(spheres, walls, skin):
         for d in range(3):
             ncell[d] = max(1, ncell[d] // 2)
         total = ncell[0] * ncell[1] * ncell[2]
-    width = np.empty(3)
+    inv_width = np.empty(3)
     for d in range(3):
-        width[d] = max((hi[d] - lo[d]) / ncell[d], 1e-300)
+        inv_width[d] = 1.0 / max((hi[d] - lo[d]) / ncell[d], 1e-300)
     head = -np.ones(total, np.int64)
     nxt = -np.ones(ns, np.int64)
     cidx = np.empty((ns, 3), np.int64)
-    _bin_spheres(pos, lo, width, ncell, head, nxt, cidx)
+    _bin_spheres(pos, lo, inv_width, ncell, head, nxt, cidx)
     keys = np.empty(16 * ns + 16, np.int64)
     n = _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys)
     while n < 0:  # keys too short: the scan wrote nothing that counts, redo with room
@@ -207,12 +207,12 @@ def _candidate_pairs(spheres, walls, skin):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _bin_spheres(pos, lo, width, ncell, head, nxt, cidx):
+def _bin_spheres(pos, lo, inv_width, ncell, head, nxt, cidx):
     """Linked lists of the spheres in each cell: ``head[cell]`` -> ``nxt[s]`` -> ...;
     ``cidx[s]`` the (3,) cell index of sphere s."""
     for s in range(pos.shape[0]):
         for d in range(3):
-            c = int((pos[s, d] - lo[d]) / width[d])
+            c = int((pos[s, d] - lo[d]) * inv_width[d])
             cidx[s, d] = min(max(c, 0), ncell[d] - 1)
         flat = (cidx[s, 0] * ncell[1] + cidx[s, 1]) * ncell[2] + cidx[s, 2]
         nxt[s] = head[flat]
@@ -222,7 +222,12 @@ def _bin_spheres(pos, lo, width, ncell, head, nxt, cidx):
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys):
     """Write the keys of all pairs closer than the skin into ``keys``; return their number,
-    or -1 if ``keys`` is too short."""
+    or -1 if ``keys`` is too short.
+
+    Half shell: sphere s meets the spheres after it in its own cell and all spheres of the
+    13 neighbour cells whose offset is lexicographically positive, so that every pair of
+    neighbouring cells is visited once, from one side.
+    """
     pos, radius, body = spheres.pos, spheres.radius, spheres.body
     wall_point, wall_normal = walls.point, walls.normal
     ns = pos.shape[0]
@@ -231,21 +236,22 @@ def _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys):
     capacity = keys.shape[0]
     n = 0
     for s in range(ns):
-        for ox in range(-1, 2):
+        for ox in range(0, 2):
             cx = cidx[s, 0] + ox
-            if cx < 0 or cx >= ncell[0]:
+            if cx >= ncell[0]:
                 continue
-            for oy in range(-1, 2):
+            for oy in range(-1 if ox else 0, 2):
                 cy = cidx[s, 1] + oy
                 if cy < 0 or cy >= ncell[1]:
                     continue
-                for oz in range(-1, 2):
+                for oz in range(-1 if ox or oy else 0, 2):
                     cz = cidx[s, 2] + oz
                     if cz < 0 or cz >= ncell[2]:
                         continue
+                    own = ox == 0 and oy == 0 and oz == 0
                     t = head[(cx * ncell[1] + cy) * ncell[2] + cz]
                     while t >= 0:
-                        if t > s and body[t] != body[s]:
+                        if (t > s or not own) and body[t] != body[s]:
                             dx = pos[t, 0] - pos[s, 0]
                             dy = pos[t, 1] - pos[s, 1]
                             dz = pos[t, 2] - pos[s, 2]
@@ -253,7 +259,7 @@ def _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys):
                             if dx * dx + dy * dy + dz * dz < reach * reach:
                                 if n == capacity:
                                     return -1
-                                keys[n] = s * stride + t
+                                keys[n] = min(s, t) * stride + max(s, t)
                                 n += 1
                         t = nxt[t]
         for w in range(nw):
@@ -275,32 +281,61 @@ def build_verlet_list(spheres, walls, bodies, mats, contacts, skin):
     Returns the number of pairs, or ``-needed`` if the contact arrays are too short (the
     caller grows them and calls again; nothing has been changed then).
     """
-    ns = spheres.pos.shape[0]
-    nw = walls.point.shape[0]
-    stride = ns + nw
     keys = _candidate_pairs(spheres, walls, skin)
     n_new = keys.shape[0]
     if n_new > contacts.i.shape[0]:
         return -n_new
-    n_old = contacts.n[0]
-    old_key = np.empty(max(n_old, 0), np.int64)
-    old_active = np.empty(max(n_old, 0), np.uint8)
-    old_shear = np.empty((max(n_old, 0), 3))
-    old_state = np.empty((max(n_old, 0), 4))  # overlap, vn, fn, fn_viscous
+    n_old = max(contacts.n[0], 0)
+    _merge_history(
+        spheres,
+        walls,
+        bodies,
+        mats,
+        contacts,
+        keys,
+        np.empty(n_old, np.int64),
+        np.empty(n_old, np.uint8),
+        np.empty((n_old, 11)),
+        np.empty(4),
+    )
+    _list_spheres(spheres, contacts, np.zeros(spheres.pos.shape[0], np.uint8))
+    for b in range(bodies.mass.shape[0]):
+        for d in range(3):
+            bodies.pos_at_build[b, d] = bodies.pos[b, d]
+        for d in range(4):
+            bodies.quat_at_build[b, d] = bodies.quat[b, d]
+    return n_new
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _merge_history(spheres, walls, bodies, mats, contacts, keys, old_key, old_active, old, props):
+    """Write the pairs ``keys`` (sorted) into ``contacts``; a pair that was listed before
+    keeps its whole history, a new one starts inactive with its properties computed.
+
+    Scratch arrays (allocated by the caller, as this loop runs without numba's reference
+    counting): ``old_key`` (n_old,), ``old_active`` (n_old,), ``old`` (n_old, 11) =
+    shear(3), overlap, vn, fn, fn_viscous, kn, kt, mu, cn; ``props`` (4,).
+    """
+    ns = spheres.pos.shape[0]
+    stride = ns + walls.point.shape[0]
+    n_old = old_key.shape[0]
     for c in range(n_old):
         j = contacts.j[c]
         jj = j if j >= 0 else ns - j - 1
         old_key[c] = contacts.i[c] * stride + jj
         old_active[c] = contacts.active[c]
         for d in range(3):
-            old_shear[c, d] = contacts.shear[c, d]
-        old_state[c, 0] = contacts.overlap[c]
-        old_state[c, 1] = contacts.vn[c]
-        old_state[c, 2] = contacts.fn[c]
-        old_state[c, 3] = contacts.fn_viscous[c]
-    props = np.empty(4)
+            old[c, d] = contacts.shear[c, d]
+        old[c, 3] = contacts.overlap[c]
+        old[c, 4] = contacts.vn[c]
+        old[c, 5] = contacts.fn[c]
+        old[c, 6] = contacts.fn_viscous[c]
+        old[c, 7] = contacts.kn[c]
+        old[c, 8] = contacts.kt[c]
+        old[c, 9] = contacts.mu[c]
+        old[c, 10] = contacts.cn[c]
     o = 0
-    for c in range(n_new):
+    for c in range(keys.shape[0]):
         k = keys[c]
         i = k // stride
         jj = k - i * stride
@@ -311,46 +346,42 @@ def build_verlet_list(spheres, walls, bodies, mats, contacts, skin):
             o += 1  # old pairs now out of range: their contacts have ended already
         if o < n_old and old_key[o] == k:
             # the whole history: the dashpot extrapolates vn, an ending contact needs
-            # its last overlap (end_impulse)
+            # its last overlap (end_impulse); the properties of a pair never change
             contacts.active[c] = old_active[o]
             for d in range(3):
-                contacts.shear[c, d] = old_shear[o, d]
-            contacts.overlap[c] = old_state[o, 0]
-            contacts.vn[c] = old_state[o, 1]
-            contacts.fn[c] = old_state[o, 2]
-            contacts.fn_viscous[c] = old_state[o, 3]
+                contacts.shear[c, d] = old[o, d]
+            contacts.overlap[c] = old[o, 3]
+            contacts.vn[c] = old[o, 4]
+            contacts.fn[c] = old[o, 5]
+            contacts.fn_viscous[c] = old[o, 6]
+            contacts.kn[c] = old[o, 7]
+            contacts.kt[c] = old[o, 8]
+            contacts.mu[c] = old[o, 9]
+            contacts.cn[c] = old[o, 10]
         else:
             contacts.active[c] = 0
             for d in range(3):
                 contacts.shear[c, d] = 0.0
             contacts.fn_viscous[c] = 0.0
-        pair_properties(i, j, spheres, walls, bodies, mats, props)
-        contacts.kn[c] = props[0]
-        contacts.kt[c] = props[1]
-        contacts.mu[c] = props[2]
-        contacts.cn[c] = props[3]
-    contacts.n[0] = n_new
-    _list_spheres(spheres, contacts)
-    for b in range(bodies.mass.shape[0]):
-        for d in range(3):
-            bodies.pos_at_build[b, d] = bodies.pos[b, d]
-        for d in range(4):
-            bodies.quat_at_build[b, d] = bodies.quat[b, d]
-    return n_new
+            pair_properties(i, j, spheres, walls, bodies, mats, props)
+            contacts.kn[c] = props[0]
+            contacts.kt[c] = props[1]
+            contacts.mu[c] = props[2]
+            contacts.cn[c] = props[3]
+    contacts.n[0] = keys.shape[0]
 
 
-@njit(cache=True, error_model="numpy")
-def _list_spheres(spheres, contacts):
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _list_spheres(spheres, contacts, seen):
     """``spheres.listed``: the spheres of the Verlet list, the only ones whose positions
-    the contact kernels read until the next build (the engine updates just these)."""
-    ns = spheres.pos.shape[0]
-    seen = np.zeros(ns, np.uint8)
+    the contact kernels read until the next build (the engine updates just these).
+    ``seen``: (ns,) zeroed scratch."""
     for c in range(contacts.n[0]):
         seen[contacts.i[c]] = 1
         if contacts.j[c] >= 0:
             seen[contacts.j[c]] = 1
     k = 0
-    for s in range(ns):
+    for s in range(spheres.pos.shape[0]):
         if seen[s]:
             spheres.listed[k] = s
             k += 1
@@ -361,21 +392,24 @@ def _list_spheres(spheres, contacts):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def rotate_shear(shear, c, n, spin):
-    """Carry the shear displacement ``shear[c]`` into the new tangent plane (norm kept),
-    then turn it about ``n`` by the angle ``spin`` [rad] (mean rotation of the two bodies
-    about n).  ``shear``: (C, 3), row ``c`` changed in place (rows are indexed, not taken
-    as views: a view costs numba an atomic reference-count pair)."""
-    old = math.sqrt(shear[c, 0] ** 2 + shear[c, 1] ** 2 + shear[c, 2] ** 2)
-    if old == 0.0:
-        return
-    un = shear[c, 0] * n[0] + shear[c, 1] * n[1] + shear[c, 2] * n[2]
-    for d in range(3):
-        shear[c, d] -= un * n[d]
-    new = math.sqrt(shear[c, 0] ** 2 + shear[c, 1] ** 2 + shear[c, 2] ** 2)
-    if new > 0.0:
-        for d in range(3):
-            shear[c, d] *= old / new
+def rotate_shear(shear, c, n0, n1, n2, spin):
+    """Carry the shear displacement ``shear[c]`` into the new tangent plane (normal
+    ``(n0, n1, n2)``, norm kept), then turn it about the normal by the angle ``spin`` [rad]
+    (mean rotation of the two bodies about it).  ``shear``: (C, 3), row ``c`` changed in
+    place."""
+    u0, u1, u2 = shear[c, 0], shear[c, 1], shear[c, 2]
+    un = u0 * n0 + u1 * n1 + u2 * n2
+    if un != 0.0:  # (a wall contact's shear stays exactly in its fixed plane: un == 0)
+        old2 = u0 * u0 + u1 * u1 + u2 * u2
+        u0 -= un * n0
+        u1 -= un * n1
+        u2 -= un * n2
+        new2 = u0 * u0 + u1 * u1 + u2 * u2
+        if new2 > 0.0:
+            scale = math.sqrt(old2 / new2)
+            u0 *= scale
+            u1 *= scale
+            u2 *= scale
     if spin != 0.0:
         # Rodrigues for a vector perpendicular to n: u cos + (n x u) sin, with the Cayley
         # (rational) cos/sin of the small angle: an exact rotation (norm kept) by
@@ -383,12 +417,15 @@ def rotate_shear(shear, c, n, spin):
         h = 0.25 * spin * spin
         cos_ = (1.0 - h) / (1.0 + h)
         sin_ = spin / (1.0 + h)
-        x = n[1] * shear[c, 2] - n[2] * shear[c, 1]
-        y = n[2] * shear[c, 0] - n[0] * shear[c, 2]
-        z = n[0] * shear[c, 1] - n[1] * shear[c, 0]
-        shear[c, 0] = shear[c, 0] * cos_ + x * sin_
-        shear[c, 1] = shear[c, 1] * cos_ + y * sin_
-        shear[c, 2] = shear[c, 2] * cos_ + z * sin_
+        x = n1 * u2 - n2 * u1
+        y = n2 * u0 - n0 * u2
+        z = n0 * u1 - n1 * u0
+        u0 = u0 * cos_ + x * sin_
+        u1 = u1 * cos_ + y * sin_
+        u2 = u2 * cos_ + z * sin_
+    shear[c, 0] = u0
+    shear[c, 1] = u1
+    shear[c, 2] = u2
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -437,61 +474,73 @@ def end_impulse(last_overlap, gap, kn, cn, dt):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def cundall_strack(shear, c, kt, mu, fn_elastic, out_force):
-    """Tangential force ``-kt u_s`` with Coulomb limit ``mu fn_elastic``.
+def cundall_strack(shear, c, kt, mu, fn_elastic):
+    """Tangential force ``-kt u_s`` [N] on partner j, with Coulomb limit ``mu fn_elastic``.
 
     ``shear[c]`` (row c of a (C, 3) array) is the trial displacement ``t`` (last step's
     displacement carried into the new tangent plane plus this step's tangential
     increment); on sliding it is shortened in place to ``b = t limit / |t|`` (YADE's
-    Law2_ScGeom_FrictPhys_CundallStrack).  Writes the force on partner j into ``out_force``.
+    Law2_ScGeom_FrictPhys_CundallStrack).  Returns the force as three components.
 
     The energy this removes is booked by the driver as the work of the tangential forces
     that is not stored in the springs (see :func:`contact_power`), not as YADE's plastic
     work ``(|t| - |b|) kt |b|`` per step: the latter pairs the force of one instant with a
     displacement over the step and lets the balance drift at first order in dt.
     """
-    tt = shear[c, 0] * shear[c, 0] + shear[c, 1] * shear[c, 1] + shear[c, 2] * shear[c, 2]
-    trial = kt * math.sqrt(tt)
-    limit = mu * fn_elastic
-    if trial > limit:
-        s = limit / trial
-        for d in range(3):
-            shear[c, d] *= s
-    for d in range(3):
-        out_force[d] = -kt * shear[c, d]
+    u0, u1, u2 = shear[c, 0], shear[c, 1], shear[c, 2]
+    tt = u0 * u0 + u1 * u1 + u2 * u2
+    limit = mu * fn_elastic  # (>= 0)
+    if kt * kt * tt > limit * limit:  # |trial force| > limit, without a sqrt when sticking
+        s = limit / (kt * math.sqrt(tt))
+        u0 *= s
+        u1 *= s
+        u2 *= s
+        shear[c, 0] = u0
+        shear[c, 1] = u1
+        shear[c, 2] = u2
+    return -kt * u0, -kt * u1, -kt * u2
+
+
+# The per-contact helpers pass vectors as scalar triples: kept in registers, whereas
+# through a scratch array every component is a store and a reload (the compiler cannot
+# rule out that the scratch array aliases the state arrays it reads).
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _point_velocity(pos, vel, omega, b, point, out):
-    """Velocity of the material point ``point`` of body b: v + omega x (point - x).
+def _point_velocity(pos, vel, omega, b, p0, p1, p2):
+    """Velocity of the material point ``p`` of body b: v + omega x (p - x).
 
     ``vel``/``omega`` are the body velocities to use: the half-step ones for the
     contact law, the full-step ones for the energy ledger.
     """
-    rx = point[0] - pos[b, 0]
-    ry = point[1] - pos[b, 1]
-    rz = point[2] - pos[b, 2]
-    out[0] = vel[b, 0] + omega[b, 1] * rz - omega[b, 2] * ry
-    out[1] = vel[b, 1] + omega[b, 2] * rx - omega[b, 0] * rz
-    out[2] = vel[b, 2] + omega[b, 0] * ry - omega[b, 1] * rx
+    rx = p0 - pos[b, 0]
+    ry = p1 - pos[b, 1]
+    rz = p2 - pos[b, 2]
+    return (
+        vel[b, 0] + omega[b, 1] * rz - omega[b, 2] * ry,
+        vel[b, 1] + omega[b, 2] * rx - omega[b, 0] * rz,
+        vel[b, 2] + omega[b, 0] * ry - omega[b, 1] * rx,
+    )
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _apply(bodies, b, point, f, sign):
-    bodies.force[b, 0] += sign * f[0]
-    bodies.force[b, 1] += sign * f[1]
-    bodies.force[b, 2] += sign * f[2]
-    rx = point[0] - bodies.pos[b, 0]
-    ry = point[1] - bodies.pos[b, 1]
-    rz = point[2] - bodies.pos[b, 2]
-    bodies.torque[b, 0] += sign * (ry * f[2] - rz * f[1])
-    bodies.torque[b, 1] += sign * (rz * f[0] - rx * f[2])
-    bodies.torque[b, 2] += sign * (rx * f[1] - ry * f[0])
+def _apply(bodies, b, p0, p1, p2, f0, f1, f2, sign):
+    """Add ``sign f`` acting at point ``p`` to the force and torque of body b."""
+    bodies.force[b, 0] += sign * f0
+    bodies.force[b, 1] += sign * f1
+    bodies.force[b, 2] += sign * f2
+    rx = p0 - bodies.pos[b, 0]
+    ry = p1 - bodies.pos[b, 1]
+    rz = p2 - bodies.pos[b, 2]
+    bodies.torque[b, 0] += sign * (ry * f2 - rz * f1)
+    bodies.torque[b, 1] += sign * (rz * f0 - rx * f2)
+    bodies.torque[b, 2] += sign * (rx * f1 - ry * f0)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _separate(bodies, spheres, contacts, c, bi, bj, n, gap, dt, point, f):
-    """End contact c at the first step without overlap (``gap <= 0``, normal ``n``).
+def _separate(bodies, contacts, c, bi, bj, n0, n1, n2, gap, dt, p0, p1, p2):
+    """End contact c at the first step without overlap (``gap <= 0``, normal ``n``, contact
+    point ``p``).
 
     Applies the impulse the last kick in contact missed (:func:`end_impulse`) and keeps
     ``overlap = gap`` and ``vn`` = the separation speed of the last drift, from which the
@@ -505,12 +554,12 @@ def _separate(bodies, spheres, contacts, c, bi, bj, n, gap, dt, point, f):
     contacts.fn_viscous[c] = f_viscous
     contacts.vn[c] = (last - gap) / dt
     contacts.overlap[c] = gap
-    if f_elastic + f_viscous != 0.0:
-        for d in range(3):
-            f[d] = (f_elastic + f_viscous) * n[d]
+    fn = f_elastic + f_viscous
+    if fn != 0.0:
+        f0, f1, f2 = fn * n0, fn * n1, fn * n2
         if bj >= 0:
-            _apply(bodies, bj, point, f, 1.0)
-        _apply(bodies, bi, point, f, -1.0)
+            _apply(bodies, bj, p0, p1, p2, f0, f1, f2, 1.0)
+        _apply(bodies, bi, p0, p1, p2, f0, f1, f2, -1.0)
     u = contacts.shear
     released = 0.5 * contacts.kt[c] * (u[c, 0] * u[c, 0] + u[c, 1] * u[c, 1] + u[c, 2] * u[c, 2])
     contacts.active[c] = 0
@@ -520,7 +569,7 @@ def _separate(bodies, spheres, contacts, c, bi, bj, n, gap, dt, point, f):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_step, work):
+def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_step):
     """Contact forces and torques on all bodies for the current positions.
 
     ``ledger[0]`` -= change of the energy stored in the tangential springs (the work of
@@ -528,16 +577,10 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
     :func:`contact_power` with the full-step velocities).  Every contact that
     starts or ends is appended to ``changes`` as ``(c, kind)`` rows; returns their count.
     ``first_step``: the initial configuration, no shear increment (no previous step).
-    ``work``: (6, 3) scratch array, preallocated by the caller (no allocation per step).
     """
     bodies.force[:, :] = 0.0
     bodies.torque[:, :] = 0.0
-    n = work[0]
-    point = work[1]
-    vi = work[2]
-    vj = work[3]
-    fs = work[4]
-    f = work[5]
+    pos = spheres.pos
     n_changes = 0
     for c in range(contacts.n[0]):
         i = contacts.i[c]
@@ -546,9 +589,9 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
         Ri = spheres.radius[i]
         if j >= 0:
             bj = spheres.body[j]
-            dx = spheres.pos[j, 0] - spheres.pos[i, 0]
-            dy = spheres.pos[j, 1] - spheres.pos[i, 1]
-            dz = spheres.pos[j, 2] - spheres.pos[i, 2]
+            dx = pos[j, 0] - pos[i, 0]
+            dy = pos[j, 1] - pos[i, 1]
+            dz = pos[j, 2] - pos[i, 2]
             rsum = Ri + spheres.radius[j]
             d2 = dx * dx + dy * dy + dz * dz
             if d2 >= rsum * rsum and not contacts.active[c]:
@@ -556,28 +599,27 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
                     contacts.fn_viscous[c] = 0.0
                 continue
             dist = math.sqrt(d2)
-            n[0] = dx / dist
-            n[1] = dy / dist
-            n[2] = dz / dist
+            inv_dist = 1.0 / dist  # (one division per normal)
+            n0, n1, n2 = dx * inv_dist, dy * inv_dist, dz * inv_dist
             overlap = rsum - dist
         else:
             bj = -1
             w = -j - 1
-            dist = 0.0
-            for d in range(3):
-                dist += (spheres.pos[i, d] - walls.point[w, d]) * walls.normal[w, d]
+            wn0, wn1, wn2 = walls.normal[w, 0], walls.normal[w, 1], walls.normal[w, 2]
+            dist = (pos[i, 0] - walls.point[w, 0]) * wn0
+            dist += (pos[i, 1] - walls.point[w, 1]) * wn1
+            dist += (pos[i, 2] - walls.point[w, 2]) * wn2
             if dist >= Ri and not contacts.active[c]:
                 if contacts.fn_viscous[c] != 0.0:
                     contacts.fn_viscous[c] = 0.0
                 continue
-            for d in range(3):
-                n[d] = -walls.normal[w, d]
+            n0, n1, n2 = -wn0, -wn1, -wn2
             overlap = Ri - dist
         # contact point midway through the overlap (as YADE's ScGeom)
-        for d in range(3):
-            point[d] = spheres.pos[i, d] + (Ri - 0.5 * overlap) * n[d]
+        reach = Ri - 0.5 * overlap
+        p0, p1, p2 = pos[i, 0] + reach * n0, pos[i, 1] + reach * n1, pos[i, 2] + reach * n2
         if overlap <= 0.0:  # an active contact opened in the last drift
-            ledger[0] += _separate(bodies, spheres, contacts, c, bi, bj, n, overlap, dt, point, f)
+            ledger[0] += _separate(bodies, contacts, c, bi, bj, n0, n1, n2, overlap, dt, p0, p1, p2)
             changes[n_changes, 0] = c
             changes[n_changes, 1] = END
             n_changes += 1
@@ -590,30 +632,33 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
             changes[n_changes, 0] = c
             changes[n_changes, 1] = ONSET
             n_changes += 1
-        _point_velocity(bodies.pos, bodies.vel, bodies.omega, bi, point, vi)
-        spin = 0.0
+        # relative velocity of the contact point, j minus i (a wall is fixed)
+        vi0, vi1, vi2 = _point_velocity(bodies.pos, bodies.vel, bodies.omega, bi, p0, p1, p2)
+        om = bodies.omega
         if bj >= 0:
-            _point_velocity(bodies.pos, bodies.vel, bodies.omega, bj, point, vj)
-            for d in range(3):
-                spin += 0.5 * n[d] * (bodies.omega[bi, d] + bodies.omega[bj, d])
+            vj0, vj1, vj2 = _point_velocity(bodies.pos, bodies.vel, om, bj, p0, p1, p2)
+            spin = 0.5 * n0 * (om[bi, 0] + om[bj, 0])
+            spin += 0.5 * n1 * (om[bi, 1] + om[bj, 1])
+            spin += 0.5 * n2 * (om[bi, 2] + om[bj, 2])
         else:
-            for d in range(3):
-                vj[d] = 0.0  # walls are fixed
-                spin += 0.5 * n[d] * bodies.omega[bi, d]
-        vn = 0.0
-        for d in range(3):
-            vn += (vj[d] - vi[d]) * n[d]
+            vj0 = vj1 = vj2 = 0.0
+            spin = 0.5 * n0 * om[bi, 0]
+            spin += 0.5 * n1 * om[bi, 1]
+            spin += 0.5 * n2 * om[bi, 2]
+        dv0, dv1, dv2 = vj0 - vi0, vj1 - vi1, vj2 - vi2
+        vn = dv0 * n0 + dv1 * n1 + dv2 * n2
         # tangential: rotate history, add the tangential relative displacement of this step
         shear = contacts.shear
         stored = shear[c, 0] * shear[c, 0] + shear[c, 1] * shear[c, 1] + shear[c, 2] * shear[c, 2]
-        rotate_shear(shear, c, n, spin * dt)
+        rotate_shear(shear, c, n0, n1, n2, spin * dt)
         # (none at the first step: the initial positions have no previous step)
         increment = 0.0 if first_step else dt
-        for d in range(3):
-            shear[c, d] += (vj[d] - vi[d] - vn * n[d]) * increment
+        shear[c, 0] += (dv0 - vn * n0) * increment
+        shear[c, 1] += (dv1 - vn * n1) * increment
+        shear[c, 2] += (dv2 - vn * n2) * increment
         weight, overlap_kick = onset_averaged_overlap(overlap, vn, dt, new_contact)
         fn_elastic = contacts.kn[c] * overlap_kick
-        cundall_strack(shear, c, contacts.kt[c], contacts.mu[c], fn_elastic, fs)
+        fs0, fs1, fs2 = cundall_strack(shear, c, contacts.kt[c], contacts.mu[c], fn_elastic)
         # friction ledger, part 1: minus the change of the energy stored in the spring
         stored -= shear[c, 0] * shear[c, 0] + shear[c, 1] * shear[c, 1] + shear[c, 2] * shear[c, 2]
         ledger[0] += 0.5 * contacts.kt[c] * stored
@@ -625,16 +670,15 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
         contacts.overlap[c] = overlap
         contacts.fn[c] = fn
         contacts.fn_viscous[c] = fn_viscous
-        for d in range(3):
-            f[d] = fn * n[d] + fs[d]
+        f0, f1, f2 = fn * n0 + fs0, fn * n1 + fs1, fn * n2 + fs2
         if bj >= 0:
-            _apply(bodies, bj, point, f, 1.0)
-        _apply(bodies, bi, point, f, -1.0)
+            _apply(bodies, bj, p0, p1, p2, f0, f1, f2, 1.0)
+        _apply(bodies, bi, p0, p1, p2, f0, f1, f2, -1.0)
     return n_changes
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def contact_power(bodies, spheres, walls, contacts, out, work):
+def contact_power(bodies, spheres, walls, contacts, out):
     """Power [W] at t_n of the dashpot forces (``out[0]``) and of the tangential forces
     (``out[1]``) on the bodies: ``F . v_rel`` with the full-step relative velocity of the
     contact point (``v_n``, the velocity in which the kinetic-energy change of velocity
@@ -646,12 +690,8 @@ def contact_power(bodies, spheres, walls, contacts, out, work):
     The dashpot force is ``contacts.fn_viscous`` (including the dashpot part of an end
     impulse, :func:`end_impulse`).  The elastic onset/end corrections are part of the
     elastic force and are not booked, for elastic and viscous materials alike.
-    ``work``: (>= 4, 3) scratch array.
     """
-    n = work[0]
-    point = work[1]
-    vi = work[2]
-    vj = work[3]
+    pos = spheres.pos
     p_viscous = 0.0
     p_friction = 0.0
     for c in range(contacts.n[0]):
@@ -663,31 +703,26 @@ def contact_power(bodies, spheres, walls, contacts, out, work):
         j = contacts.j[c]
         bi = spheres.body[i]
         if j >= 0:
-            dist = 0.0
-            for d in range(3):
-                n[d] = spheres.pos[j, d] - spheres.pos[i, d]
-                dist += n[d] * n[d]
-            dist = math.sqrt(dist)
-            for d in range(3):
-                n[d] /= dist
+            dx = pos[j, 0] - pos[i, 0]
+            dy = pos[j, 1] - pos[i, 1]
+            dz = pos[j, 2] - pos[i, 2]
+            dist = math.sqrt(dx * dx + dy * dy + dz * dz)
+            n0, n1, n2 = dx / dist, dy / dist, dz / dist
         else:
-            for d in range(3):
-                n[d] = -walls.normal[-j - 1, d]
-        for d in range(3):
-            point[d] = spheres.pos[i, d] + (spheres.radius[i] - 0.5 * contacts.overlap[c]) * n[d]
-        _point_velocity(bodies.pos, bodies.vel_full, bodies.omega_full, bi, point, vi)
+            w = -j - 1
+            n0, n1, n2 = -walls.normal[w, 0], -walls.normal[w, 1], -walls.normal[w, 2]
+        reach = spheres.radius[i] - 0.5 * contacts.overlap[c]
+        p0, p1, p2 = pos[i, 0] + reach * n0, pos[i, 1] + reach * n1, pos[i, 2] + reach * n2
+        vel, omega = bodies.vel_full, bodies.omega_full
+        vi0, vi1, vi2 = _point_velocity(bodies.pos, vel, omega, bi, p0, p1, p2)
         if j >= 0:
-            _point_velocity(
-                bodies.pos, bodies.vel_full, bodies.omega_full, spheres.body[j], point, vj
-            )
+            vj0, vj1, vj2 = _point_velocity(bodies.pos, vel, omega, spheres.body[j], p0, p1, p2)
         else:
-            for d in range(3):
-                vj[d] = 0.0
+            vj0 = vj1 = vj2 = 0.0
         kt = contacts.kt[c]
-        for d in range(3):
-            dv = vj[d] - vi[d]
-            p_viscous += fd * n[d] * dv
-            p_friction -= kt * u[c, d] * dv
+        dv0, dv1, dv2 = vj0 - vi0, vj1 - vi1, vj2 - vi2
+        p_viscous += fd * (n0 * dv0 + n1 * dv1 + n2 * dv2)
+        p_friction -= kt * (u[c, 0] * dv0 + u[c, 1] * dv1 + u[c, 2] * dv2)
     out[0] = p_viscous
     out[1] = p_friction
 

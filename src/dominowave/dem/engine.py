@@ -33,6 +33,7 @@ from dominowave.dem.energy import energies, kinetic_energy
 from dominowave.dem.integrate import (
     drift,
     kick,
+    kick_drift,
     update_listed_sphere_positions,
     update_sphere_positions,
 )
@@ -344,51 +345,59 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
                 return GROW_CONTACTS, done
             rec.n_rebuilds[0] += 1
         n_changes = compute_forces(
-            bodies, spheres, walls, contacts, dt, rec.ledger, rec.changes, step == 0, work
+            bodies, spheres, walls, contacts, dt, rec.ledger, rec.changes, step == 0
         )
         if n_changes > 0:
             _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, step == 0)
         if settings.record_peak_force:
             _record_peak_force(spheres, contacts, rec)
-        p_damping = kick(bodies, settings.gravity, dt, settings.damping, settings.damp_gravity)
-        if settings.track_energy:
-            contact_power(bodies, spheres, walls, contacts, p_contacts, work)
-            # trapezoidal rule for the work of the non-conservative forces since t_{n-1}
-            if step > 0:
-                rec.ledger[1] -= 0.5 * dt * (rec.power[0] + p_contacts[0])
-                rec.ledger[2] -= 0.5 * dt * (rec.power[1] + p_damping)
-                rec.ledger[0] -= 0.5 * dt * (rec.power[2] + p_contacts[1])
-            rec.power[0] = p_contacts[0]
-            rec.power[1] = p_damping
-            rec.power[2] = p_contacts[1]
-        if forces_due:  # (before _record_frame: the frame index is traj_n)
-            _record_contact_forces(spheres, walls, contacts, rec)
-        if traj_due:
-            _record_frame(bodies, rec, t)
-        if energy_due:
-            g = rec.energy_n[0]
-            rec.energy_t[g] = t
-            energies(bodies, contacts, settings.gravity, rec.ledger, rec.energy_val[g])
-            rec.energy_n[0] = g + 1
-        # stop conditions and sanity checks, all at t_n, before the drift
+        # stop conditions, decided at t_n
         code = -1
         if touched_body >= 0 and rec.touched[touched_body]:
             code = STOP_TOUCHED
         elif t + dt - max(rec.last_onset[0], stop[3]) >= stop[0]:
             code = STOP_NO_ONSET
-        if (step + 1) % settings.check_every == 0 or last or code >= 0:
-            energies(bodies, contacts, settings.gravity, rec.ledger, rec.energy_now)
-            if not _finite(bodies):
-                return ABORT_NAN, done
-            rec.clock[1] = max(rec.clock[1], active_energy(rec.energy_now, settings.track_energy))
-            slack = 0.5 * rec.clock[1] + 1e-9 * abs(rec.energy_ref[2])
-            if energy_excess(rec.energy_now, rec.energy_ref, settings.track_energy) > slack:
-                return ABORT_RUNAWAY, done
-            if code < 0 and stop[2] >= 0.0:
-                kinetic_energy(bodies, kin)
-                if kin[0] + kin[1] < stop[2]:
-                    code = STOP_KINETIC
-        drift(bodies, dt)
+        check_due = (step + 1) % settings.check_every == 0 or last or code >= 0
+        if not (traj_due or energy_due or check_due or settings.track_energy):
+            # nothing reads the state between kick and drift: one pass over the bodies
+            kick_drift(bodies, settings.gravity, dt, settings.damping, settings.damp_gravity)
+        else:
+            p_damping = kick(bodies, settings.gravity, dt, settings.damping, settings.damp_gravity)
+            if settings.track_energy:
+                contact_power(bodies, spheres, walls, contacts, p_contacts)
+                # trapezoidal rule for the work of the non-conservative forces since t_{n-1}
+                if step > 0:
+                    rec.ledger[1] -= 0.5 * dt * (rec.power[0] + p_contacts[0])
+                    rec.ledger[2] -= 0.5 * dt * (rec.power[1] + p_damping)
+                    rec.ledger[0] -= 0.5 * dt * (rec.power[2] + p_contacts[1])
+                rec.power[0] = p_contacts[0]
+                rec.power[1] = p_damping
+                rec.power[2] = p_contacts[1]
+            if forces_due:  # (before _record_frame: the frame index is traj_n)
+                _record_contact_forces(spheres, walls, contacts, rec)
+            if traj_due:
+                _record_frame(bodies, rec, t)
+            if energy_due:
+                g = rec.energy_n[0]
+                rec.energy_t[g] = t
+                energies(bodies, contacts, settings.gravity, rec.ledger, rec.energy_val[g])
+                rec.energy_n[0] = g + 1
+            # sanity checks at t_n, before the drift
+            if check_due:
+                energies(bodies, contacts, settings.gravity, rec.ledger, rec.energy_now)
+                if not _finite(bodies):
+                    return ABORT_NAN, done
+                rec.clock[1] = max(
+                    rec.clock[1], active_energy(rec.energy_now, settings.track_energy)
+                )
+                slack = 0.5 * rec.clock[1] + 1e-9 * abs(rec.energy_ref[2])
+                if energy_excess(rec.energy_now, rec.energy_ref, settings.track_energy) > slack:
+                    return ABORT_RUNAWAY, done
+                if code < 0 and stop[2] >= 0.0:
+                    kinetic_energy(bodies, kin)
+                    if kin[0] + kin[1] < stop[2]:
+                        code = STOP_KINETIC
+            drift(bodies, dt)
         update_listed_sphere_positions(bodies, spheres)
         rec.clock[0] = t + dt
         rec.step[0] = step + 1

@@ -45,6 +45,7 @@ from numba import njit
 __all__ = [
     "drift",
     "kick",
+    "kick_drift",
     "quat_to_matrix",
     "update_listed_sphere_positions",
     "update_sphere_positions",
@@ -78,7 +79,12 @@ def quat_to_matrix(quat, rot, b):
     The kernels index rows of the (nb, 4) / (nb, 3, 3) arrays instead of taking row
     views: wherever numba's reference counting is on, a view costs an atomic pair.
     """
-    w, x, y, z = quat[b, 0], quat[b, 1], quat[b, 2], quat[b, 3]
+    _store_matrix(rot, b, quat[b, 0], quat[b, 1], quat[b, 2], quat[b, 3])
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _store_matrix(rot, b, w, x, y, z):
+    """``rot[b]`` = the rotation matrix of the unit quaternion ``(w, x, y, z)``."""
     rot[b, 0, 0] = 1.0 - 2.0 * (y * y + z * z)
     rot[b, 0, 1] = 2.0 * (x * y - w * z)
     rot[b, 0, 2] = 2.0 * (x * z + w * y)
@@ -90,15 +96,39 @@ def quat_to_matrix(quat, rot, b):
     rot[b, 2, 2] = 1.0 - 2.0 * (x * x + y * y)
 
 
+# Below this half angle [rad] a turn takes cos x and sin(x)/x from their Taylor series
+# (the first omitted terms, x^8/8! and x^8/9!, are < 3e-21 relative): no sqrt, sin, cos or
+# division.  Rotations per step are far smaller (|omega dt| ~ 1e-3 in a domino chain).
+SMALL_HALF_ANGLE = 1e-2
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _cos_sinc(x2):
+    """``(cos x, sin(x) / x)`` from ``x^2`` for ``x^2 < SMALL_HALF_ANGLE^2`` (Taylor series,
+    nested; products with reciprocals, which LLVM folds, instead of divisions)."""
+    cos_x = 1.0 - 0.5 * x2 * (1.0 - x2 * (1.0 / 12.0) * (1.0 - x2 * (1.0 / 30.0)))
+    sinc_x = 1.0 - x2 * (1.0 / 6.0) * (1.0 - x2 * (1.0 / 20.0) * (1.0 - x2 * (1.0 / 42.0)))
+    return cos_x, sinc_x
+
+
 @njit(cache=True, error_model="numpy", inline="always")
 def _turn_world(q, b, wx, wy, wz, dt):
-    """q[b] <- exp(omega dt) * q[b]: rotate body b by the world-frame angle vector omega dt."""
-    wn = math.sqrt(wx * wx + wy * wy + wz * wz)
-    if wn == 0.0:
+    """q[b] <- exp(omega dt) * q[b]: rotate body b by the world-frame angle vector omega dt.
+
+    The rotation quaternion is ``(cos x, sin(x)/|omega| omega)`` with ``x = |omega| dt / 2``.
+    """
+    w2 = wx * wx + wy * wy + wz * wz
+    if w2 == 0.0:
         return
-    half = 0.5 * wn * dt
-    s = math.sin(half) / wn
-    a0, a1, a2, a3 = math.cos(half), wx * s, wy * s, wz * s
+    x2 = 0.25 * dt * dt * w2
+    if x2 < SMALL_HALF_ANGLE * SMALL_HALF_ANGLE:
+        a0, sinc = _cos_sinc(x2)
+        s = 0.5 * dt * sinc
+    else:
+        wn = math.sqrt(w2)
+        a0 = math.cos(0.5 * wn * dt)
+        s = math.sin(0.5 * wn * dt) / wn
+    a1, a2, a3 = wx * s, wy * s, wz * s
     q0, q1, q2, q3 = q[b, 0], q[b, 1], q[b, 2], q[b, 3]
     q[b, 0] = a0 * q0 - a1 * q1 - a2 * q2 - a3 * q3
     q[b, 1] = a0 * q1 + a1 * q0 + a2 * q3 - a3 * q2
@@ -107,15 +137,35 @@ def _turn_world(q, b, wx, wy, wz, dt):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _normalise(q, b):
+    """Scale q[b] to unit norm and return it as ``(w, x, y, z)``.  A product of unit
+    quaternions is off by O(1e-16): then one Newton step for 1/sqrt(|q|^2) from 1,
+    ``(3 - |q|^2) / 2``, is exact to O(1e-32)."""
+    q0, q1, q2, q3 = q[b, 0], q[b, 1], q[b, 2], q[b, 3]
+    n2 = q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3
+    e = n2 - 1.0
+    scale = 1.0 - 0.5 * e if abs(e) < 1e-8 else 1.0 / math.sqrt(n2)
+    q0, q1, q2, q3 = q0 * scale, q1 * scale, q2 * scale, q3 * scale
+    q[b, 0], q[b, 1], q[b, 2], q[b, 3] = q0, q1, q2, q3
+    return q0, q1, q2, q3
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _turn_body_axis(q, b, L0, L1, L2, k, phi):
     """Free rotation of body b about principal axis k by angle phi:
     q[b] <- q[b] * (cos phi/2, sin phi/2 e_k).  Returns the body components
     ``(L0, L1, L2)`` of the (fixed) world angular momentum, turned by -phi."""
-    c = math.cos(0.5 * phi)
-    s = math.sin(0.5 * phi)
+    half = 0.5 * phi
+    if half * half < SMALL_HALF_ANGLE * SMALL_HALF_ANGLE:
+        c, sinc = _cos_sinc(half * half)
+        s = half * sinc
+    else:
+        c = math.cos(half)
+        s = math.sin(half)
+    # the full angle from the half angle: cos phi = c^2 - s^2, sin phi = 2 s c
+    cp = c * c - s * s
+    sp = 2.0 * s * c
     q0, q1, q2, q3 = q[b, 0], q[b, 1], q[b, 2], q[b, 3]
-    cp = math.cos(phi)
-    sp = math.sin(phi)
     if k == 0:
         q[b, 0] = q0 * c - q1 * s
         q[b, 1] = q1 * c + q0 * s
@@ -152,6 +202,92 @@ def _omega_from_angmom(rot, inertia, L, out, b):
             out[b, 2] += rot[b, 2, k] * lb
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def kick_body(bodies, b, gravity, dt, damping, damp_gravity):
+    """Kick of body b (see :func:`kick`); returns the power of its local damping [W]."""
+    power = 0.0
+    if bodies.held[b]:
+        return power
+    h = dt
+    if bodies.fresh[b]:
+        h = 0.5 * dt
+        bodies.fresh[b] = 0
+    m = bodies.mass[b]
+    inv_m = 1.0 / m  # (one division per body, not per component)
+    for k in range(3):
+        v = bodies.vel[b, k]
+        if bodies.blocked[b, k]:
+            bodies.vel_full[b, k] = v
+            continue
+        a_contact = bodies.force[b, k] * inv_m
+        a_free = a_contact + gravity[k]
+        if damping == 0.0:
+            a = a_free
+        elif damp_gravity:
+            a = damped(a_free, v, dt, damping)
+        else:
+            a = damped(a_contact, v, dt, damping) + gravity[k]
+        v_new = v + h * a
+        bodies.vel[b, k] = v_new
+        bodies.vel_full[b, k] = v_new - 0.5 * dt * a
+        power += m * (a - a_free) * bodies.vel_full[b, k]
+    mode = bodies.rot_mode[b]
+    if mode == ROT_ISOTROPIC:
+        inertia = bodies.inertia[b, 0]
+        for k in range(3):
+            w = bodies.omega[b, k]
+            if bodies.blocked[b, 3 + k]:
+                bodies.omega_full[b, k] = w
+                bodies.angmom_full[b, k] = inertia * w
+                continue
+            alpha = bodies.torque[b, k] / inertia
+            alpha_d = damped(alpha, w, dt, damping) if damping != 0.0 else alpha
+            w_new = w + h * alpha_d
+            w_full = w_new - 0.5 * dt * alpha_d
+            bodies.omega[b, k] = w_new
+            bodies.angmom[b, k] = inertia * w_new
+            bodies.omega_full[b, k] = w_full
+            bodies.angmom_full[b, k] = inertia * w_full
+            power += inertia * (alpha_d - alpha) * w_full
+    elif mode == ROT_AXIS:
+        inertia = bodies.axis_inertia[b]
+        e0, e1, e2 = bodies.axis[b, 0], bodies.axis[b, 1], bodies.axis[b, 2]
+        w = bodies.omega[b, 0] * e0 + bodies.omega[b, 1] * e1 + bodies.omega[b, 2] * e2
+        torque = bodies.torque[b, 0] * e0 + bodies.torque[b, 1] * e1
+        alpha = (torque + bodies.torque[b, 2] * e2) / inertia
+        alpha_d = damped(alpha, w, dt, damping) if damping != 0.0 else alpha
+        w_new = w + h * alpha_d
+        w_full = w_new - 0.5 * dt * alpha_d
+        for k in range(3):
+            e = bodies.axis[b, k]
+            bodies.omega[b, k] = w_new * e
+            bodies.angmom[b, k] = inertia * w_new * e
+            bodies.omega_full[b, k] = w_full * e
+            bodies.angmom_full[b, k] = inertia * w_full * e
+        power += inertia * (alpha_d - alpha) * w_full
+    elif mode == ROT_FREE:
+        d0 = d1 = d2 = 0.0  # damping torque
+        for k in range(3):
+            t = bodies.torque[b, k]
+            w = bodies.omega[b, k]
+            t_d = t * (1.0 - damping * _sign(t * w)) if damping != 0.0 else t
+            L_new = bodies.angmom[b, k] + h * t_d
+            bodies.angmom[b, k] = L_new
+            bodies.angmom_full[b, k] = L_new - 0.5 * dt * t_d
+            if k == 0:
+                d0 = t_d - t
+            elif k == 1:
+                d1 = t_d - t
+            else:
+                d2 = t_d - t
+        # full-step omega at the current orientation, for recorders and energies
+        _omega_from_angmom(bodies.rot, bodies.inertia, bodies.angmom_full, bodies.omega_full, b)
+        power += d0 * bodies.omega_full[b, 0]
+        power += d1 * bodies.omega_full[b, 1]
+        power += d2 * bodies.omega_full[b, 2]
+    return power
+
+
 @njit(cache=True, error_model="numpy", _nrt=False)
 def kick(bodies, gravity, dt, damping, damp_gravity):
     """Half-step velocities v_{n-1/2} -> v_{n+1/2} from the current forces (module doc).
@@ -163,144 +299,94 @@ def kick(bodies, gravity, dt, damping, damp_gravity):
     """
     power = 0.0
     for b in range(bodies.mass.shape[0]):
-        if bodies.held[b]:
-            continue
-        h = dt
-        if bodies.fresh[b]:
-            h = 0.5 * dt
-            bodies.fresh[b] = 0
-        m = bodies.mass[b]
-        for k in range(3):
-            v = bodies.vel[b, k]
-            if bodies.blocked[b, k]:
-                bodies.vel_full[b, k] = v
-                continue
-            a_contact = bodies.force[b, k] / m
-            a_free = a_contact + gravity[k]
-            if damping == 0.0:
-                a = a_free
-            elif damp_gravity:
-                a = damped(a_free, v, dt, damping)
-            else:
-                a = damped(a_contact, v, dt, damping) + gravity[k]
-            v_new = v + h * a
-            bodies.vel[b, k] = v_new
-            bodies.vel_full[b, k] = v_new - 0.5 * dt * a
-            power += m * (a - a_free) * bodies.vel_full[b, k]
-        mode = bodies.rot_mode[b]
-        if mode == ROT_ISOTROPIC:
-            inertia = bodies.inertia[b, 0]
-            for k in range(3):
-                w = bodies.omega[b, k]
-                if bodies.blocked[b, 3 + k]:
-                    bodies.omega_full[b, k] = w
-                    bodies.angmom_full[b, k] = inertia * w
-                    continue
-                alpha = bodies.torque[b, k] / inertia
-                alpha_d = damped(alpha, w, dt, damping) if damping != 0.0 else alpha
-                w_new = w + h * alpha_d
-                w_full = w_new - 0.5 * dt * alpha_d
-                bodies.omega[b, k] = w_new
-                bodies.angmom[b, k] = inertia * w_new
-                bodies.omega_full[b, k] = w_full
-                bodies.angmom_full[b, k] = inertia * w_full
-                power += inertia * (alpha_d - alpha) * w_full
-        elif mode == ROT_AXIS:
-            inertia = bodies.axis_inertia[b]
-            e0, e1, e2 = bodies.axis[b, 0], bodies.axis[b, 1], bodies.axis[b, 2]
-            w = bodies.omega[b, 0] * e0 + bodies.omega[b, 1] * e1 + bodies.omega[b, 2] * e2
-            torque = bodies.torque[b, 0] * e0 + bodies.torque[b, 1] * e1
-            alpha = (torque + bodies.torque[b, 2] * e2) / inertia
-            alpha_d = damped(alpha, w, dt, damping) if damping != 0.0 else alpha
-            w_new = w + h * alpha_d
-            w_full = w_new - 0.5 * dt * alpha_d
-            for k in range(3):
-                e = bodies.axis[b, k]
-                bodies.omega[b, k] = w_new * e
-                bodies.angmom[b, k] = inertia * w_new * e
-                bodies.omega_full[b, k] = w_full * e
-                bodies.angmom_full[b, k] = inertia * w_full * e
-            power += inertia * (alpha_d - alpha) * w_full
-        elif mode == ROT_FREE:
-            d0 = d1 = d2 = 0.0  # damping torque
-            for k in range(3):
-                t = bodies.torque[b, k]
-                w = bodies.omega[b, k]
-                t_d = t * (1.0 - damping * _sign(t * w)) if damping != 0.0 else t
-                L_new = bodies.angmom[b, k] + h * t_d
-                bodies.angmom[b, k] = L_new
-                bodies.angmom_full[b, k] = L_new - 0.5 * dt * t_d
-                if k == 0:
-                    d0 = t_d - t
-                elif k == 1:
-                    d1 = t_d - t
-                else:
-                    d2 = t_d - t
-            # full-step omega at the current orientation, for recorders and energies
-            _omega_from_angmom(bodies.rot, bodies.inertia, bodies.angmom_full, bodies.omega_full, b)
-            power += d0 * bodies.omega_full[b, 0]
-            power += d1 * bodies.omega_full[b, 1]
-            power += d2 * bodies.omega_full[b, 2]
+        power += kick_body(bodies, b, gravity, dt, damping, damp_gravity)
     return power
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def drift_body(bodies, b, dt):
+    """Position and orientation of body b, n -> n+1, from its half-step velocities."""
+    if bodies.held[b]:
+        return
+    for k in range(3):
+        bodies.pos[b, k] += dt * bodies.vel[b, k]
+    mode = bodies.rot_mode[b]
+    q = bodies.quat
+    if mode == ROT_NONE:
+        return
+    if mode == ROT_FREE:
+        R = bodies.rot
+        L = bodies.angmom
+        inertia = bodies.inertia
+        l0 = R[b, 0, 0] * L[b, 0] + R[b, 1, 0] * L[b, 1] + R[b, 2, 0] * L[b, 2]
+        l1 = R[b, 0, 1] * L[b, 0] + R[b, 1, 1] * L[b, 1] + R[b, 2, 1] * L[b, 2]
+        l2 = R[b, 0, 2] * L[b, 0] + R[b, 1, 2] * L[b, 1] + R[b, 2, 2] * L[b, 2]
+        # NO_SQUISH splitting: half turns about axes 0 and 1, a full turn about 2
+        l0, l1, l2 = _turn_body_axis(q, b, l0, l1, l2, 0, 0.5 * dt * l0 / inertia[b, 0])
+        l0, l1, l2 = _turn_body_axis(q, b, l0, l1, l2, 1, 0.5 * dt * l1 / inertia[b, 1])
+        l0, l1, l2 = _turn_body_axis(q, b, l0, l1, l2, 2, dt * l2 / inertia[b, 2])
+        l0, l1, l2 = _turn_body_axis(q, b, l0, l1, l2, 1, 0.5 * dt * l1 / inertia[b, 1])
+        l0, l1, l2 = _turn_body_axis(q, b, l0, l1, l2, 0, 0.5 * dt * l0 / inertia[b, 0])
+    else:
+        _turn_world(q, b, bodies.omega[b, 0], bodies.omega[b, 1], bodies.omega[b, 2], dt)
+    w, x, y, z = _normalise(q, b)
+    _store_matrix(bodies.rot, b, w, x, y, z)
+    if mode == ROT_FREE:
+        _omega_from_angmom(bodies.rot, bodies.inertia, bodies.angmom, bodies.omega, b)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def drift(bodies, dt):
     """Positions and orientations n -> n+1 from the half-step velocities."""
     for b in range(bodies.mass.shape[0]):
-        if bodies.held[b]:
-            continue
-        for k in range(3):
-            bodies.pos[b, k] += dt * bodies.vel[b, k]
-        mode = bodies.rot_mode[b]
-        q = bodies.quat
-        if mode == ROT_NONE:
-            continue
-        if mode == ROT_FREE:
-            R = bodies.rot
-            L = bodies.angmom
-            inertia = bodies.inertia
-            l0 = R[b, 0, 0] * L[b, 0] + R[b, 1, 0] * L[b, 1] + R[b, 2, 0] * L[b, 2]
-            l1 = R[b, 0, 1] * L[b, 0] + R[b, 1, 1] * L[b, 1] + R[b, 2, 1] * L[b, 2]
-            l2 = R[b, 0, 2] * L[b, 0] + R[b, 1, 2] * L[b, 1] + R[b, 2, 2] * L[b, 2]
-            # NO_SQUISH splitting: half turns about axes 0 and 1, a full turn about 2
-            l0, l1, l2 = _turn_body_axis(q, b, l0, l1, l2, 0, 0.5 * dt * l0 / inertia[b, 0])
-            l0, l1, l2 = _turn_body_axis(q, b, l0, l1, l2, 1, 0.5 * dt * l1 / inertia[b, 1])
-            l0, l1, l2 = _turn_body_axis(q, b, l0, l1, l2, 2, dt * l2 / inertia[b, 2])
-            l0, l1, l2 = _turn_body_axis(q, b, l0, l1, l2, 1, 0.5 * dt * l1 / inertia[b, 1])
-            l0, l1, l2 = _turn_body_axis(q, b, l0, l1, l2, 0, 0.5 * dt * l0 / inertia[b, 0])
-        else:
-            _turn_world(q, b, bodies.omega[b, 0], bodies.omega[b, 1], bodies.omega[b, 2], dt)
-        norm = math.sqrt(
-            q[b, 0] * q[b, 0] + q[b, 1] * q[b, 1] + q[b, 2] * q[b, 2] + q[b, 3] * q[b, 3]
-        )
-        for k in range(4):
-            q[b, k] /= norm
-        quat_to_matrix(q, bodies.rot, b)
-        if mode == ROT_FREE:
-            _omega_from_angmom(bodies.rot, bodies.inertia, bodies.angmom, bodies.omega, b)
+        drift_body(bodies, b, dt)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def kick_drift(bodies, gravity, dt, damping, damp_gravity):
+    """:func:`kick` and :func:`drift` in one pass, body by body (the same arithmetic: each
+    body's update is independent of the others), for the steps in which nothing reads the
+    state between the two; the body's data stays in registers and cache.  Returns the
+    power of the local damping forces [W]."""
+    power = 0.0
+    for b in range(bodies.mass.shape[0]):
+        power += kick_body(bodies, b, gravity, dt, damping, damp_gravity)
+        drift_body(bodies, b, dt)
+    return power
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _place_sphere(bodies, spheres, s):
-    # (full indexing, no row views: a view costs an atomic incref/decref pair in numba)
-    b = spheres.body[s]
-    R = bodies.rot
-    u0, u1, u2 = spheres.local[s, 0], spheres.local[s, 1], spheres.local[s, 2]
-    for k in range(3):
-        spheres.pos[s, k] = bodies.pos[b, k] + R[b, k, 0] * u0 + R[b, k, 1] * u1 + R[b, k, 2] * u2
+def _place_spheres(bodies, spheres, count, listed_only):
+    """World centres ``x_b + R_b u_s`` of spheres ``0 .. count-1`` (``listed_only``: of
+    ``spheres.listed[:count]``).  The owner's position and rotation matrix are loaded into
+    registers when the owner changes: once per body, as Scene.build numbers the spheres
+    body by body."""
+    pos, rot, local, out = bodies.pos, bodies.rot, spheres.local, spheres.pos
+    owner = -1
+    x0 = x1 = x2 = r00 = r01 = r02 = r10 = r11 = r12 = r20 = r21 = r22 = 0.0
+    for k in range(count):
+        s = spheres.listed[k] if listed_only else k
+        b = spheres.body[s]
+        if b != owner:
+            owner = b
+            x0, x1, x2 = pos[b, 0], pos[b, 1], pos[b, 2]
+            r00, r01, r02 = rot[b, 0, 0], rot[b, 0, 1], rot[b, 0, 2]
+            r10, r11, r12 = rot[b, 1, 0], rot[b, 1, 1], rot[b, 1, 2]
+            r20, r21, r22 = rot[b, 2, 0], rot[b, 2, 1], rot[b, 2, 2]
+        u0, u1, u2 = local[s, 0], local[s, 1], local[s, 2]
+        out[s, 0] = x0 + r00 * u0 + r01 * u1 + r02 * u2
+        out[s, 1] = x1 + r10 * u0 + r11 * u1 + r12 * u2
+        out[s, 2] = x2 + r20 * u0 + r21 * u1 + r22 * u2
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def update_sphere_positions(bodies, spheres):
     """World centres of all spheres from their owners' COM and orientation."""
-    for s in range(spheres.body.shape[0]):
-        _place_sphere(bodies, spheres, s)
+    _place_spheres(bodies, spheres, spheres.body.shape[0], False)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def update_listed_sphere_positions(bodies, spheres):
     """World centres of the spheres in the Verlet list (``spheres.listed``): between two
     list builds no other sphere can touch anything, and only these are read."""
-    for k in range(spheres.n_listed[0]):
-        _place_sphere(bodies, spheres, spheres.listed[k])
+    _place_spheres(bodies, spheres, spheres.n_listed[0], True)

@@ -303,7 +303,6 @@ class Simulation:
                 np.zeros(3),
                 self.rec.changes.copy(),
                 True,
-                np.empty((6, 3)),
             )
         energies(self.bodies, contacts, self.settings.gravity, self.rec.ledger, self.rec.energy_now)
 
