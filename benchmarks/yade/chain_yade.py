@@ -185,7 +185,14 @@ def record():
 
 engines = [
     ForceResetter(),
-    InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_Wall_Aabb()]),
+    # YADE's fastest collider settings for this scene (a helper's scan of verletDist,
+    # targetInterv, minSweepDistFactor, updatingDispFactor and the Newton flags; every
+    # setting gave bitwise identical trajectories). targetInterv=0: every bound is enlarged
+    # by the full verletDist (the default 100 shrinks the sweep of slow bodies, so the
+    # standing dominoes re-trigger the collider: 10 869 collider runs in the first 40 000
+    # steps at N = 300 instead of 865, 1.38x the run time); verletDist=-1: one smallest
+    # radius.
+    InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_Wall_Aabb()], targetInterv=0, verletDist=-1),
     InteractionLoop(
         [Ig2_Sphere_Sphere_ScGeom(), Ig2_Wall_Sphere_ScGeom()],
         [Ip2_FrictMat_FrictMat_FrictPhys()],

@@ -134,23 +134,36 @@ def needs_rebuild(bodies, skin, n_candidates):
     """
     if n_candidates < 0:
         return True
-    pos, pos0, quat, quat0 = bodies.pos, bodies.pos_at_build, bodies.quat, bodies.quat_at_build
     half = 0.5 * skin
-    for b in range(pos.shape[0]):
-        dx = pos[b, 0] - pos0[b, 0]
-        dy = pos[b, 1] - pos0[b, 1]
-        dz = pos[b, 2] - pos0[b, 2]
-        dot = quat[b, 0] * quat0[b, 0] + quat[b, 1] * quat0[b, 1]
-        dot += quat[b, 2] * quat0[b, 2] + quat[b, 3] * quat0[b, 3]
-        sign = 1.0 if dot >= 0.0 else -1.0
-        d2 = 0.0
-        for k in range(4):
-            diff = quat[b, k] - sign * quat0[b, k]
-            d2 += diff * diff
-        sin_half = math.sqrt(d2 * max(0.0, 1.0 - 0.25 * d2))
-        if math.sqrt(dx * dx + dy * dy + dz * dz) + 2.0 * sin_half * bodies.extent[b] > half:
+    for b in range(bodies.pos.shape[0]):
+        if moved_beyond(bodies, b, half):
             return True
     return False
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def moved_beyond(bodies, b, limit):
+    """True if a member sphere of body b may have moved more than ``limit`` [m] since the
+    last Verlet-list build (the bound of :func:`needs_rebuild`)."""
+    pos, pos0, quat, quat0 = bodies.pos, bodies.pos_at_build, bodies.quat, bodies.quat_at_build
+    dx = pos[b, 0] - pos0[b, 0]
+    dy = pos[b, 1] - pos0[b, 1]
+    dz = pos[b, 2] - pos0[b, 2]
+    dot = quat[b, 0] * quat0[b, 0] + quat[b, 1] * quat0[b, 1]
+    dot += quat[b, 2] * quat0[b, 2] + quat[b, 3] * quat0[b, 3]
+    sign = 1.0 if dot >= 0.0 else -1.0
+    d2 = 0.0
+    for k in range(4):
+        diff = quat[b, k] - sign * quat0[b, k]
+        d2 += diff * diff
+    shift2 = dx * dx + dy * dy + dz * dz
+    sin_half2 = d2 * max(0.0, 1.0 - 0.25 * d2)
+    extent = bodies.extent[b]
+    # (a + b)^2 <= 2 (a^2 + b^2): most bodies are decided without a square root (with a
+    # margin, so that rounding cannot contradict the exact test below)
+    if 2.0 * (shift2 + 4.0 * sin_half2 * extent * extent) < 0.99 * limit * limit:
+        return False
+    return math.sqrt(shift2) + 2.0 * math.sqrt(sin_half2) * extent > limit
 
 
 @njit(cache=True, error_model="numpy")
@@ -392,12 +405,10 @@ def _list_spheres(spheres, contacts, seen):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def rotate_shear(shear, c, n0, n1, n2, spin):
-    """Carry the shear displacement ``shear[c]`` into the new tangent plane (normal
-    ``(n0, n1, n2)``, norm kept), then turn it about the normal by the angle ``spin`` [rad]
-    (mean rotation of the two bodies about it).  ``shear``: (C, 3), row ``c`` changed in
-    place."""
-    u0, u1, u2 = shear[c, 0], shear[c, 1], shear[c, 2]
+def rotate_shear(u0, u1, u2, n0, n1, n2, spin):
+    """The shear displacement ``u`` carried into the new tangent plane (normal ``n``, norm
+    kept), then turned about the normal by the angle ``spin`` [rad] (mean rotation of the
+    two bodies about it).  Returns the new ``u`` [m]."""
     un = u0 * n0 + u1 * n1 + u2 * n2
     if un != 0.0:  # (a wall contact's shear stays exactly in its fixed plane: un == 0)
         old2 = u0 * u0 + u1 * u1 + u2 * u2
@@ -423,9 +434,7 @@ def rotate_shear(shear, c, n0, n1, n2, spin):
         u0 = u0 * cos_ + x * sin_
         u1 = u1 * cos_ + y * sin_
         u2 = u2 * cos_ + z * sin_
-    shear[c, 0] = u0
-    shear[c, 1] = u1
-    shear[c, 2] = u2
+    return u0, u1, u2
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -474,31 +483,26 @@ def end_impulse(last_overlap, gap, kn, cn, dt):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def cundall_strack(shear, c, kt, mu, fn_elastic):
-    """Tangential force ``-kt u_s`` [N] on partner j, with Coulomb limit ``mu fn_elastic``.
+def cundall_strack(u0, u1, u2, kt, mu, fn_elastic):
+    """Coulomb limit of the tangential spring: the shear displacement after this step.
 
-    ``shear[c]`` (row c of a (C, 3) array) is the trial displacement ``t`` (last step's
-    displacement carried into the new tangent plane plus this step's tangential
-    increment); on sliding it is shortened in place to ``b = t limit / |t|`` (YADE's
-    Law2_ScGeom_FrictPhys_CundallStrack).  Returns the force as three components.
+    ``u`` [m] is the trial displacement ``t`` (last step's displacement carried into the
+    new tangent plane plus this step's tangential increment); while ``kt |t| <= mu
+    fn_elastic`` it sticks and is returned unchanged, otherwise it slides and is shortened
+    to ``b = t mu fn_elastic / (kt |t|)`` (YADE's Law2_ScGeom_FrictPhys_CundallStrack).  The
+    tangential force on partner j is ``-kt u``.
 
     The energy this removes is booked by the driver as the work of the tangential forces
     that is not stored in the springs (see :func:`contact_power`), not as YADE's plastic
     work ``(|t| - |b|) kt |b|`` per step: the latter pairs the force of one instant with a
     displacement over the step and lets the balance drift at first order in dt.
     """
-    u0, u1, u2 = shear[c, 0], shear[c, 1], shear[c, 2]
     tt = u0 * u0 + u1 * u1 + u2 * u2
     limit = mu * fn_elastic  # (>= 0)
     if kt * kt * tt > limit * limit:  # |trial force| > limit, without a sqrt when sticking
         s = limit / (kt * math.sqrt(tt))
-        u0 *= s
-        u1 *= s
-        u2 *= s
-        shear[c, 0] = u0
-        shear[c, 1] = u1
-        shear[c, 2] = u2
-    return -kt * u0, -kt * u1, -kt * u2
+        return u0 * s, u1 * s, u2 * s
+    return u0, u1, u2
 
 
 # The per-contact helpers pass vectors as scalar triples: kept in registers, whereas
@@ -507,15 +511,18 @@ def cundall_strack(shear, c, kt, mu, fn_elastic):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _point_velocity(pos, vel, omega, b, p0, p1, p2):
-    """Velocity of the material point ``p`` of body b: v + omega x (p - x).
+def _lever(pos, b, p0, p1, p2):
+    """Lever arm ``p - x_b`` [m] of the point ``p`` about the centre of mass of body b."""
+    return p0 - pos[b, 0], p1 - pos[b, 1], p2 - pos[b, 2]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _point_velocity(vel, omega, b, rx, ry, rz):
+    """Velocity ``v + omega x r`` of the material point at lever arm ``r`` of body b.
 
     ``vel``/``omega`` are the body velocities to use: the half-step ones for the
     contact law, the full-step ones for the energy ledger.
     """
-    rx = p0 - pos[b, 0]
-    ry = p1 - pos[b, 1]
-    rz = p2 - pos[b, 2]
     return (
         vel[b, 0] + omega[b, 1] * rz - omega[b, 2] * ry,
         vel[b, 1] + omega[b, 2] * rx - omega[b, 0] * rz,
@@ -524,21 +531,18 @@ def _point_velocity(pos, vel, omega, b, p0, p1, p2):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _apply(bodies, b, p0, p1, p2, f0, f1, f2, sign):
-    """Add ``sign f`` acting at point ``p`` to the force and torque of body b."""
+def _apply(bodies, b, rx, ry, rz, f0, f1, f2, sign):
+    """Add ``sign f`` acting at lever arm ``r`` to the force and torque of body b."""
     bodies.force[b, 0] += sign * f0
     bodies.force[b, 1] += sign * f1
     bodies.force[b, 2] += sign * f2
-    rx = p0 - bodies.pos[b, 0]
-    ry = p1 - bodies.pos[b, 1]
-    rz = p2 - bodies.pos[b, 2]
     bodies.torque[b, 0] += sign * (ry * f2 - rz * f1)
     bodies.torque[b, 1] += sign * (rz * f0 - rx * f2)
     bodies.torque[b, 2] += sign * (rx * f1 - ry * f0)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _separate(bodies, contacts, c, bi, bj, n0, n1, n2, gap, dt, p0, p1, p2):
+def _separate(bodies, contacts, c, bi, bj, wall, n0, n1, n2, gap, dt, p0, p1, p2):
     """End contact c at the first step without overlap (``gap <= 0``, normal ``n``, contact
     point ``p``).
 
@@ -557,9 +561,11 @@ def _separate(bodies, contacts, c, bi, bj, n0, n1, n2, gap, dt, p0, p1, p2):
     fn = f_elastic + f_viscous
     if fn != 0.0:
         f0, f1, f2 = fn * n0, fn * n1, fn * n2
-        if bj >= 0:
-            _apply(bodies, bj, p0, p1, p2, f0, f1, f2, 1.0)
-        _apply(bodies, bi, p0, p1, p2, f0, f1, f2, -1.0)
+        if not wall:
+            rx, ry, rz = _lever(bodies.pos, bj, p0, p1, p2)
+            _apply(bodies, bj, rx, ry, rz, f0, f1, f2, 1.0)
+        rx, ry, rz = _lever(bodies.pos, bi, p0, p1, p2)
+        _apply(bodies, bi, rx, ry, rz, f0, f1, f2, -1.0)
     u = contacts.shear
     released = 0.5 * contacts.kt[c] * (u[c, 0] * u[c, 0] + u[c, 1] * u[c, 1] + u[c, 2] * u[c, 2])
     contacts.active[c] = 0
@@ -583,12 +589,15 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
     pos = spheres.pos
     n_changes = 0
     for c in range(contacts.n[0]):
-        i = contacts.i[c]
+        # (unsigned indices: numba adds no negative-index wraparound to every access)
+        i = np.uint64(contacts.i[c])
         j = contacts.j[c]
-        bi = spheres.body[i]
+        bi = np.uint64(spheres.body[i])
         Ri = spheres.radius[i]
-        if j >= 0:
-            bj = spheres.body[j]
+        wall = j < 0
+        if not wall:
+            j = np.uint64(j)
+            bj = np.uint64(spheres.body[j])
             dx = pos[j, 0] - pos[i, 0]
             dy = pos[j, 1] - pos[i, 1]
             dz = pos[j, 2] - pos[i, 2]
@@ -603,8 +612,8 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
             n0, n1, n2 = dx * inv_dist, dy * inv_dist, dz * inv_dist
             overlap = rsum - dist
         else:
-            bj = -1
-            w = -j - 1
+            bj = bi  # (unused)
+            w = np.uint64(-j - 1)
             wn0, wn1, wn2 = walls.normal[w, 0], walls.normal[w, 1], walls.normal[w, 2]
             dist = (pos[i, 0] - walls.point[w, 0]) * wn0
             dist += (pos[i, 1] - walls.point[w, 1]) * wn1
@@ -619,7 +628,9 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
         reach = Ri - 0.5 * overlap
         p0, p1, p2 = pos[i, 0] + reach * n0, pos[i, 1] + reach * n1, pos[i, 2] + reach * n2
         if overlap <= 0.0:  # an active contact opened in the last drift
-            ledger[0] += _separate(bodies, contacts, c, bi, bj, n0, n1, n2, overlap, dt, p0, p1, p2)
+            ledger[0] += _separate(
+                bodies, contacts, c, bi, bj, wall, n0, n1, n2, overlap, dt, p0, p1, p2
+            )
             changes[n_changes, 0] = c
             changes[n_changes, 1] = END
             n_changes += 1
@@ -633,10 +644,13 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
             changes[n_changes, 1] = ONSET
             n_changes += 1
         # relative velocity of the contact point, j minus i (a wall is fixed)
-        vi0, vi1, vi2 = _point_velocity(bodies.pos, bodies.vel, bodies.omega, bi, p0, p1, p2)
         om = bodies.omega
-        if bj >= 0:
-            vj0, vj1, vj2 = _point_velocity(bodies.pos, bodies.vel, om, bj, p0, p1, p2)
+        ri0, ri1, ri2 = _lever(bodies.pos, bi, p0, p1, p2)
+        vi0, vi1, vi2 = _point_velocity(bodies.vel, om, bi, ri0, ri1, ri2)
+        rj0 = rj1 = rj2 = 0.0
+        if not wall:
+            rj0, rj1, rj2 = _lever(bodies.pos, bj, p0, p1, p2)
+            vj0, vj1, vj2 = _point_velocity(bodies.vel, om, bj, rj0, rj1, rj2)
             spin = 0.5 * n0 * (om[bi, 0] + om[bj, 0])
             spin += 0.5 * n1 * (om[bi, 1] + om[bj, 1])
             spin += 0.5 * n2 * (om[bi, 2] + om[bj, 2])
@@ -648,20 +662,22 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
         dv0, dv1, dv2 = vj0 - vi0, vj1 - vi1, vj2 - vi2
         vn = dv0 * n0 + dv1 * n1 + dv2 * n2
         # tangential: rotate history, add the tangential relative displacement of this step
-        shear = contacts.shear
-        stored = shear[c, 0] * shear[c, 0] + shear[c, 1] * shear[c, 1] + shear[c, 2] * shear[c, 2]
-        rotate_shear(shear, c, n0, n1, n2, spin * dt)
+        u0, u1, u2 = contacts.shear[c, 0], contacts.shear[c, 1], contacts.shear[c, 2]
+        stored = u0 * u0 + u1 * u1 + u2 * u2
+        u0, u1, u2 = rotate_shear(u0, u1, u2, n0, n1, n2, spin * dt)
         # (none at the first step: the initial positions have no previous step)
         increment = 0.0 if first_step else dt
-        shear[c, 0] += (dv0 - vn * n0) * increment
-        shear[c, 1] += (dv1 - vn * n1) * increment
-        shear[c, 2] += (dv2 - vn * n2) * increment
+        u0 += (dv0 - vn * n0) * increment
+        u1 += (dv1 - vn * n1) * increment
+        u2 += (dv2 - vn * n2) * increment
         weight, overlap_kick = onset_averaged_overlap(overlap, vn, dt, new_contact)
         fn_elastic = contacts.kn[c] * overlap_kick
-        fs0, fs1, fs2 = cundall_strack(shear, c, contacts.kt[c], contacts.mu[c], fn_elastic)
+        kt = contacts.kt[c]
+        u0, u1, u2 = cundall_strack(u0, u1, u2, kt, contacts.mu[c], fn_elastic)
+        contacts.shear[c, 0], contacts.shear[c, 1], contacts.shear[c, 2] = u0, u1, u2
         # friction ledger, part 1: minus the change of the energy stored in the spring
-        stored -= shear[c, 0] * shear[c, 0] + shear[c, 1] * shear[c, 1] + shear[c, 2] * shear[c, 2]
-        ledger[0] += 0.5 * contacts.kt[c] * stored
+        stored -= u0 * u0 + u1 * u1 + u2 * u2
+        ledger[0] += 0.5 * kt * stored
         # dashpot: the normal velocity at t_n, extrapolated from the last two half steps
         vn_dashpot = vn if new_contact else 1.5 * vn - 0.5 * contacts.vn[c]
         contacts.vn[c] = vn
@@ -670,10 +686,11 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
         contacts.overlap[c] = overlap
         contacts.fn[c] = fn
         contacts.fn_viscous[c] = fn_viscous
-        f0, f1, f2 = fn * n0 + fs0, fn * n1 + fs1, fn * n2 + fs2
-        if bj >= 0:
-            _apply(bodies, bj, p0, p1, p2, f0, f1, f2, 1.0)
-        _apply(bodies, bi, p0, p1, p2, f0, f1, f2, -1.0)
+        # normal force plus the tangential spring force -kt u, on j (minus on i)
+        f0, f1, f2 = fn * n0 + -kt * u0, fn * n1 + -kt * u1, fn * n2 + -kt * u2
+        if not wall:
+            _apply(bodies, bj, rj0, rj1, rj2, f0, f1, f2, 1.0)
+        _apply(bodies, bi, ri0, ri1, ri2, f0, f1, f2, -1.0)
     return n_changes
 
 
@@ -714,9 +731,12 @@ def contact_power(bodies, spheres, walls, contacts, out):
         reach = spheres.radius[i] - 0.5 * contacts.overlap[c]
         p0, p1, p2 = pos[i, 0] + reach * n0, pos[i, 1] + reach * n1, pos[i, 2] + reach * n2
         vel, omega = bodies.vel_full, bodies.omega_full
-        vi0, vi1, vi2 = _point_velocity(bodies.pos, vel, omega, bi, p0, p1, p2)
+        ri0, ri1, ri2 = _lever(bodies.pos, bi, p0, p1, p2)
+        vi0, vi1, vi2 = _point_velocity(vel, omega, bi, ri0, ri1, ri2)
         if j >= 0:
-            vj0, vj1, vj2 = _point_velocity(bodies.pos, vel, omega, spheres.body[j], p0, p1, p2)
+            bj = spheres.body[j]
+            rj0, rj1, rj2 = _lever(bodies.pos, bj, p0, p1, p2)
+            vj0, vj1, vj2 = _point_velocity(vel, omega, bj, rj0, rj1, rj2)
         else:
             vj0 = vj1 = vj2 = 0.0
         kt = contacts.kt[c]

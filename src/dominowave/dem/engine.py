@@ -27,13 +27,15 @@ from dominowave.dem.contact import (
     build_verlet_list,
     compute_forces,
     contact_power,
+    moved_beyond,
     needs_rebuild,
 )
 from dominowave.dem.energy import energies, kinetic_energy
 from dominowave.dem.integrate import (
     drift,
+    drift_body,
     kick,
-    kick_drift,
+    kick_body,
     update_listed_sphere_positions,
     update_sphere_positions,
 )
@@ -303,6 +305,23 @@ def energy_excess(e, ref, track_energy):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
+def _advance_bodies(bodies, settings):
+    """Kick and drift in one pass over the bodies, for the steps in which nothing reads the
+    state between the two (the same arithmetic as :func:`kick` then :func:`drift`: each
+    body's update is independent of the others, and its data stays in registers); the
+    Verlet-list test of the next step (:func:`needs_rebuild`) is done on the way.  Returns
+    whether the list must be rebuilt."""
+    half_skin = 0.5 * settings.skin
+    rebuild = False
+    for b in range(bodies.mass.shape[0]):
+        kick_body(bodies, b, settings.gravity, settings.dt, settings.damping, settings.damp_gravity)
+        drift_body(bodies, b, settings.dt)
+        if not rebuild:
+            rebuild = moved_beyond(bodies, b, half_skin)
+    return rebuild
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
 def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_end, stop, work):
     """Advance up to ``n_steps`` steps or until ``time >= t_end`` or a stop condition.
 
@@ -319,6 +338,7 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
     kin = work[6]
     p_contacts = work[7]
     touched_body = int(stop[1])
+    rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
     for done in range(n_steps):
         t = rec.clock[0]
         if t >= t_end - 0.5 * dt:
@@ -337,7 +357,7 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
         forces_due = traj_due and rec.cf_on[0] == 1
         if forces_due and rec.cf_first.shape[0] - rec.cf_n[0] < contacts.i.shape[0]:
             return GROW_CONTACT_FORCES, done
-        if needs_rebuild(bodies, settings.skin, contacts.n[0]):
+        if rebuild_due:
             if not _finite(bodies):
                 return ABORT_NAN, done
             update_sphere_positions(bodies, spheres)  # the search sees every sphere
@@ -360,7 +380,7 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
         check_due = (step + 1) % settings.check_every == 0 or last or code >= 0
         if not (traj_due or energy_due or check_due or settings.track_energy):
             # nothing reads the state between kick and drift: one pass over the bodies
-            kick_drift(bodies, settings.gravity, dt, settings.damping, settings.damp_gravity)
+            rebuild_due = _advance_bodies(bodies, settings)
         else:
             p_damping = kick(bodies, settings.gravity, dt, settings.damping, settings.damp_gravity)
             if settings.track_energy:
@@ -398,6 +418,7 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
                     if kin[0] + kin[1] < stop[2]:
                         code = STOP_KINETIC
             drift(bodies, dt)
+            rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
         update_listed_sphere_positions(bodies, spheres)
         rec.clock[0] = t + dt
         rec.step[0] = step + 1

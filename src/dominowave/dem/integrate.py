@@ -40,12 +40,14 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 __all__ = [
     "drift",
+    "drift_body",
     "kick",
-    "kick_drift",
+    "kick_body",
     "quat_to_matrix",
     "update_listed_sphere_positions",
     "update_sphere_positions",
@@ -96,18 +98,19 @@ def _store_matrix(rot, b, w, x, y, z):
     rot[b, 2, 2] = 1.0 - 2.0 * (x * x + y * y)
 
 
-# Below this half angle [rad] a turn takes cos x and sin(x)/x from their Taylor series
-# (the first omitted terms, x^8/8! and x^8/9!, are < 3e-21 relative): no sqrt, sin, cos or
-# division.  Rotations per step are far smaller (|omega dt| ~ 1e-3 in a domino chain).
-SMALL_HALF_ANGLE = 1e-2
+# Below this half angle [rad] a turn takes cos x and sin(x)/x from their Taylor series to
+# x^4 (the first omitted terms, x^6/720 and x^6/5040, are < 1.4e-21 relative): no sqrt,
+# sin, cos or division.  A domino chain turns a body by |omega dt| < 1e-3 per step; larger
+# turns take the C library's sin and cos.
+SMALL_HALF_ANGLE = 1e-3
 
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _cos_sinc(x2):
-    """``(cos x, sin(x) / x)`` from ``x^2`` for ``x^2 < SMALL_HALF_ANGLE^2`` (Taylor series,
-    nested; products with reciprocals, which LLVM folds, instead of divisions)."""
-    cos_x = 1.0 - 0.5 * x2 * (1.0 - x2 * (1.0 / 12.0) * (1.0 - x2 * (1.0 / 30.0)))
-    sinc_x = 1.0 - x2 * (1.0 / 6.0) * (1.0 - x2 * (1.0 / 20.0) * (1.0 - x2 * (1.0 / 42.0)))
+    """``(cos x, sin(x) / x)`` from ``x^2`` for ``x^2 < SMALL_HALF_ANGLE^2`` (Taylor series;
+    products with reciprocals, which LLVM folds, instead of divisions)."""
+    cos_x = 1.0 - x2 * (0.5 - x2 * (1.0 / 24.0))
+    sinc_x = 1.0 - x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0))
     return cos_x, sinc_x
 
 
@@ -136,18 +139,22 @@ def _turn_world(q, b, wx, wy, wz, dt):
     q[b, 3] = a0 * q3 + a1 * q2 - a2 * q1 + a3 * q0
 
 
+# A product of unit quaternions has unit norm to round-off (~1e-16 per turn, a random
+# walk).  The orientation is rescaled when its squared norm is off by more than this: the
+# rotation matrix then deviates from orthogonal by < 1e-14, which moves a sphere 5 cm from
+# the centre of mass by < 1e-15 m, while the test stays off the critical path of a step.
+QUAT_NORM_TOLERANCE = 1e-14
+
+
 @njit(cache=True, error_model="numpy", inline="always")
 def _normalise(q, b):
-    """Scale q[b] to unit norm and return it as ``(w, x, y, z)``.  A product of unit
-    quaternions is off by O(1e-16): then one Newton step for 1/sqrt(|q|^2) from 1,
-    ``(3 - |q|^2) / 2``, is exact to O(1e-32)."""
+    """Rescale q[b] to unit norm if ``| |q|^2 - 1 | > QUAT_NORM_TOLERANCE``."""
     q0, q1, q2, q3 = q[b, 0], q[b, 1], q[b, 2], q[b, 3]
     n2 = q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3
-    e = n2 - 1.0
-    scale = 1.0 - 0.5 * e if abs(e) < 1e-8 else 1.0 / math.sqrt(n2)
-    q0, q1, q2, q3 = q0 * scale, q1 * scale, q2 * scale, q3 * scale
-    q[b, 0], q[b, 1], q[b, 2], q[b, 3] = q0, q1, q2, q3
-    return q0, q1, q2, q3
+    if abs(n2 - 1.0) > QUAT_NORM_TOLERANCE:
+        scale = 1.0 / math.sqrt(n2)
+        for k in range(4):
+            q[b, k] *= scale
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -254,7 +261,8 @@ def kick_body(bodies, b, gravity, dt, damping, damp_gravity):
         e0, e1, e2 = bodies.axis[b, 0], bodies.axis[b, 1], bodies.axis[b, 2]
         w = bodies.omega[b, 0] * e0 + bodies.omega[b, 1] * e1 + bodies.omega[b, 2] * e2
         torque = bodies.torque[b, 0] * e0 + bodies.torque[b, 1] * e1
-        alpha = (torque + bodies.torque[b, 2] * e2) / inertia
+        # (the reciprocal is computed in parallel with the torque, off the critical path)
+        alpha = (torque + bodies.torque[b, 2] * e2) * (1.0 / inertia)
         alpha_d = damped(alpha, w, dt, damping) if damping != 0.0 else alpha
         w_new = w + h * alpha_d
         w_full = w_new - 0.5 * dt * alpha_d
@@ -329,8 +337,8 @@ def drift_body(bodies, b, dt):
         l0, l1, l2 = _turn_body_axis(q, b, l0, l1, l2, 0, 0.5 * dt * l0 / inertia[b, 0])
     else:
         _turn_world(q, b, bodies.omega[b, 0], bodies.omega[b, 1], bodies.omega[b, 2], dt)
-    w, x, y, z = _normalise(q, b)
-    _store_matrix(bodies.rot, b, w, x, y, z)
+    _normalise(q, b)
+    _store_matrix(bodies.rot, b, q[b, 0], q[b, 1], q[b, 2], q[b, 3])
     if mode == ROT_FREE:
         _omega_from_angmom(bodies.rot, bodies.inertia, bodies.angmom, bodies.omega, b)
 
@@ -340,19 +348,6 @@ def drift(bodies, dt):
     """Positions and orientations n -> n+1 from the half-step velocities."""
     for b in range(bodies.mass.shape[0]):
         drift_body(bodies, b, dt)
-
-
-@njit(cache=True, error_model="numpy", _nrt=False)
-def kick_drift(bodies, gravity, dt, damping, damp_gravity):
-    """:func:`kick` and :func:`drift` in one pass, body by body (the same arithmetic: each
-    body's update is independent of the others), for the steps in which nothing reads the
-    state between the two; the body's data stays in registers and cache.  Returns the
-    power of the local damping forces [W]."""
-    power = 0.0
-    for b in range(bodies.mass.shape[0]):
-        power += kick_body(bodies, b, gravity, dt, damping, damp_gravity)
-        drift_body(bodies, b, dt)
-    return power
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -365,7 +360,8 @@ def _place_spheres(bodies, spheres, count, listed_only):
     owner = -1
     x0 = x1 = x2 = r00 = r01 = r02 = r10 = r11 = r12 = r20 = r21 = r22 = 0.0
     for k in range(count):
-        s = spheres.listed[k] if listed_only else k
+        # (unsigned indices: numba adds no negative-index wraparound to every access)
+        s = np.uint64(spheres.listed[k] if listed_only else k)
         b = spheres.body[s]
         if b != owner:
             owner = b
