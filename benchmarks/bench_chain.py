@@ -12,11 +12,14 @@ what YADE's engines do by default) for S steps; the same with the energy ledger;
 event recording (log + pair statistics + trajectory every 100 steps + ledger, a real run);
 YADE engines-only (``yade -n -j1``, O.run(S) timed inside YADE, no PyRunner; median of
 --repeat runs for the paper case, one for the large one), with the
-identical scene and with the one-wall floor of earlier versions (faster in YADE); the profile
-split of bench_engine.py (contact detection, forces, integration) on the chain's state.
+identical scene at YADE's fastest collider settings (chain_yade.py) and, for reference,
+with the one-wall floor of earlier versions (not the same case: a softer floor under the
+base spheres; no longer faster); the profile split of bench_engine.py (contact detection,
+forces, integration) on the chain's state.
 
 Run:  python benchmarks/bench_chain.py [--repeat 3] [--large-n 300]
       python benchmarks/bench_chain.py --interleave 7   (alternating pairs, ratios only)
+      python benchmarks/bench_chain.py --trace 300      (our cost per step along a run)
 YADE is skipped if not installed.
 """
 
@@ -85,8 +88,8 @@ def time_ours(chain: DominoChain, steps: int, mode: str, repeat: int) -> float:
 
 def time_yade(chain: DominoChain, steps: int, floor: str = "per_radius") -> float:
     """YADE engines-only wall time [s]; ``floor``: "per_radius" = the identical scene (one
-    floor wall per sphere radius, chain_yade.py), "single" = one wall (YADE's faster
-    configuration of earlier versions, whose R/2 base spheres meet a softer floor)."""
+    floor wall per sphere radius, chain_yade.py), "single" = one wall (the configuration of
+    earlier versions, whose R/2 base spheres meet a softer floor: not the same case)."""
     scene = compare_yade.scene_dict(chain, chain.resolve(None), "engines", steps)
     scene["floor"] = floor
     return float(compare_yade.run_yade(scene)["wall_time"])
@@ -111,6 +114,29 @@ def interleaved(chain: DominoChain, steps: int, pairs: int) -> dict:
     }
 
 
+def cost_trace(chain: DominoChain, steps: int, chunk: int = 20_000) -> None:
+    """Engines-only cost per step along one run, with the contact counts that drive it."""
+    sim, _ = chain.build(chain.resolve(None), record=False, track_energy=False)
+    sim.run(n_steps=10)  # compile / warm up
+    done = 10
+    while done < steps:
+        builds = sim.rec.n_rebuilds[0]
+        start = time.perf_counter()
+        sim.run(n_steps=chunk)
+        elapsed = time.perf_counter() - start
+        done += chunk
+        c = sim.contacts
+        n = int(c.n[0])
+        active = c.active[:n].astype(bool)
+        print(
+            f"step {done}: {elapsed / chunk * 1e6:.1f} us/step, a list build every "
+            f"{chunk / max(1, sim.rec.n_rebuilds[0] - builds):.0f} steps, {n} candidate "
+            f"pairs, {active.sum()} active ({np.sum(active & (c.j[:n] < 0))} on the floor), "
+            f"{sim.spheres.n_listed[0]} listed spheres",
+            flush=True,
+        )
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
@@ -123,7 +149,19 @@ def main(argv=None) -> int:
         help="only the interleaved comparison: K alternating pairs at N = 30 (full run) "
         "and max(1, K // 2) at --large-n (first 40 000 steps)",
     )
+    ap.add_argument(
+        "--trace",
+        type=int,
+        default=0,
+        metavar="N",
+        help="only the engines-only cost per step along one run of N dominoes (steps of the "
+        "paper case scaled per domino), with its contact counts",
+    )
     args = ap.parse_args(argv)
+    if args.trace:
+        paper_steps = steps_to_last_collision(case(30))
+        cost_trace(case(args.trace), paper_steps * args.trace // 30)
+        return 0
     have_yade = shutil.which("yade") is not None
     if args.interleave:
         if not have_yade:

@@ -205,11 +205,13 @@ engines.append(NewtonIntegrator(gravity=(0.0, 0.0, -scene["g"]), damping=scene["
 O.engines = engines
 O.dt = scene["dt"]
 
+# O.run(n, True) waits in 40 ms sleeps, so it reports whole multiples of 40 ms (measured:
+# 1000 steps of a small scene "0.0403 s", with fine polling 0.0307 s); poll every 0.1 ms
+# instead (from the main thread, while YADE's one worker thread runs the engines).
 start = time.perf_counter()
-if scene["mode"] == "record":
-    O.run(int(scene["max_steps"]), True)
-else:
-    O.run(int(scene["n_steps"]), True)
+O.run(int(scene["max_steps"] if scene["mode"] == "record" else scene["n_steps"]))
+while O.running:
+    time.sleep(1e-4)
 wall = time.perf_counter() - start
 json.dump(
     {
