@@ -76,6 +76,15 @@ def scene_dict(chain: DominoChain, push: Push, mode: str, steps: int) -> dict:
     }
 
 
+# The collider settings that are fastest for this scene (benchmarks/README.md): YADE
+# 2023.02a's defaults at N = 30, the chain_yade.py default at N = 300. Neither changes a
+# trajectory (collider_scan.py: bitwise identical final positions).
+COLLIDERS = {
+    "defaults": {"targetInterv": 100, "verletDist": -0.5},
+    "targetInterv 0": {"targetInterv": 0, "verletDist": -1},
+}
+
+
 def run_yade(scene: dict) -> dict:
     with tempfile.TemporaryDirectory() as tmp:
         src, out = Path(tmp) / "scene.json", Path(tmp) / "out.json"

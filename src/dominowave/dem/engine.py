@@ -8,8 +8,11 @@ being untouched by the interrupted step), or when the run must be aborted.
 One step (see integrate.py for the scheme):
 rebuild the Verlet list if a body's spheres may have moved more than skin/2 (then place
 every sphere; between builds only the listed ones are moved) -> contact forces -> contact
-onset/end bookkeeping (held bodies, events, pair statistics) -> kick -> recorders at t_n
--> drift -> stop conditions.  The optional contact-force recorder (``rec.cf_on``) copies
+onset/end bookkeeping (held bodies, events, pair statistics) -> stop conditions at t_n ->
+kick -> recorders and checks at t_n -> drift -> place the listed spheres.  In the steps
+where no recorder, check or energy ledger reads the state between kick and drift, kick
+and drift are one pass over the bodies that also tests the Verlet list for the next step
+(:func:`_advance_bodies`; the same arithmetic).  The optional contact-force recorder (``rec.cf_on``) copies
 the forces of the active contacts at each trajectory frame; off, it costs one test per frame.
 """
 
@@ -326,7 +329,7 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
     """Advance up to ``n_steps`` steps or until ``time >= t_end`` or a stop condition.
 
     ``stop`` = (no_onset_for [s] or inf, touched_body or -1, kinetic_below [J] or -1,
-    start time of the run [s]).  ``work``: (8, 3) scratch array.  Returns
+    start time of the run [s]).  ``work``: (2, 3) scratch array.  Returns
     ``(code, steps_done)``; see the module constants.  ``rec.energy_now`` holds the
     energies of the last step done (time ``clock[0] - dt``).
 
@@ -335,8 +338,8 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
     otherwise pay atomic reference-count updates of the ~100 state arrays.
     """
     dt = settings.dt
-    kin = work[6]
-    p_contacts = work[7]
+    kin = work[0]
+    p_contacts = work[1]
     touched_body = int(stop[1])
     rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
     for done in range(n_steps):

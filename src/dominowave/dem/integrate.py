@@ -48,7 +48,6 @@ __all__ = [
     "drift_body",
     "kick",
     "kick_body",
-    "quat_to_matrix",
     "update_listed_sphere_positions",
     "update_sphere_positions",
 ]
@@ -75,18 +74,9 @@ def damped(a, v, dt, damping):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def quat_to_matrix(quat, rot, b):
-    """Rotation matrix ``rot[b]`` of the unit quaternion ``quat[b] = (w, x, y, z)``.
-
-    The kernels index rows of the (nb, 4) / (nb, 3, 3) arrays instead of taking row
-    views: wherever numba's reference counting is on, a view costs an atomic pair.
-    """
-    _store_matrix(rot, b, quat[b, 0], quat[b, 1], quat[b, 2], quat[b, 3])
-
-
-@njit(cache=True, error_model="numpy", inline="always")
 def _store_matrix(rot, b, w, x, y, z):
-    """``rot[b]`` = the rotation matrix of the unit quaternion ``(w, x, y, z)``."""
+    """``rot[b]`` = the rotation matrix of the unit quaternion ``(w, x, y, z)`` (body ->
+    world; the kernels index rows of the (nb, 3, 3) array, they take no row views)."""
     rot[b, 0, 0] = 1.0 - 2.0 * (y * y + z * z)
     rot[b, 0, 1] = 2.0 * (x * y - w * z)
     rot[b, 0, 2] = 2.0 * (x * z + w * y)

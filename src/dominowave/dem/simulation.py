@@ -377,7 +377,7 @@ class Simulation:
                 remaining,
                 t_end,
                 stop_array,
-                np.empty((8, 3)),  # scratch vectors of the kernels
+                np.empty((2, 3)),  # scratch vectors of the loop
             )
             done_total += done
             remaining -= done
