@@ -12,8 +12,9 @@ onset/end bookkeeping (held bodies, events, pair statistics) -> stop conditions 
 kick -> recorders and checks at t_n -> drift -> place the listed spheres.  In the steps
 where no recorder, check or energy ledger reads the state between kick and drift, kick
 and drift are one pass over the bodies that also tests the Verlet list for the next step
-(:func:`_advance_bodies`; the same arithmetic).  The optional contact-force recorder (``rec.cf_on``) copies
-the forces of the active contacts at each trajectory frame; off, it costs one test per frame.
+(:func:`_advance_bodies`; the same arithmetic).  The optional contact-force recorder
+(``rec.cf_on``) copies the forces of the active contacts at each trajectory frame; off, it
+costs one test per frame.
 """
 
 from __future__ import annotations
