@@ -86,7 +86,8 @@ def main(argv=None) -> int:
             run(name, 0)  # compile / warm up
         times = {name: np.zeros(args.members) for name in versions}
         for member in range(args.members):
-            for name in versions:
+            order = list(versions) if member % 2 == 0 else list(reversed(versions))
+            for name in order:  # (alternating which version runs first)
                 times[name][member] = run(name, member)
     base, new = times["base"], times["new"]
     print(

@@ -65,7 +65,7 @@ def material(radius, density, friction):
 
 # one floor wall per sphere radius (see the module docstring), masks 0b10, 0b100, ...
 # (the single wall of earlier versions gave the R/2 base spheres a floor of 2/3 k_n; it
-# was not faster either: 0.661 vs 0.598 s at N = 30, 94.2 vs 89.8 s at N = 300)
+# was not faster either: benchmarks/README.md, session 3)
 radii_all = sorted({r for body in scene["bodies"] for r in body["radii"]})
 wall_mask = {r: 1 << (1 + i) for i, r in enumerate(radii_all)}
 for r in radii_all:

@@ -359,7 +359,8 @@ def _merge_history(spheres, walls, bodies, mats, contacts, keys, old_key, old_ac
             o += 1  # old pairs now out of range: their contacts have ended already
         if o < n_old and old_key[o] == k:
             # the whole history: the dashpot extrapolates vn, an ending contact needs
-            # its last overlap (end_impulse); the properties of a pair never change
+            # its last overlap (end_impulse); the properties of a listed pair are kept
+            # (whoever edits the materials mid-run must edit contacts.kn/kt/mu/cn too)
             contacts.active[c] = old_active[o]
             for d in range(3):
                 contacts.shear[c, d] = old[o, d]
@@ -410,7 +411,7 @@ def rotate_shear(u0, u1, u2, n0, n1, n2, spin):
     kept), then turned about the normal by the angle ``spin`` [rad] (mean rotation of the
     two bodies about it).  Returns the new ``u`` [m]."""
     un = u0 * n0 + u1 * n1 + u2 * n2
-    if un != 0.0:  # (a wall contact's shear stays exactly in its fixed plane: un == 0)
+    if un != 0.0:  # (at an axis-aligned wall the shear stays exactly in its plane: un == 0)
         old2 = u0 * u0 + u1 * u1 + u2 * u2
         u0 -= un * n0
         u1 -= un * n1
@@ -723,8 +724,8 @@ def contact_power(bodies, spheres, walls, contacts, out):
             dx = pos[j, 0] - pos[i, 0]
             dy = pos[j, 1] - pos[i, 1]
             dz = pos[j, 2] - pos[i, 2]
-            dist = math.sqrt(dx * dx + dy * dy + dz * dz)
-            n0, n1, n2 = dx / dist, dy / dist, dz / dist
+            inv_dist = 1.0 / math.sqrt(dx * dx + dy * dy + dz * dz)  # (as compute_forces)
+            n0, n1, n2 = dx * inv_dist, dy * inv_dist, dz * inv_dist
         else:
             w = -j - 1
             n0, n1, n2 = -walls.normal[w, 0], -walls.normal[w, 1], -walls.normal[w, 2]
@@ -774,10 +775,10 @@ def active_contact_forces(spheres, walls, contacts, first, second, point, force)
             for d in range(3):  # (point[k] holds the centre-to-centre vector first)
                 point[k, d] = spheres.pos[j, d] - spheres.pos[i, d]
                 dist += point[k, d] * point[k, d]
-            dist = math.sqrt(dist)
+            inv_dist = 1.0 / math.sqrt(dist)  # (the normal exactly as in compute_forces)
             reach = spheres.radius[i] - 0.5 * contacts.overlap[c]
             for d in range(3):
-                nd = point[k, d] / dist
+                nd = point[k, d] * inv_dist
                 force[k, d] = fn * nd - kt * u[d]
                 point[k, d] = spheres.pos[i, d] + reach * nd
             first[k] = i

@@ -90,8 +90,9 @@ def _store_matrix(rot, b, w, x, y, z):
 
 # Below this half angle [rad] a turn takes cos x and sin(x)/x from their Taylor series to
 # x^4 (the first omitted terms, x^6/720 and x^6/5040, are < 1.4e-21 relative): no sqrt,
-# sin, cos or division.  A domino chain turns a body by |omega dt| < 1e-3 per step; larger
-# turns take the C library's sin and cos.
+# sin, cos or division.  The paper chain (k/k* = 1e4) turns a body by |omega dt| <= 2e-3
+# per step (half angle <= 1e-3); larger turns (softer contacts, longer steps) take the C
+# library's sin and cos -- only the speed differs.
 SMALL_HALF_ANGLE = 1e-3
 
 
@@ -131,8 +132,8 @@ def _turn_world(q, b, wx, wy, wz, dt):
 
 # A product of unit quaternions has unit norm to round-off (~1e-16 per turn, a random
 # walk).  The orientation is rescaled when its squared norm is off by more than this: the
-# rotation matrix then deviates from orthogonal by < 1e-14, which moves a sphere 5 cm from
-# the centre of mass by < 1e-15 m, while the test stays off the critical path of a step.
+# rotation matrix then deviates from orthogonal by < 4e-14, which moves a sphere 5 cm from
+# the centre of mass by ~1e-15 m, while the test stays off the critical path of a step.
 QUAT_NORM_TOLERANCE = 1e-14
 
 

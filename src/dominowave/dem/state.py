@@ -76,6 +76,11 @@ Spheres = namedtuple(
 
 Walls = namedtuple("Walls", ["point", "normal", "material"])
 
+# The contact properties (kn, kt, mu, cn) of a pair are computed from the materials when
+# the pair enters the Verlet list and are kept while it stays listed: a change of the
+# MaterialTable during a run reaches only pairs listed afterwards, so a script that edits
+# it mid-run must edit Contacts.kn/kt/mu/cn of the listed pairs as well
+# (docs/fig6/phi_f_study/switch.py does both).
 MaterialTable = namedtuple(
     "MaterialTable",
     [
