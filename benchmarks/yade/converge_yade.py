@@ -28,32 +28,14 @@ from dominowave.chain.build import ChainParams
 from dominowave.chain.scenario import DominoChain
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tests" / "chain"))
-from chain_reference import planar_chain_collisions
+from chain_reference import chain_collisions
 
 T_END = 0.16  # [s] long enough for the third collision at d/l <= 0.6
 
 
 def reference(chain: DominoChain) -> np.ndarray:
     """First-contact times of dominoes 1..3 from the rigid-body ODE [s]."""
-    p, shape = chain.params, chain.shape
-    push = chain.resolve(None)
-    com = shape.centre_of_mass
-    centres0 = np.array([[x + com[0], com[2] - chain._sink()] for x in chain.positions])
-    v0, w0, _ = chain._push_velocities(push)
-    vel0 = np.zeros((len(chain.positions), 3))
-    vel0[0] = [v0[0], v0[2], w0[1]]
-    return planar_chain_collisions(
-        (shape.centres - com)[:, [0, 2]],
-        shape.radii,
-        shape.mass,
-        shape.inertia_about_y(com),
-        p.contact_stiffness,
-        centres0,
-        vel0,
-        g=p.g,
-        t_end=T_END,
-        max_step=2e-5,
-    )
+    return chain_collisions(chain, chain.resolve(None), t_end=T_END, max_step=2e-5)
 
 
 def main(argv=None) -> int:

@@ -175,3 +175,28 @@ def planar_chain_collisions(
         events=events,
     )
     return np.array([e[0] if e.size else np.nan for e in sol.t_events])
+
+
+def chain_collisions(chain, push, t_end, max_step=5e-5):
+    """:func:`planar_chain_collisions` for the initial state of a 2D ``DominoChain`` pushed
+    by ``push``: the chain supplies only geometry, masses, k_n and the push velocities
+    (COM at rest on the sink of its base, domino 0 with the push's (vx, vz, omega_y));
+    the integration is independent of the engine."""
+    p, shape = chain.params, chain.shape
+    com = shape.centre_of_mass
+    centres0 = np.array([[x + com[0], com[2] - chain._sink()] for x in chain.positions])
+    v0, w0, _ = chain._push_velocities(push)
+    vel0 = np.zeros((len(chain.positions), 3))
+    vel0[0] = [v0[0], v0[2], w0[1]]
+    return planar_chain_collisions(
+        (shape.centres - com)[:, [0, 2]],
+        shape.radii,
+        shape.mass,
+        shape.inertia_about_y(com),
+        p.contact_stiffness,
+        centres0,
+        vel0,
+        g=p.g,
+        t_end=t_end,
+        max_step=max_step,
+    )

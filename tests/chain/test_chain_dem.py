@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 from chain_reference import (
-    planar_chain_collisions,
+    chain_collisions,
     rolling_column_contact_angle,
     rolling_column_time,
 )
@@ -62,23 +62,7 @@ def test_validate_collisions_against_planar_rigid_body_ode(d_over_l):
     p = ChainParams(n_dominoes=3, d_over_l=d_over_l, base="two", held=False, friction_floor=0.0)
     chain = DominoChain(p, steps_per_collision=200)
     push = chain.resolve(None)
-    shape = chain.shape
-    com = shape.centre_of_mass
-    centres0 = np.array([[x + com[0], com[2] - chain._sink()] for x in chain.positions])
-    v0, w0, _ = chain._push_velocities(push)
-    vel0 = np.zeros((3, 3))
-    vel0[0] = [v0[0], v0[2], w0[1]]
-    ref = planar_chain_collisions(
-        (shape.centres - com)[:, [0, 2]],
-        shape.radii,
-        shape.mass,
-        shape.inertia_about_y(com),
-        p.contact_stiffness,
-        centres0,
-        vel0,
-        g=p.g,
-        t_end=0.15,
-    )
+    ref = chain_collisions(chain, push, t_end=0.15)
     ours = chain.run(push).arrival[1:3]
     np.testing.assert_allclose(ours, ref, rtol=1e-5)
 
