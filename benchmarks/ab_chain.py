@@ -27,7 +27,6 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-PAPER_STEPS_PER_DOMINO = 23_865 / 30  # bench_chain.py's paper case, session-3 engine
 
 
 def import_base(revision: str, into: Path):
@@ -59,7 +58,11 @@ def main(argv=None) -> int:
     ap.add_argument("--members", type=int, default=16)
     ap.add_argument("--steps", type=int, default=0)
     args = ap.parse_args(argv)
-    steps = args.steps or int(PAPER_STEPS_PER_DOMINO * args.n)
+    if not args.steps:  # bench_chain.py's cases: the paper chain's steps, scaled per domino
+        from bench_chain import case, steps_to_last_collision
+
+        args.steps = steps_to_last_collision(case(30)) * args.n // 30
+    steps = args.steps
     with tempfile.TemporaryDirectory() as tmp:
         base_scenario, base_build = import_base(args.base, Path(tmp))
         from dominowave.chain import build, scenario

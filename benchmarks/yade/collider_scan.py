@@ -22,10 +22,9 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(1, str(Path(__file__).resolve().parent.parent))  # (bench_chain.py)
+from bench_chain import case, steps_to_last_collision
 from compare_yade import COLLIDERS, run_yade, scene_dict
-
-from dominowave.chain.build import ChainParams
-from dominowave.chain.scenario import DominoChain
 
 SETTINGS = {
     "YADE defaults": COLLIDERS["defaults"],
@@ -35,7 +34,7 @@ SETTINGS = {
 
 
 def scan(n_dominoes: int, steps: int, rounds: int) -> None:
-    chain = DominoChain(ChainParams(n_dominoes=n_dominoes, d_over_l=0.4, base="two", held=False))
+    chain = case(n_dominoes)
     scene = scene_dict(chain, chain.resolve(None), "engines", steps)
     names = list(SETTINGS)
     times = {name: [] for name in names}
@@ -61,9 +60,7 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=3)
     args = ap.parse_args(argv)
-    paper = DominoChain(ChainParams(n_dominoes=30, d_over_l=0.4, base="two", held=False))
-    run = paper.run()
-    scan(30, int(np.ceil(run.arrival[-1] / paper.dt)), args.rounds)
+    scan(30, steps_to_last_collision(case(30)), args.rounds)
     scan(300, 40_000, args.rounds)
     return 0
 
