@@ -112,7 +112,7 @@ def _loop_detection(spheres, walls, bodies, mats, contacts, skin, n):
     rebuilt = 0
     for _ in range(n):
         if needs_rebuild(bodies, skin, contacts.n[0]):
-            update_sphere_positions(bodies, spheres)
+            update_sphere_positions(bodies, spheres, False)
             build_verlet_list(spheres, walls, bodies, mats, contacts, skin)
             rebuilt += 1
     return rebuilt
@@ -121,7 +121,7 @@ def _loop_detection(spheres, walls, bodies, mats, contacts, skin, n):
 @njit(cache=True, _nrt=False)
 def _loop_rebuild(spheres, walls, bodies, mats, contacts, skin, n):
     for _ in range(n):
-        update_sphere_positions(bodies, spheres)
+        update_sphere_positions(bodies, spheres, False)
         build_verlet_list(spheres, walls, bodies, mats, contacts, skin)
 
 
@@ -136,7 +136,7 @@ def _loop_integration(bodies, spheres, gravity, dt, damping, n):
     for _ in range(n):
         kick(bodies, gravity, dt, damping, True)
         drift(bodies, dt)
-        update_listed_sphere_positions(bodies, spheres)
+        update_listed_sphere_positions(bodies, spheres, False)
 
 
 def timed(fn, repeat):

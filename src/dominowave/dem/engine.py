@@ -38,11 +38,14 @@ from dominowave.dem.energy import energies, kinetic_energy
 from dominowave.dem.integrate import (
     drift,
     drift_body,
+    drift_body_planar,
     kick,
     kick_body,
+    kick_body_planar,
     update_listed_sphere_positions,
     update_sphere_positions,
 )
+from dominowave.dem.planar import compute_forces_planar
 
 __all__ = ["Recorder", "Settings", "run_loop"]
 
@@ -72,6 +75,7 @@ Settings = namedtuple(
         "record_peak_force",  # bool
         "check_every",  # steps between stop/energy checks
         "track_energy",  # bool: keep the dissipation ledger (off: YADE's trackEnergy=False)
+        "planar",  # bool: the scene is planar, use the planar kernels (planar.py)
     ],
 )
 
@@ -316,10 +320,19 @@ def _advance_bodies(bodies, settings):
     Verlet-list test of the next step (:func:`needs_rebuild`) is done on the way.  Returns
     whether the list must be rebuilt."""
     half_skin = 0.5 * settings.skin
+    g, dt = settings.gravity, settings.dt
+    damping, damp_gravity = settings.damping, settings.damp_gravity
     rebuild = False
+    if settings.planar:  # (the same results, fewer operations: integrate.kick_body_planar)
+        for b in range(bodies.mass.shape[0]):
+            kick_body_planar(bodies, b, g, dt, damping, damp_gravity)
+            drift_body_planar(bodies, b, dt)
+            if not rebuild:
+                rebuild = moved_beyond(bodies, b, half_skin)
+        return rebuild
     for b in range(bodies.mass.shape[0]):
-        kick_body(bodies, b, settings.gravity, settings.dt, settings.damping, settings.damp_gravity)
-        drift_body(bodies, b, settings.dt)
+        kick_body(bodies, b, g, dt, damping, damp_gravity)
+        drift_body(bodies, b, dt)
         if not rebuild:
             rebuild = moved_beyond(bodies, b, half_skin)
     return rebuild
@@ -342,6 +355,7 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
     kin = work[0]
     p_contacts = work[1]
     touched_body = int(stop[1])
+    planar = settings.planar
     rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
     for done in range(n_steps):
         t = rec.clock[0]
@@ -364,13 +378,18 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
         if rebuild_due:
             if not _finite(bodies):
                 return ABORT_NAN, done
-            update_sphere_positions(bodies, spheres)  # the search sees every sphere
+            update_sphere_positions(bodies, spheres, settings.planar)  # the search sees all
             if build_verlet_list(spheres, walls, bodies, mats, contacts, settings.skin) < 0:
                 return GROW_CONTACTS, done
             rec.n_rebuilds[0] += 1
-        n_changes = compute_forces(
-            bodies, spheres, walls, contacts, dt, rec.ledger, rec.changes, step == 0
-        )
+        if settings.planar:
+            n_changes = compute_forces_planar(
+                bodies, spheres, walls, contacts, dt, rec.ledger, rec.changes, step == 0
+            )
+        else:
+            n_changes = compute_forces(
+                bodies, spheres, walls, contacts, dt, rec.ledger, rec.changes, step == 0
+            )
         if n_changes > 0:
             _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, step == 0)
         if settings.record_peak_force:
@@ -386,7 +405,9 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
             # nothing reads the state between kick and drift: one pass over the bodies
             rebuild_due = _advance_bodies(bodies, settings)
         else:
-            p_damping = kick(bodies, settings.gravity, dt, settings.damping, settings.damp_gravity)
+            p_damping = kick(
+                bodies, settings.gravity, dt, settings.damping, settings.damp_gravity, planar
+            )
             if settings.track_energy:
                 contact_power(bodies, spheres, walls, contacts, p_contacts)
                 # trapezoidal rule for the work of the non-conservative forces since t_{n-1}
@@ -421,9 +442,9 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
                     kinetic_energy(bodies, kin)
                     if kin[0] + kin[1] < stop[2]:
                         code = STOP_KINETIC
-            drift(bodies, dt)
+            drift(bodies, dt, settings.planar)
             rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
-        update_listed_sphere_positions(bodies, spheres)
+        update_listed_sphere_positions(bodies, spheres, settings.planar)
         rec.clock[0] = t + dt
         rec.step[0] = step + 1
         if code >= 0:

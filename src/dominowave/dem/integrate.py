@@ -46,8 +46,10 @@ from numba import njit
 __all__ = [
     "drift",
     "drift_body",
+    "drift_body_planar",
     "kick",
     "kick_body",
+    "kick_body_planar",
     "update_listed_sphere_positions",
     "update_sphere_positions",
 ]
@@ -287,8 +289,60 @@ def kick_body(bodies, b, gravity, dt, damping, damp_gravity):
     return power
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def kick_body_planar(bodies, b, gravity, dt, damping, damp_gravity):
+    """:func:`kick_body` of a body of a planar scene (dem/planar.py: y, rx, rz blocked,
+    turning about e_y only), without the y, rx and rz components that stay zero: the
+    same arithmetic on the other components, so the same results to the bit (a term that
+    is exactly zero changes no sum; tests/dem/test_dem_planar.py)."""
+    power = 0.0
+    if bodies.held[b]:
+        return power
+    h = dt
+    if bodies.fresh[b]:
+        h = 0.5 * dt
+        bodies.fresh[b] = 0
+    m = bodies.mass[b]
+    inv_m = 1.0 / m
+    for k in (0, 2):
+        v = bodies.vel[b, k]
+        if bodies.blocked[b, k]:
+            bodies.vel_full[b, k] = v
+            continue
+        a_contact = bodies.force[b, k] * inv_m
+        a_free = a_contact + gravity[k]
+        if damping == 0.0:
+            a = a_free
+        elif damp_gravity:
+            a = damped(a_free, v, dt, damping)
+        else:
+            a = damped(a_contact, v, dt, damping) + gravity[k]
+        v_new = v + h * a
+        bodies.vel[b, k] = v_new
+        bodies.vel_full[b, k] = v_new - 0.5 * dt * a
+        power += m * (a - a_free) * bodies.vel_full[b, k]
+    mode = bodies.rot_mode[b]
+    if mode == ROT_NONE or bodies.blocked[b, 4]:
+        return power
+    w = bodies.omega[b, 1]
+    if mode == ROT_AXIS:
+        inertia = bodies.axis_inertia[b]
+        alpha = bodies.torque[b, 1] * (1.0 / inertia)
+    else:  # ROT_ISOTROPIC
+        inertia = bodies.inertia[b, 0]
+        alpha = bodies.torque[b, 1] / inertia
+    alpha_d = damped(alpha, w, dt, damping) if damping != 0.0 else alpha
+    w_new = w + h * alpha_d
+    w_full = w_new - 0.5 * dt * alpha_d
+    bodies.omega[b, 1] = w_new
+    bodies.angmom[b, 1] = inertia * w_new
+    bodies.omega_full[b, 1] = w_full
+    bodies.angmom_full[b, 1] = inertia * w_full
+    return power + inertia * (alpha_d - alpha) * w_full
+
+
 @njit(cache=True, error_model="numpy", _nrt=False)
-def kick(bodies, gravity, dt, damping, damp_gravity):
+def kick(bodies, gravity, dt, damping, damp_gravity, planar=False):
     """Half-step velocities v_{n-1/2} -> v_{n+1/2} from the current forces (module doc).
 
     A body flagged ``fresh`` (new, released, or given a velocity) holds the full-step
@@ -297,6 +351,10 @@ def kick(bodies, gravity, dt, damping, damp_gravity):
     (negative), booked by the caller with the trapezoidal rule.
     """
     power = 0.0
+    if planar:  # (a planar scene, dem/planar.py: the same results, fewer operations)
+        for b in range(bodies.mass.shape[0]):
+            power += kick_body_planar(bodies, b, gravity, dt, damping, damp_gravity)
+        return power
     for b in range(bodies.mass.shape[0]):
         power += kick_body(bodies, b, gravity, dt, damping, damp_gravity)
     return power
@@ -334,19 +392,59 @@ def drift_body(bodies, b, dt):
         _omega_from_angmom(bodies.rot, bodies.inertia, bodies.angmom, bodies.omega, b)
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def drift_body_planar(bodies, b, dt):
+    """:func:`drift_body` of a body of a planar scene, without the components that stay
+    zero (the same results to the bit, as :func:`kick_body_planar`): the turn about e_y
+    by ``omega_y dt`` is the quaternion product of :func:`_turn_world` with
+    ``omega_x = omega_z = 0``."""
+    if bodies.held[b]:
+        return
+    bodies.pos[b, 0] += dt * bodies.vel[b, 0]
+    bodies.pos[b, 2] += dt * bodies.vel[b, 2]
+    if bodies.rot_mode[b] == ROT_NONE:
+        return
+    wy = bodies.omega[b, 1]
+    q = bodies.quat
+    if wy != 0.0:
+        w2 = wy * wy
+        x2 = 0.25 * dt * dt * w2
+        if x2 < SMALL_HALF_ANGLE * SMALL_HALF_ANGLE:
+            a0, sinc = _cos_sinc(x2)
+            s = 0.5 * dt * sinc
+        else:
+            wn = math.sqrt(w2)
+            a0 = math.cos(0.5 * wn * dt)
+            s = math.sin(0.5 * wn * dt) / wn
+        a2 = wy * s
+        q0, q1, q2, q3 = q[b, 0], q[b, 1], q[b, 2], q[b, 3]
+        q[b, 0] = a0 * q0 - a2 * q2
+        q[b, 1] = a0 * q1 + a2 * q3
+        q[b, 2] = a0 * q2 + a2 * q0
+        q[b, 3] = a0 * q3 - a2 * q1
+    _normalise(q, b)
+    _store_matrix(bodies.rot, b, q[b, 0], q[b, 1], q[b, 2], q[b, 3])
+
+
 @njit(cache=True, error_model="numpy", _nrt=False)
-def drift(bodies, dt):
-    """Positions and orientations n -> n+1 from the half-step velocities."""
+def drift(bodies, dt, planar=False):
+    """Positions and orientations n -> n+1 from the half-step velocities (``planar``: a
+    planar scene, :func:`drift_body_planar`)."""
+    if planar:
+        for b in range(bodies.mass.shape[0]):
+            drift_body_planar(bodies, b, dt)
+        return
     for b in range(bodies.mass.shape[0]):
         drift_body(bodies, b, dt)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _place_spheres(bodies, spheres, count, listed_only):
+def _place_spheres(bodies, spheres, count, listed_only, planar):
     """World centres ``x_b + R_b u_s`` of spheres ``0 .. count-1`` (``listed_only``: of
     ``spheres.listed[:count]``).  The owner's position and rotation matrix are loaded into
     registers when the owner changes: once per body, as Scene.build numbers the spheres
-    body by body."""
+    body by body.  ``planar`` (a planar scene, planar.py): ``y = y_b`` exactly, without
+    the ~1e-17 m that the round-off of the y row of R adds."""
     pos, rot, local, out = bodies.pos, bodies.rot, spheres.local, spheres.pos
     owner = -1
     x0 = x1 = x2 = r00 = r01 = r02 = r10 = r11 = r12 = r20 = r21 = r22 = 0.0
@@ -362,18 +460,19 @@ def _place_spheres(bodies, spheres, count, listed_only):
             r20, r21, r22 = rot[b, 2, 0], rot[b, 2, 1], rot[b, 2, 2]
         u0, u1, u2 = local[s, 0], local[s, 1], local[s, 2]
         out[s, 0] = x0 + r00 * u0 + r01 * u1 + r02 * u2
-        out[s, 1] = x1 + r10 * u0 + r11 * u1 + r12 * u2
+        out[s, 1] = x1 if planar else x1 + r10 * u0 + r11 * u1 + r12 * u2
         out[s, 2] = x2 + r20 * u0 + r21 * u1 + r22 * u2
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def update_sphere_positions(bodies, spheres):
-    """World centres of all spheres from their owners' COM and orientation."""
-    _place_spheres(bodies, spheres, spheres.body.shape[0], False)
+def update_sphere_positions(bodies, spheres, planar):
+    """World centres of all spheres from their owners' COM and orientation (``planar``:
+    see :func:`_place_spheres`)."""
+    _place_spheres(bodies, spheres, spheres.body.shape[0], False, planar)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def update_listed_sphere_positions(bodies, spheres):
+def update_listed_sphere_positions(bodies, spheres, planar):
     """World centres of the spheres in the Verlet list (``spheres.listed``): between two
     list builds no other sphere can touch anything, and only these are read."""
-    _place_spheres(bodies, spheres, spheres.n_listed[0], True)
+    _place_spheres(bodies, spheres, spheres.n_listed[0], True, planar)

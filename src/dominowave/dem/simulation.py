@@ -15,6 +15,7 @@ from dominowave.dem.contact import build_verlet_list, compute_forces
 from dominowave.dem.energy import ENERGY_NAMES, energies
 from dominowave.dem.engine import Recorder, Settings, run_loop
 from dominowave.dem.integrate import update_sphere_positions
+from dominowave.dem.planar import planar_violation
 from dominowave.dem.state import Bodies, Contacts, MaterialTable, Spheres, Walls
 
 __all__ = [
@@ -166,7 +167,11 @@ class Simulation:
             record_peak_force=record_peak_force,
             check_every=check_every,
             track_energy=bool(track_energy),
+            planar=False,  # decided at each run (_use_planar)
         )
+        #: Use the planar kernels (dem/planar.py) when the scene is planar.  False forces
+        #: the general ones (the results differ at round-off only).
+        self.planar_kernels = True
         capacity = 8 * spheres.body.shape[0] + 64
         self.contacts = _empty_contacts(capacity)
         self.rec = _empty_recorder(
@@ -364,6 +369,7 @@ class Simulation:
         remaining = np.iinfo(np.int64).max if n_steps is None else int(n_steps)
         t_end = np.inf if until is None else float(until)
         self._start_run(trajectory_every, energy_every, record_contact_forces)
+        planar = self.settings.planar
         done_total = 0
         while True:
             code, done = run_loop(
@@ -385,7 +391,7 @@ class Simulation:
             # (not before the first step: the spheres still sit at the scene's centres,
             # which the first step uses, and which differ from the placed ones by round-off)
             if self.rec.step[0] > 0:
-                update_sphere_positions(self.bodies, self.spheres)
+                update_sphere_positions(self.bodies, self.spheres, planar)
             if code in STOP_REASONS:
                 break
             if code >= engine.ABORT_NAN:
@@ -393,7 +399,16 @@ class Simulation:
             self._grow(code)
         return self._result(STOP_REASONS[code], done_total)
 
+    @property
+    def planar(self) -> bool:
+        """True if the scene is planar now (dem/planar.py: every body moves in one xz
+        plane); the next run then uses the planar kernels, unless ``planar_kernels`` is
+        False."""
+        return planar_violation(self.bodies, self.spheres, self.walls) is None
+
     def _start_run(self, trajectory_every, energy_every, record_contact_forces):
+        planar = self.planar_kernels and self.planar
+        self.settings = self.settings._replace(planar=planar)
         r = self.rec
         r.energy_ref[:] = r.energy_now
         r.clock[1] = max(engine.active_energy(r.energy_now, self.settings.track_energy), 1e-300)
@@ -565,6 +580,8 @@ class Simulation:
                     else:  # a scalar setting (float, bool, int)
                         arr = type(value)(arr)
                     fields[name] = arr
+                elif key == "settings.planar":  # (decided at each run; older files lack it)
+                    fields[name] = False
                 elif not (prefix == "rec" and name in self._PER_RUN):
                     raise ValueError(f"state is missing {key!r}")
             new[prefix] = tup._replace(**fields)
@@ -596,8 +613,10 @@ class Simulation:
                 raise ValueError(f"state is missing {prefix}.{missing[0]}")
             return kind(**{n: np.array(state[f"{prefix}.{n}"]) for n in kind._fields})
 
+        state = {"settings.planar": np.array(False), **state}  # (older files lack it)
         s = group("settings", Settings)
         settings = {k: (v.item() if np.ndim(v) == 0 else v) for k, v in s._asdict().items()}
+        del settings["planar"]  # (decided at each run)
         sim = cls(
             group("bodies", Bodies),
             group("spheres", Spheres),

@@ -1,0 +1,227 @@
+"""Contact kernel for planar scenes: every body moves in one xz plane.
+
+A scene is *planar* (:func:`planar_violation` returns None) when every body has its y
+translation and its x and z rotations blocked, with zero y velocity and zero x and z
+spin, all bodies lie in one plane ``y = y0`` and every member sphere's centre lies in
+it (to round-off, IN_PLANE_TOLERANCE), and no wall normal has a y component.
+This is YADE's and the paper's 2D model (DOFs "y rx rz" blocked), e.g. the 2D domino chain.
+
+Then every contact normal, contact point, relative velocity and force lies in the xz
+plane, and each body turns about the world y axis only.  The engine (engine.run_loop,
+``settings.planar``) then places the spheres with ``y = y0`` exactly
+(integrate._place_spheres) and maps :func:`compute_forces_planar` over the Verlet list
+instead of contact.compute_forces.  It is the same contact law, written for two
+components:
+
+* the shear displacement of a planar contact is ``u = s t`` along the tangent
+  ``t = e_y x n = (n_z, 0, -n_x)``.  Carrying ``u`` into the new tangent plane with its
+  length kept (contact.rotate_shear) is ``s t_new`` with ``s = +-|u|``, the sign of
+  ``u . t_new`` (the normal turns by far less than 90 degrees in a step); the spin about
+  the normal is zero (``omega || e_y``, ``n . e_y = 0``);
+* the Coulomb limit shortens ``s`` to ``+- mu F_n / k_t``.
+
+The results equal those of the general kernel to round-off, not to the bit (the general
+kernel rescales the projected vector by ``sqrt(|u|^2 / |u_proj|^2)``, sees sphere
+positions with ``y`` off by ~1e-17 m, and turns the shear by the ~1e-19 rad spin this
+gives); the chain is chaotic, so an ensemble run with one kernel is a different draw
+than with the other (tests/dem/test_dem_planar.py compares the two where a run is not
+chaotic yet).  The kernel saves a square root and a division per contact on the
+critical path of the step, and a third of the loads and arithmetic.
+
+``contacts.shear`` keeps the full vector ``s t`` (with ``u_y = 0``), so every reader
+(energies, the ledger, the force recorder) and a later run with the general kernel see
+the same state.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from dominowave.dem.contact import END, ONSET, _separate, onset_averaged_overlap
+from dominowave.dem.integrate import ROT_AXIS, ROT_ISOTROPIC, ROT_NONE
+
+__all__ = [
+    "carry_shear_planar",
+    "compute_forces_planar",
+    "coulomb_limit_planar",
+    "planar_violation",
+]
+
+# A member sphere counts as in the plane if its centre is off by at most this fraction of
+# its distance from the centre of mass (the y row of R(q) of a body turned about y is
+# (0, 1, 0) only to round-off, ~1e-15), and the bodies as in one plane if their centres
+# of mass differ in y by at most this fraction of the largest body or sphere (the mass-
+# weighted centre of spheres at y0 is y0 to round-off).
+IN_PLANE_TOLERANCE = 1e-12
+
+
+def planar_violation(bodies, spheres, walls) -> str | None:
+    """None if the scene is planar (module docstring), else the first reason it is not."""
+    if bodies.mass.shape[0] == 0:
+        return "the scene has no bodies"
+    b = bodies
+    unblocked = np.flatnonzero((b.blocked[:, [1, 3, 5]] == 0).any(axis=1))
+    if unblocked.size:
+        return f"body {unblocked[0]} has y, rx or rz free (blocked = {b.blocked[unblocked[0]]})"
+    moving = np.flatnonzero((b.vel[:, 1] != 0) | (b.omega[:, 0] != 0) | (b.omega[:, 2] != 0))
+    if moving.size:
+        k = moving[0]
+        return f"body {k} moves out of the plane (velocity {b.vel[k]}, spin {b.omega[k]})"
+    off_axis = (b.rot_mode == ROT_AXIS) & ((b.axis[:, 0] != 0) | (b.axis[:, 2] != 0))
+    other = ~np.isin(b.rot_mode, (ROT_AXIS, ROT_ISOTROPIC, ROT_NONE))
+    bad = np.flatnonzero(off_axis | other)
+    if bad.size:
+        return f"body {bad[0]} does not turn about the y axis only"
+    scale = max(b.extent.max(), spheres.radius.max(), abs(b.pos[0, 1]))
+    planes = np.flatnonzero(np.abs(b.pos[:, 1] - b.pos[0, 1]) > IN_PLANE_TOLERANCE * scale)
+    if planes.size:
+        return (
+            f"body {planes[0]} lies in the plane y = {b.pos[planes[0], 1]}, body 0 in "
+            f"y = {b.pos[0, 1]}"
+        )
+    owner = spheres.body
+    offset = np.einsum("sk,sk->s", b.rot[owner, 1, :], spheres.local)
+    size = np.linalg.norm(spheres.local, axis=1)
+    off = np.flatnonzero(np.abs(offset) > IN_PLANE_TOLERANCE * size)
+    if off.size:
+        return f"sphere {off[0]} lies {offset[off[0]]} m out of its body's plane"
+    tilted = np.flatnonzero(walls.normal[:, 1] != 0)
+    if tilted.size:
+        return f"wall {tilted[0]} has a normal with a y component ({walls.normal[tilted[0]]})"
+    return None
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def carry_shear_planar(u0, u2, t0, t2):
+    """The shear displacement ``u = (u0, 0, u2)`` [m] carried into the tangent ``t`` of
+    this step, norm kept: its signed length ``s`` along ``t`` (contact.rotate_shear in the
+    plane, where the spin about the normal vanishes)."""
+    length = math.sqrt(u0 * u0 + u2 * u2)
+    return length if u0 * t0 + u2 * t2 >= 0.0 else -length
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def coulomb_limit_planar(s, kt, mu, fn_elastic):
+    """contact.cundall_strack in the plane: the shear ``s`` [m] along the tangent after the
+    Coulomb limit ``kt |s| <= mu fn_elastic`` (shortened to the limit when sliding)."""
+    limit = mu * fn_elastic
+    if kt * abs(s) > limit:
+        return limit / kt if s > 0.0 else -limit / kt
+    return s
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _apply_planar(bodies, b, rx, rz, f0, f2, sign):
+    """Add ``sign f`` acting at lever arm ``r`` (both in the xz plane) to body b."""
+    bodies.force[b, 0] += sign * f0
+    bodies.force[b, 2] += sign * f2
+    bodies.torque[b, 1] += sign * (rz * f0 - rx * f2)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def compute_forces_planar(bodies, spheres, walls, contacts, dt, ledger, changes, first_step):
+    """contact.compute_forces for a planar scene (same arguments, same return value,
+    same contact law; module docstring)."""
+    bodies.force[:, :] = 0.0
+    bodies.torque[:, :] = 0.0
+    pos = spheres.pos
+    body_pos, vel, omega = bodies.pos, bodies.vel, bodies.omega
+    u = contacts.shear
+    n_changes = 0
+    for c in range(contacts.n[0]):
+        # (unsigned indices: numba adds no negative-index wraparound to every access)
+        i = np.uint64(contacts.i[c])
+        j = contacts.j[c]
+        bi = np.uint64(spheres.body[i])
+        Ri = spheres.radius[i]
+        wall = j < 0
+        if not wall:
+            j = np.uint64(j)
+            bj = np.uint64(spheres.body[j])
+            dx = pos[j, 0] - pos[i, 0]
+            dz = pos[j, 2] - pos[i, 2]
+            rsum = Ri + spheres.radius[j]
+            d2 = dx * dx + dz * dz
+            if d2 >= rsum * rsum and not contacts.active[c]:
+                if contacts.fn_viscous[c] != 0.0:  # (store only if needed: most pairs idle)
+                    contacts.fn_viscous[c] = 0.0
+                continue
+            dist = math.sqrt(d2)
+            inv_dist = 1.0 / dist  # (one division per normal)
+            n0, n2 = dx * inv_dist, dz * inv_dist
+            overlap = rsum - dist
+        else:
+            bj = bi  # (unused)
+            w = np.uint64(-j - 1)
+            wn0, wn2 = walls.normal[w, 0], walls.normal[w, 2]
+            dist = (pos[i, 0] - walls.point[w, 0]) * wn0 + (pos[i, 2] - walls.point[w, 2]) * wn2
+            if dist >= Ri and not contacts.active[c]:
+                if contacts.fn_viscous[c] != 0.0:
+                    contacts.fn_viscous[c] = 0.0
+                continue
+            n0, n2 = -wn0, -wn2
+            overlap = Ri - dist
+        # contact point midway through the overlap (as YADE's ScGeom)
+        reach = Ri - 0.5 * overlap
+        p0, p2 = pos[i, 0] + reach * n0, pos[i, 2] + reach * n2
+        if overlap <= 0.0:  # an active contact opened in the last drift
+            ledger[0] += _separate(
+                bodies, contacts, c, bi, bj, wall, n0, 0.0, n2, overlap, dt, p0, pos[i, 1], p2
+            )
+            changes[n_changes, 0] = c
+            changes[n_changes, 1] = END
+            n_changes += 1
+            continue
+        new_contact = not contacts.active[c]
+        if new_contact:
+            contacts.active[c] = 1
+            for d in range(3):
+                u[c, d] = 0.0
+            changes[n_changes, 0] = c
+            changes[n_changes, 1] = ONSET
+            n_changes += 1
+        # relative velocity of the contact point, j minus i (a wall is fixed);
+        # v + omega x r with omega = (0, w, 0): (v_x + w r_z, v_z - w r_x)
+        ri0, ri2 = p0 - body_pos[bi, 0], p2 - body_pos[bi, 2]
+        wi = omega[bi, 1]
+        dv0, dv2 = -(vel[bi, 0] + wi * ri2), -(vel[bi, 2] - wi * ri0)
+        rj0 = rj2 = 0.0
+        if not wall:
+            rj0, rj2 = p0 - body_pos[bj, 0], p2 - body_pos[bj, 2]
+            wj = omega[bj, 1]
+            dv0 += vel[bj, 0] + wj * rj2
+            dv2 += vel[bj, 2] - wj * rj0
+        vn = dv0 * n0 + dv2 * n2
+        # tangential: carry the history to the new tangent t = e_y x n, add this step's
+        # tangential relative displacement (none at the first step)
+        t0, t2 = n2, -n0
+        u0, u2 = u[c, 0], u[c, 2]
+        stored = u0 * u0 + u2 * u2
+        s = carry_shear_planar(u0, u2, t0, t2)
+        if not first_step:
+            s += (dv0 * t0 + dv2 * t2) * dt
+        weight, overlap_kick = onset_averaged_overlap(overlap, vn, dt, new_contact)
+        fn_elastic = contacts.kn[c] * overlap_kick
+        kt = contacts.kt[c]
+        s = coulomb_limit_planar(s, kt, contacts.mu[c], fn_elastic)
+        u[c, 0], u[c, 1], u[c, 2] = s * t0, 0.0, s * t2
+        # friction ledger, part 1: minus the change of the energy stored in the spring
+        ledger[0] += 0.5 * kt * (stored - s * s)
+        # dashpot: the normal velocity at t_n, extrapolated from the last two half steps
+        vn_dashpot = vn if new_contact else 1.5 * vn - 0.5 * contacts.vn[c]
+        contacts.vn[c] = vn
+        fn_viscous = -contacts.cn[c] * vn_dashpot * weight
+        fn = fn_elastic + fn_viscous
+        contacts.overlap[c] = overlap
+        contacts.fn[c] = fn
+        contacts.fn_viscous[c] = fn_viscous
+        # normal force plus the tangential spring force -kt s t, on j (minus on i)
+        ks = kt * s
+        f0, f2 = fn * n0 - ks * t0, fn * n2 - ks * t2
+        if not wall:
+            _apply_planar(bodies, bj, rj0, rj2, f0, f2, 1.0)
+        _apply_planar(bodies, bi, ri0, ri2, f0, f2, -1.0)
+    return n_changes
