@@ -44,6 +44,7 @@ import numpy as np
 from numba import njit
 
 __all__ = [
+    "advance_body_planar",
     "drift",
     "drift_body",
     "drift_body_planar",
@@ -220,13 +221,7 @@ def kick_body(bodies, b, gravity, dt, damping, damp_gravity):
             bodies.vel_full[b, k] = v
             continue
         a_contact = bodies.force[b, k] * inv_m
-        a_free = a_contact + gravity[k]
-        if damping == 0.0:
-            a = a_free
-        elif damp_gravity:
-            a = damped(a_free, v, dt, damping)
-        else:
-            a = damped(a_contact, v, dt, damping) + gravity[k]
+        a, a_free = _accelerate(a_contact, gravity[k], v, dt, damping, damp_gravity)
         v_new = v + h * a
         bodies.vel[b, k] = v_new
         bodies.vel_full[b, k] = v_new - 0.5 * dt * a
@@ -290,6 +285,28 @@ def kick_body(bodies, b, gravity, dt, damping, damp_gravity):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _accelerate(a_contact, g, v, dt, damping, damp_gravity):
+    """One component's acceleration ``(a, a_free)`` [m/s^2] from the contact part and
+    gravity ``g``, with the local damping of :func:`damped` (``damp_gravity``: of both)."""
+    a_free = a_contact + g
+    if damping == 0.0:
+        return a_free, a_free
+    if damp_gravity:
+        return damped(a_free, v, dt, damping), a_free
+    return damped(a_contact, v, dt, damping) + g, a_free
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _spin_acceleration(bodies, b):
+    """``(d omega_y / dt, I_y)`` of a body of a planar scene (its torque about e_y)."""
+    if bodies.rot_mode[b] == ROT_AXIS:
+        inertia = bodies.axis_inertia[b]
+        return bodies.torque[b, 1] * (1.0 / inertia), inertia
+    inertia = bodies.inertia[b, 0]  # ROT_ISOTROPIC
+    return bodies.torque[b, 1] / inertia, inertia
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def kick_body_planar(bodies, b, gravity, dt, damping, damp_gravity):
     """:func:`kick_body` of a body of a planar scene (dem/planar.py: y, rx, rz blocked,
     turning about e_y only), without the y, rx and rz components that stay zero: the
@@ -310,27 +327,15 @@ def kick_body_planar(bodies, b, gravity, dt, damping, damp_gravity):
             bodies.vel_full[b, k] = v
             continue
         a_contact = bodies.force[b, k] * inv_m
-        a_free = a_contact + gravity[k]
-        if damping == 0.0:
-            a = a_free
-        elif damp_gravity:
-            a = damped(a_free, v, dt, damping)
-        else:
-            a = damped(a_contact, v, dt, damping) + gravity[k]
+        a, a_free = _accelerate(a_contact, gravity[k], v, dt, damping, damp_gravity)
         v_new = v + h * a
         bodies.vel[b, k] = v_new
         bodies.vel_full[b, k] = v_new - 0.5 * dt * a
         power += m * (a - a_free) * bodies.vel_full[b, k]
-    mode = bodies.rot_mode[b]
-    if mode == ROT_NONE or bodies.blocked[b, 4]:
+    if bodies.rot_mode[b] == ROT_NONE or bodies.blocked[b, 4]:
         return power
     w = bodies.omega[b, 1]
-    if mode == ROT_AXIS:
-        inertia = bodies.axis_inertia[b]
-        alpha = bodies.torque[b, 1] * (1.0 / inertia)
-    else:  # ROT_ISOTROPIC
-        inertia = bodies.inertia[b, 0]
-        alpha = bodies.torque[b, 1] / inertia
+    alpha, inertia = _spin_acceleration(bodies, b)
     alpha_d = damped(alpha, w, dt, damping) if damping != 0.0 else alpha
     w_new = w + h * alpha_d
     w_full = w_new - 0.5 * dt * alpha_d
@@ -393,37 +398,88 @@ def drift_body(bodies, b, dt):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _turn_about_y(q, b, wy, dt):
+    """q[b] <- exp(omega dt) * q[b] for omega = (0, wy, 0): :func:`_turn_world` without
+    the products with the zero components (the same results to the bit)."""
+    if wy == 0.0:
+        return
+    w2 = wy * wy
+    x2 = 0.25 * dt * dt * w2
+    if x2 < SMALL_HALF_ANGLE * SMALL_HALF_ANGLE:
+        a0, sinc = _cos_sinc(x2)
+        s = 0.5 * dt * sinc
+    else:
+        wn = math.sqrt(w2)
+        a0 = math.cos(0.5 * wn * dt)
+        s = math.sin(0.5 * wn * dt) / wn
+    a2 = wy * s
+    q0, q1, q2, q3 = q[b, 0], q[b, 1], q[b, 2], q[b, 3]
+    q[b, 0] = a0 * q0 - a2 * q2
+    q[b, 1] = a0 * q1 + a2 * q3
+    q[b, 2] = a0 * q2 + a2 * q0
+    q[b, 3] = a0 * q3 - a2 * q1
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def drift_body_planar(bodies, b, dt):
     """:func:`drift_body` of a body of a planar scene, without the components that stay
-    zero (the same results to the bit, as :func:`kick_body_planar`): the turn about e_y
-    by ``omega_y dt`` is the quaternion product of :func:`_turn_world` with
-    ``omega_x = omega_z = 0``."""
+    zero (the same results to the bit, as :func:`kick_body_planar`)."""
     if bodies.held[b]:
         return
     bodies.pos[b, 0] += dt * bodies.vel[b, 0]
     bodies.pos[b, 2] += dt * bodies.vel[b, 2]
     if bodies.rot_mode[b] == ROT_NONE:
         return
-    wy = bodies.omega[b, 1]
     q = bodies.quat
-    if wy != 0.0:
-        w2 = wy * wy
-        x2 = 0.25 * dt * dt * w2
-        if x2 < SMALL_HALF_ANGLE * SMALL_HALF_ANGLE:
-            a0, sinc = _cos_sinc(x2)
-            s = 0.5 * dt * sinc
-        else:
-            wn = math.sqrt(w2)
-            a0 = math.cos(0.5 * wn * dt)
-            s = math.sin(0.5 * wn * dt) / wn
-        a2 = wy * s
-        q0, q1, q2, q3 = q[b, 0], q[b, 1], q[b, 2], q[b, 3]
-        q[b, 0] = a0 * q0 - a2 * q2
-        q[b, 1] = a0 * q1 + a2 * q3
-        q[b, 2] = a0 * q2 + a2 * q0
-        q[b, 3] = a0 * q3 - a2 * q1
+    _turn_about_y(q, b, bodies.omega[b, 1], dt)
     _normalise(q, b)
     _store_matrix(bodies.rot, b, q[b, 0], q[b, 1], q[b, 2], q[b, 3])
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def advance_body_planar(bodies, b, gravity, dt, damping, damp_gravity):
+    """:func:`kick_body_planar` then :func:`drift_body_planar` in one go, for the steps in
+    which nothing reads the state between the two (engine._advance_bodies): the same
+    positions, velocities and orientations to the bit, without what only readers need --
+    the full-step velocities (``vel_full``, ``omega_full``, ``angmom_full``), the half-step
+    ``angmom``, the damping power, and row y of the rotation matrix (read only by the
+    general sphere placement; for a turn about e_y it stays (0, 1, 0) to round-off).
+    The next step with a reader kicks and drifts with the full versions, which write
+    them all afresh."""
+    if bodies.held[b]:
+        return
+    h = dt
+    if bodies.fresh[b]:
+        h = 0.5 * dt
+        bodies.fresh[b] = 0
+    inv_m = 1.0 / bodies.mass[b]
+    for k in (0, 2):
+        if not bodies.blocked[b, k]:
+            v = bodies.vel[b, k]
+            a = _accelerate(bodies.force[b, k] * inv_m, gravity[k], v, dt, damping, damp_gravity)[0]
+            v_new = v + h * a
+            bodies.vel[b, k] = v_new
+            bodies.pos[b, k] += dt * v_new
+        else:
+            bodies.pos[b, k] += dt * bodies.vel[b, k]
+    if bodies.rot_mode[b] == ROT_NONE:
+        return
+    w = bodies.omega[b, 1]
+    if not bodies.blocked[b, 4]:
+        alpha = _spin_acceleration(bodies, b)[0]
+        w += h * (damped(alpha, w, dt, damping) if damping != 0.0 else alpha)
+        bodies.omega[b, 1] = w
+    q = bodies.quat
+    _turn_about_y(q, b, w, dt)
+    _normalise(q, b)
+    w, x, y, z = q[b, 0], q[b, 1], q[b, 2], q[b, 3]
+    rot = bodies.rot  # (rows x and z of _store_matrix)
+    rot[b, 0, 0] = 1.0 - 2.0 * (y * y + z * z)
+    rot[b, 0, 1] = 2.0 * (x * y - w * z)
+    rot[b, 0, 2] = 2.0 * (x * z + w * y)
+    rot[b, 2, 0] = 2.0 * (x * z - w * y)
+    rot[b, 2, 1] = 2.0 * (y * z + w * x)
+    rot[b, 2, 2] = 1.0 - 2.0 * (x * x + y * y)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
