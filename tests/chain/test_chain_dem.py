@@ -89,6 +89,36 @@ def test_validate_ensemble_is_bit_reproducible_and_perturbed():
     assert not np.array_equal(a.runs[0].arrival, a.runs[1].arrival)
 
 
+@pytest.mark.parametrize(
+    "params",
+    [
+        dict(d_over_l=0.6),  # sliding bases, frictional base-base contacts (phi_f)
+        dict(d_over_l=0.5, friction_dominoes=0.3),  # every domino-domino contact frictional
+        dict(d_over_l=0.7, damping=0.1, base="two", held=False),
+    ],
+)
+def test_validate_planar_kernels_reproduce_the_general_chain_to_the_bit(params):
+    """The 2D chain is a planar scene (dem/planar.py): its runs take the planar kernels,
+    and give the trajectory of the general kernels bit for bit -- the whole run, with
+    sliding bases and frictional contacts, where the chain is long chaotic (so any
+    difference in the last bit would have grown to a visible one)."""
+    chain = DominoChain(ChainParams(n_dominoes=30, **params))
+    runs = []
+    for planar in (True, False):
+        stepper = chain.stepper()
+        stepper.sim.planar_kernels = planar
+        stepper.advance(np.iinfo(np.int64).max)
+        assert stepper.sim.settings.planar == planar
+        runs.append((stepper.sim, stepper.result()))
+    (a, run_a), (b, run_b) = runs
+    assert run_a.reached_all
+    np.testing.assert_array_equal(run_a.arrival, run_b.arrival)
+    for name in ("pos", "vel", "quat", "omega"):
+        np.testing.assert_array_equal(getattr(a.bodies, name), getattr(b.bodies, name), name)
+    n = a.contacts.n[0]
+    np.testing.assert_array_equal(a.contacts.shear[:n, ::2], b.contacts.shear[:n, ::2])
+
+
 def test_validate_push_sets_rolling_motion_and_impulse_momentum():
     """Angular push: base contact at rest (rolling); impulse push: Omega_1 = J h / I_A."""
     for base in ("one", "two"):

@@ -1,20 +1,15 @@
-"""The planar kernels (dem/planar.py, integrate.kick_body_planar/drift_body_planar):
-which scenes are planar, and that the planar kernels are the general ones -- to the bit
-for the body pass, to round-off for the contact law."""
-
-import math
+"""The planar kernels (dem/planar.py; integrate.kick_body_planar, drift_body_planar,
+advance_body_planar): which scenes are planar, and that the planar kernels are the
+general ones to the bit."""
 
 import numpy as np
 import pytest
 from dem_scenes import RHO, R, column
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
 from dominowave.dem import ONSET, Material, Scene, Simulation
-from dominowave.dem.contact import cundall_strack, rotate_shear
 from dominowave.dem.engine import _advance_bodies
 from dominowave.dem.integrate import drift, kick
-from dominowave.dem.planar import carry_shear_planar, coulomb_limit_planar, planar_violation
+from dominowave.dem.planar import planar_violation
 
 
 def _planar_scene(y=0.0, sphere_blocked="y rx rz", damping=0.0, **build):
@@ -109,30 +104,41 @@ def test_validate_planar_body_pass_is_the_general_one_to_the_bit(damping):
         np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
 
 
-def test_validate_planar_contacts_match_the_general_kernel():
-    """The planar contact law is the general one in the plane: a run with colliding,
-    sliding and rolling frictional bodies, dashpots and local damping (26 body-body
-    contact onsets in 0.1 s) gives the trajectory of the general kernels up to round-off
-    that the collisions amplify (measured: positions 6.5e-14, spins 2.2e-12 relative at
-    0.1 s; 1e-11 and 6e-9 at 0.15 s)."""
+PHYSICAL = ("pos", "vel", "quat", "omega")  # (force y, torque x/z: round-off, unused)
+
+
+def _assert_same_physics(a, b):
+    """Bit-identical bodies and in-plane contact state; the components that are zero in a
+    planar scene may differ by round-off (~1e-30) in the general kernel."""
+    for name in PHYSICAL:
+        np.testing.assert_array_equal(getattr(a.bodies, name), getattr(b.bodies, name), name)
+    n = a.contacts.n[0]
+    assert n == b.contacts.n[0]
+    for name in ("i", "j", "active", "overlap", "vn", "fn", "fn_viscous"):
+        np.testing.assert_array_equal(getattr(a.contacts, name)[:n], getattr(b.contacts, name)[:n])
+    np.testing.assert_array_equal(a.contacts.shear[:n, ::2], b.contacts.shear[:n, ::2])
+
+
+def test_validate_planar_contacts_are_the_general_kernel_to_the_bit():
+    """The planar contact kernel is the general contact law with the y components dropped
+    (they are zero, or round-off of ~1e-17 m in the general kernel's sphere positions,
+    which no in-plane result feels): a run with colliding, sliding and rolling frictional
+    bodies, dashpots and local damping (body-body onsets, sliding bases, frictional
+    pairs) has the general kernel's trajectory bit for bit."""
     runs = []
     for planar in (True, False):
         sim = _planar_scene(damping=0.05, record_pairs=True)
         sim.planar_kernels = planar
-        res = sim.run(until=0.1)
+        res = sim.run(until=0.2)
         runs.append(sim)
-    assert np.sum((res.events.body_j >= 0) & (res.events.kind == ONSET)) >= 20
     a, b = runs
     assert a.settings.planar and not b.settings.planar
-    scale = np.abs(b.bodies.pos).max()
-    assert np.abs(a.bodies.pos - b.bodies.pos).max() < 1e-12 * scale
-    assert np.abs(a.bodies.omega - b.bodies.omega).max() < 1e-10 * np.abs(b.bodies.omega).max()
+    assert np.sum((res.events.body_j >= 0) & (res.events.kind == ONSET)) >= 40
     c = a.contacts
     assert c.active[: c.n[0]].sum() > 0 and np.abs(c.shear[: c.n[0]]).max() > 0
     assert np.all(c.shear[: c.n[0], 1] == 0.0)  # the shear stays in the plane exactly
-    e_a, e_b = a.energy(), b.energy()
-    for name in ("kinetic_translational", "elastic_normal", "dissipated_friction", "total"):
-        assert e_a[name] == pytest.approx(e_b[name], rel=1e-9, abs=1e-15)
+    _assert_same_physics(a, b)
+    assert a.energy() == b.energy()
 
 
 def test_planar_spheres_lie_in_the_plane_exactly():
@@ -153,34 +159,3 @@ def test_state_saved_without_the_planar_setting_loads(tmp_path):
     restored.run(n_steps=100)
     sim.run(n_steps=100)
     np.testing.assert_array_equal(restored.bodies.pos, sim.bodies.pos)
-
-
-angles = st.floats(-math.pi, math.pi)
-
-
-@settings(deadline=None, max_examples=200)
-@given(
-    theta=angles,
-    turn=st.floats(-0.05, 0.05),
-    s=st.floats(-1e-3, 1e-3).filter(lambda x: x == 0.0 or abs(x) > 1e-100),  # (|s|^2 > 0)
-    kt=st.floats(1.0, 1e6),
-    mu=st.one_of(st.just(0.0), st.floats(1e-6, 1.0)),
-    fn=st.one_of(st.just(0.0), st.floats(1e-9, 10.0)),
-)
-def test_validate_planar_shear_law_is_the_general_one_in_the_plane(theta, turn, s, kt, mu, fn):
-    """Carry a shear ``s t_old`` to a normal turned by ``turn`` in the xz plane and apply
-    the Coulomb limit: the planar law's ``s_new t_new`` equals contact.rotate_shear then
-    contact.cundall_strack on the 3-vector (spin 0) to round-off."""
-    n_old = (math.cos(theta), 0.0, math.sin(theta))
-    n_new = (math.cos(theta + turn), 0.0, math.sin(theta + turn))
-    t_old = (n_old[2], 0.0, -n_old[0])  # e_y x n
-    t_new = (n_new[2], 0.0, -n_new[0])
-    u = [s * t for t in t_old]
-    general = rotate_shear(*u, *n_new, 0.0)
-    general = cundall_strack(*general, kt, mu, fn)
-    s_new = carry_shear_planar(u[0], u[2], t_new[0], t_new[2])
-    s_new = coulomb_limit_planar(s_new, kt, mu, fn)
-    planar = [s_new * t for t in t_new]
-    np.testing.assert_allclose(planar, general, rtol=0, atol=4e-16 * abs(s) + 1e-300)
-    assert abs(s_new) <= abs(s) * (1 + 1e-15)
-    assert kt * abs(s_new) <= mu * fn * (1 + 1e-12) or abs(s_new) == pytest.approx(abs(s))

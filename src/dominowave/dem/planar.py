@@ -6,31 +6,24 @@ spin, all bodies lie in one plane ``y = y0`` and every member sphere's centre li
 it (to round-off, IN_PLANE_TOLERANCE), and no wall normal has a y component.
 This is YADE's and the paper's 2D model (DOFs "y rx rz" blocked), e.g. the 2D domino chain.
 
-Then every contact normal, contact point, relative velocity and force lies in the xz
-plane, and each body turns about the world y axis only.  The engine (engine.run_loop,
-``settings.planar``) then places the spheres with ``y = y0`` exactly
-(integrate._place_spheres) and maps :func:`compute_forces_planar` over the Verlet list
-instead of contact.compute_forces.  It is the same contact law, written for two
-components:
+Then every contact normal, contact point, relative velocity, shear displacement and force
+lies in the xz plane, and each body turns about the world y axis only.  The engine
+(engine.run_loop, ``settings.planar``) then places the spheres with ``y = y0`` exactly
+(integrate._place_spheres), moves the bodies with integrate.kick_body_planar /
+drift_body_planar / advance_body_planar, and maps :func:`compute_forces_planar` over the
+Verlet list instead of contact.compute_forces.
 
-* the shear displacement of a planar contact is ``u = s t`` along the tangent
-  ``t = e_y x n = (n_z, 0, -n_x)``.  Carrying ``u`` into the new tangent plane with its
-  length kept (contact.rotate_shear) is ``s t_new`` with ``s = +-|u|``, the sign of
-  ``u . t_new`` (the normal turns by far less than 90 degrees in a step); the spin about
-  the normal is zero (``omega || e_y``, ``n . e_y = 0``);
-* the Coulomb limit shortens ``s`` to ``+- mu F_n / k_t``.
-
-The results equal those of the general kernel to round-off, not to the bit (the general
-kernel rescales the projected vector by ``sqrt(|u|^2 / |u_proj|^2)``, sees sphere
-positions with ``y`` off by ~1e-17 m, and turns the shear by the ~1e-19 rad spin this
-gives); the chain is chaotic, so an ensemble run with one kernel is a different draw
-than with the other (tests/dem/test_dem_planar.py compares the two where a run is not
-chaotic yet).  The kernel saves a square root and a division per contact on the
-critical path of the step, and a third of the loads and arithmetic.
-
-``contacts.shear`` keeps the full vector ``s t`` (with ``u_y = 0``), so every reader
-(energies, the ledger, the force recorder) and a later run with the general kernel see
-the same state.
+:func:`compute_forces_planar` is the general contact law (the same per-pair functions,
+rotate_shear without spin and cundall_strack, in the same order) with the y components
+dropped: the components that are exactly zero, and the round-off that the general kernel
+carries in them (sphere centres ~1e-17 m off the plane, from the y row of R(q); the
+normal's ~1e-15 y component; a spin about the normal of ~1e-19 rad per step).  That
+round-off is far below the last bit of every in-plane quantity: in every scene compared
+(the 2D chain with frictionless and frictional dominoes, damping, floor friction 0.3 and
+0.6; the scene of tests/dem/test_dem_planar.py) the two kernels give the same
+trajectories bit for bit, and differ only in the unused components (force y, torque x
+and z) by ~1e-30.  A contact costs a third fewer loads and operations, and no spin
+turn of its shear.
 """
 
 from __future__ import annotations
@@ -40,15 +33,17 @@ import math
 import numpy as np
 from numba import njit
 
-from dominowave.dem.contact import END, ONSET, _separate, onset_averaged_overlap
+from dominowave.dem.contact import (
+    END,
+    ONSET,
+    _separate,
+    cundall_strack,
+    onset_averaged_overlap,
+    rotate_shear,
+)
 from dominowave.dem.integrate import ROT_AXIS, ROT_ISOTROPIC, ROT_NONE
 
-__all__ = [
-    "carry_shear_planar",
-    "compute_forces_planar",
-    "coulomb_limit_planar",
-    "planar_violation",
-]
+__all__ = ["compute_forces_planar", "planar_violation"]
 
 # A member sphere counts as in the plane if its centre is off by at most this fraction of
 # its distance from the centre of mass (the y row of R(q) of a body turned about y is
@@ -92,25 +87,6 @@ def planar_violation(bodies, spheres, walls) -> str | None:
     if tilted.size:
         return f"wall {tilted[0]} has a normal with a y component ({walls.normal[tilted[0]]})"
     return None
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def carry_shear_planar(u0, u2, t0, t2):
-    """The shear displacement ``u = (u0, 0, u2)`` [m] carried into the tangent ``t`` of
-    this step, norm kept: its signed length ``s`` along ``t`` (contact.rotate_shear in the
-    plane, where the spin about the normal vanishes)."""
-    length = math.sqrt(u0 * u0 + u2 * u2)
-    return length if u0 * t0 + u2 * t2 >= 0.0 else -length
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def coulomb_limit_planar(s, kt, mu, fn_elastic):
-    """contact.cundall_strack in the plane: the shear ``s`` [m] along the tangent after the
-    Coulomb limit ``kt |s| <= mu fn_elastic`` (shortened to the limit when sliding)."""
-    limit = mu * fn_elastic
-    if kt * abs(s) > limit:
-        return limit / kt if s > 0.0 else -limit / kt
-    return s
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -195,21 +171,22 @@ def compute_forces_planar(bodies, spheres, walls, contacts, dt, ledger, changes,
             dv0 += vel[bj, 0] + wj * rj2
             dv2 += vel[bj, 2] - wj * rj0
         vn = dv0 * n0 + dv2 * n2
-        # tangential: carry the history to the new tangent t = e_y x n, add this step's
-        # tangential relative displacement (none at the first step)
-        t0, t2 = n2, -n0
+        # tangential: the general law on the in-plane shear (no spin about the normal),
+        # plus this step's tangential relative displacement (none at the first step)
         u0, u2 = u[c, 0], u[c, 2]
         stored = u0 * u0 + u2 * u2
-        s = carry_shear_planar(u0, u2, t0, t2)
-        if not first_step:
-            s += (dv0 * t0 + dv2 * t2) * dt
+        u0, _, u2 = rotate_shear(u0, 0.0, u2, n0, 0.0, n2, 0.0)
+        increment = 0.0 if first_step else dt
+        u0 += (dv0 - vn * n0) * increment
+        u2 += (dv2 - vn * n2) * increment
         weight, overlap_kick = onset_averaged_overlap(overlap, vn, dt, new_contact)
         fn_elastic = contacts.kn[c] * overlap_kick
         kt = contacts.kt[c]
-        s = coulomb_limit_planar(s, kt, contacts.mu[c], fn_elastic)
-        u[c, 0], u[c, 1], u[c, 2] = s * t0, 0.0, s * t2
+        u0, _, u2 = cundall_strack(u0, 0.0, u2, kt, contacts.mu[c], fn_elastic)
+        u[c, 0], u[c, 1], u[c, 2] = u0, 0.0, u2
         # friction ledger, part 1: minus the change of the energy stored in the spring
-        ledger[0] += 0.5 * kt * (stored - s * s)
+        stored -= u0 * u0 + u2 * u2
+        ledger[0] += 0.5 * kt * stored
         # dashpot: the normal velocity at t_n, extrapolated from the last two half steps
         vn_dashpot = vn if new_contact else 1.5 * vn - 0.5 * contacts.vn[c]
         contacts.vn[c] = vn
@@ -218,9 +195,8 @@ def compute_forces_planar(bodies, spheres, walls, contacts, dt, ledger, changes,
         contacts.overlap[c] = overlap
         contacts.fn[c] = fn
         contacts.fn_viscous[c] = fn_viscous
-        # normal force plus the tangential spring force -kt s t, on j (minus on i)
-        ks = kt * s
-        f0, f2 = fn * n0 - ks * t0, fn * n2 - ks * t2
+        # normal force plus the tangential spring force -kt u, on j (minus on i)
+        f0, f2 = fn * n0 + -kt * u0, fn * n2 + -kt * u2
         if not wall:
             _apply_planar(bodies, bj, rj0, rj2, f0, f2, 1.0)
         _apply_planar(bodies, bi, ri0, ri2, f0, f2, -1.0)
