@@ -9,8 +9,8 @@ from hypothesis import strategies as st
 from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation
 
-from dominowave.dem import END, ONSET, Material, Scene, Simulation, StopCondition
-from dominowave.dem.contact import needs_rebuild
+from dominowave.dem import END, ONSET, Material, Scene, Simulation, StopCondition, integrate
+from dominowave.dem.contact import build_verlet_list, needs_rebuild
 
 
 def _box_scene(n=60, seed=0, friction=0.3, damping=0.0, restitution=0.5, **build):
@@ -62,6 +62,89 @@ def test_validate_neighbour_list_finds_every_contact():
         assert not ({tuple(p) for p in pairs[clear & (gap > 0)]} & active)
         compared += len(overlapping)
     assert compared > 50
+
+
+def _random_walled_scene(seed):
+    """Random clumps of 1-4 spheres of mixed radii in 3D (some layers flat in y) with 1-3
+    walls of random orientation; skin of the order of the radii."""
+    rng = np.random.default_rng(seed)
+    scene = Scene()
+    mats = [
+        scene.add_material(Material(density=RHO, kn=rng.uniform(1e3, 1e5), friction=0.3))
+        for _ in range(2)
+    ]
+    L = 0.03
+    for _ in range(rng.integers(1, 4)):
+        normal = rng.normal(size=3)
+        normal /= np.linalg.norm(normal)
+        scene.add_wall(-normal * L * rng.uniform(0.7, 1.1), normal, mats[0])
+    for _ in range(rng.integers(40, 100)):
+        k = int(rng.integers(1, 5))
+        base = rng.uniform(-L, L, 3)
+        if rng.uniform() < 0.3:
+            base[1] = 0.0
+        centres = base + rng.normal(size=(k, 3)) * 0.8 * R
+        scene.add_clump(centres, R * rng.uniform(0.25, 1.2, k), mats[int(rng.integers(0, 2))])
+    skin = R * rng.uniform(0.05, 2.0)
+    return scene.build(skin=skin, overlap_tolerance=1e9, record_pairs=False), rng
+
+
+def _brute_force_keys(spheres, walls, skin):
+    """Keys ``i * (ns + nw) + jj`` of all pairs closer than the skin, by testing every pair
+    (the arithmetic of the cell search: centre distance squared, wall distance summed)."""
+    pos, radius, body = spheres.pos, spheres.radius, spheres.body
+    ns, nw = pos.shape[0], walls.point.shape[0]
+    i, j = np.triu_indices(ns, 1)
+    d = pos[j] - pos[i]
+    reach = radius[i] + radius[j] + skin
+    close = (d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1] + d[:, 2] * d[:, 2] < reach * reach) & (
+        body[i] != body[j]
+    )
+    keys = [i[close] * (ns + nw) + j[close]]
+    for w in range(nw):
+        off = (pos - walls.point[w]) * walls.normal[w]
+        s = np.flatnonzero(off[:, 0] + off[:, 1] + off[:, 2] < radius + skin)
+        keys.append(s * (ns + nw) + ns + w)
+    return np.sort(np.concatenate(keys))
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_validate_verlet_build_matches_brute_force(seed):
+    """The Verlet list (cell search, counting sort by first index, in-place merge) holds
+    exactly the brute-force pairs in key order, and a rebuild after the bodies moved keeps
+    the whole history of every pair listed before and starts new pairs inactive."""
+    sim, rng = _random_walled_scene(seed)
+    spheres, walls, bodies, c = sim.spheres, sim.walls, sim.bodies, sim.contacts
+    ns, nw = spheres.pos.shape[0], walls.point.shape[0]
+
+    def listed_keys():
+        n = c.n[0]
+        j = c.j[:n]
+        return c.i[:n] * (ns + nw) + np.where(j >= 0, j, ns - j - 1), n
+
+    keys, n = listed_keys()
+    np.testing.assert_array_equal(keys, _brute_force_keys(spheres, walls, sim.settings.skin))
+    assert n > 20 and (c.j[:n] < 0).any()
+    # an arbitrary history for the listed pairs
+    fields = ("active", "shear", "kn", "kt", "mu", "cn", "overlap", "vn", "fn", "fn_viscous")
+    c.active[:n] = rng.integers(0, 2, n)
+    for f in fields[1:]:
+        getattr(c, f)[:n] = rng.normal(size=getattr(c, f)[:n].shape)
+    before = {f: getattr(c, f)[:n].copy() for f in fields}
+    for _ in range(3):  # pairs enter and leave the list
+        bodies.pos[:] += rng.normal(size=bodies.pos.shape) * 2.0 * sim.settings.skin
+        integrate.update_sphere_positions(bodies, spheres, False)
+        old_keys = keys
+        assert build_verlet_list(spheres, walls, bodies, sim.mats, c, sim.settings.skin) > 0
+        keys, n = listed_keys()
+        np.testing.assert_array_equal(keys, _brute_force_keys(spheres, walls, sim.settings.skin))
+        kept, new_at, old_at = np.intersect1d(keys, old_keys, return_indices=True)
+        assert 0 < kept.size < keys.size
+        for f in fields:
+            np.testing.assert_array_equal(getattr(c, f)[new_at], before[f][old_at])
+        fresh = np.setdiff1d(np.arange(n), new_at)
+        assert not c.active[fresh].any() and not c.shear[fresh].any()
+        before = {f: getattr(c, f)[:n].copy() for f in fields}
 
 
 def test_validate_energy_balance_with_friction_and_damping():

@@ -170,8 +170,9 @@ def moved_beyond(bodies, b, limit):
 def _candidate_pairs(spheres, walls, skin):
     """All sphere-sphere (different bodies) and sphere-wall pairs closer than the skin.
 
-    Linked-cell search with cells of edge >= 2 R_max + skin.  Returns sorted int64 keys
-    ``i * (ns + nw) + jj`` with ``jj = j`` for spheres and ``ns + w`` for walls.
+    Linked-cell search with cells of edge >= 2 R_max + skin.  Returns the int64 keys
+    ``i * (ns + nw) + jj``, ascending, with ``jj = j > i`` for spheres and ``ns + w`` for
+    walls, and their first indices i (same order).
     """
     pos, radius = spheres.pos, spheres.radius
     ns = pos.shape[0]
@@ -204,15 +205,20 @@ def _candidate_pairs(spheres, walls, skin):
     nxt = -np.ones(ns, np.int64)
     cidx = np.empty((ns, 3), np.int64)
     _bin_spheres(pos, lo, inv_width, ncell, head, nxt, cidx)
-    keys = np.empty(16 * ns + 16, np.int64)
-    n = _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys)
+    raw = np.empty(16 * ns + 16, np.int64)
+    raw_first = np.empty(raw.shape[0], np.int64)
+    n = _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, raw, raw_first)
     while n < 0:  # keys too short: the scan wrote nothing that counts, redo with room
-        keys = np.empty(2 * keys.shape[0], np.int64)
-        n = _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys)
-    return np.sort(keys[:n])
+        raw = np.empty(2 * raw.shape[0], np.int64)
+        raw_first = np.empty(raw.shape[0], np.int64)
+        n = _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, raw, raw_first)
+    keys = np.empty(n, np.int64)
+    first = np.empty(n, np.int64)
+    _sort_pairs(raw[:n], raw_first[:n], np.zeros(ns + 1, np.int64), keys, first)
+    return keys, first
 
 
-# The two loops of the search are compiled without numba's reference counting
+# The loops of the search and sort are compiled without numba's reference counting
 # (``_nrt=False``): they allocate nothing, and with it the loops paid atomic increments and
 # decrements of the arrays' reference counts that numba could not prune (a list build of
 # the paper chain took 28 us, now 14 us).  The per-step kernels are compiled the same way
@@ -233,9 +239,10 @@ def _bin_spheres(pos, lo, inv_width, ncell, head, nxt, cidx):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys):
-    """Write the keys of all pairs closer than the skin into ``keys``; return their number,
-    or -1 if ``keys`` is too short.
+def _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys, first):
+    """Write the keys of all pairs closer than the skin into ``keys`` (in no particular
+    order) and their first indices into ``first``; return their number, or -1 if the
+    arrays are too short.
 
     Half shell: sphere s meets the spheres after it in its own cell and all spheres of the
     13 neighbour cells whose offset is lexicographically positive, so that every pair of
@@ -272,7 +279,8 @@ def _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys):
                             if dx * dx + dy * dy + dz * dz < reach * reach:
                                 if n == capacity:
                                     return -1
-                                keys[n] = min(s, t) * stride + max(s, t)
+                                first[n] = min(s, t)
+                                keys[n] = first[n] * stride + max(s, t)
                                 n += 1
                         t = nxt[t]
         for w in range(nw):
@@ -282,9 +290,35 @@ def _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys):
             if dist < radius[s] + skin:
                 if n == capacity:
                     return -1
+                first[n] = s
                 keys[n] = s * stride + ns + w
                 n += 1
     return n
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _sort_pairs(raw, raw_first, count, keys, first):
+    """``raw`` keys (n,) sorted into ``keys`` (n,), their first indices ``raw_first`` into
+    ``first``: a counting sort by the first index (``count`` (ns + 1,) zeroed scratch), then
+    an insertion sort of the few keys of each first index.  O(n + ns)."""
+    n = raw.shape[0]
+    for k in range(n):
+        count[raw_first[k] + 1] += 1
+    for s in range(1, count.shape[0]):
+        count[s] += count[s - 1]  # now the beginning of each group
+    for k in range(n):
+        c = count[raw_first[k]]
+        count[raw_first[k]] = c + 1
+        first[c] = raw_first[k]
+        keys[c] = raw[k]
+    # (a key never passes the group boundary: all keys of a group exceed those before it)
+    for c in range(1, n):
+        key = keys[c]
+        k = c
+        while k > 0 and keys[k - 1] > key:
+            keys[k] = keys[k - 1]
+            k -= 1
+        keys[k] = key
 
 
 @njit(cache=True, error_model="numpy")
@@ -294,23 +328,12 @@ def build_verlet_list(spheres, walls, bodies, mats, contacts, skin):
     Returns the number of pairs, or ``-needed`` if the contact arrays are too short (the
     caller grows them and calls again; nothing has been changed then).
     """
-    keys = _candidate_pairs(spheres, walls, skin)
+    keys, first = _candidate_pairs(spheres, walls, skin)
     n_new = keys.shape[0]
     if n_new > contacts.i.shape[0]:
         return -n_new
-    n_old = max(contacts.n[0], 0)
-    _merge_history(
-        spheres,
-        walls,
-        bodies,
-        mats,
-        contacts,
-        keys,
-        np.empty(n_old, np.int64),
-        np.empty(n_old, np.uint8),
-        np.empty((n_old, 11)),
-        np.empty(4),
-    )
+    src = np.empty(n_new, np.int64)
+    _merge_history(spheres, walls, bodies, mats, contacts, keys, first, src, np.empty(4))
     _list_spheres(spheres, contacts, np.zeros(spheres.pos.shape[0], np.uint8))
     for b in range(bodies.mass.shape[0]):
         for d in range(3):
@@ -321,58 +344,40 @@ def build_verlet_list(spheres, walls, bodies, mats, contacts, skin):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _merge_history(spheres, walls, bodies, mats, contacts, keys, old_key, old_active, old, props):
-    """Write the pairs ``keys`` (sorted) into ``contacts``; a pair that was listed before
-    keeps its whole history, a new one starts inactive with its properties computed.
+def _merge_history(spheres, walls, bodies, mats, contacts, keys, first, src, props):
+    """Write the pairs ``keys`` (sorted; ``first`` their first indices) into ``contacts``,
+    in place; a pair that was listed before keeps its whole history, a new one starts
+    inactive with its properties computed.
 
     Scratch arrays (allocated by the caller, as this loop runs without numba's reference
-    counting): ``old_key`` (n_old,), ``old_active`` (n_old,), ``old`` (n_old, 11) =
-    shear(3), overlap, vn, fn, fn_viscous, kn, kt, mu, cn; ``props`` (4,).
+    counting): ``src`` (n_new,) int64, ``props`` (4,).
+
+    ``src[c]`` is the old slot of new pair c (-1 for a new pair); it increases with c, as
+    both lists are sorted.  The pairs that move to a higher slot (``src[c] < c``) go first,
+    from the top: the slot c written is the old slot of no pair still to move (those have
+    ``src < c`` or moved already).  Then those that move to a lower slot, from the bottom,
+    by the mirrored argument; then the new pairs, whose slots are read by no move.  Slots
+    that keep their pair are not touched: one pass over the moved pairs, not a copy of the
+    whole list out and back.
     """
     ns = spheres.pos.shape[0]
     stride = ns + walls.point.shape[0]
-    n_old = old_key.shape[0]
-    for c in range(n_old):
-        j = contacts.j[c]
-        jj = j if j >= 0 else ns - j - 1
-        old_key[c] = contacts.i[c] * stride + jj
-        old_active[c] = contacts.active[c]
-        for d in range(3):
-            old[c, d] = contacts.shear[c, d]
-        old[c, 3] = contacts.overlap[c]
-        old[c, 4] = contacts.vn[c]
-        old[c, 5] = contacts.fn[c]
-        old[c, 6] = contacts.fn_viscous[c]
-        old[c, 7] = contacts.kn[c]
-        old[c, 8] = contacts.kt[c]
-        old[c, 9] = contacts.mu[c]
-        old[c, 10] = contacts.cn[c]
-    o = 0
-    for c in range(keys.shape[0]):
-        k = keys[c]
-        i = k // stride
-        jj = k - i * stride
+    n_new = keys.shape[0]
+    _old_slots(contacts, keys, ns, stride, src)
+    for c in range(n_new - 1, -1, -1):
+        if 0 <= src[c] < c:
+            _move_pair(contacts, src[c], c)
+    for c in range(n_new):
+        if src[c] > c:
+            _move_pair(contacts, src[c], c)
+    for c in range(n_new):
+        i = first[c]
+        jj = keys[c] - i * stride
         j = jj if jj < ns else -(jj - ns) - 1
         contacts.i[c] = i
         contacts.j[c] = j
-        while o < n_old and old_key[o] < k:
-            o += 1  # old pairs now out of range: their contacts have ended already
-        if o < n_old and old_key[o] == k:
-            # the whole history: the dashpot extrapolates vn, an ending contact needs
-            # its last overlap (end_impulse); the properties of a listed pair are kept
-            # (whoever edits the materials mid-run must edit contacts.kn/kt/mu/cn too)
-            contacts.active[c] = old_active[o]
-            for d in range(3):
-                contacts.shear[c, d] = old[o, d]
-            contacts.overlap[c] = old[o, 3]
-            contacts.vn[c] = old[o, 4]
-            contacts.fn[c] = old[o, 5]
-            contacts.fn_viscous[c] = old[o, 6]
-            contacts.kn[c] = old[o, 7]
-            contacts.kt[c] = old[o, 8]
-            contacts.mu[c] = old[o, 9]
-            contacts.cn[c] = old[o, 10]
-        else:
+        if src[c] < 0:
+            # (overlap, vn and fn are kept as before: set at the onset before they are read)
             contacts.active[c] = 0
             for d in range(3):
                 contacts.shear[c, d] = 0.0
@@ -382,7 +387,50 @@ def _merge_history(spheres, walls, bodies, mats, contacts, keys, old_key, old_ac
             contacts.kt[c] = props[1]
             contacts.mu[c] = props[2]
             contacts.cn[c] = props[3]
-    contacts.n[0] = keys.shape[0]
+    contacts.n[0] = n_new
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _old_slots(contacts, keys, ns, stride, src):
+    """``src[c]``: the slot of the listed pairs (``contacts``, before the merge) holding the
+    pair ``keys[c]``, or -1 if it was not listed.  Both lists are sorted: one merge walk."""
+    n_old = max(contacts.n[0], 0)
+    o = 0
+    old_key = -1
+    if n_old > 0:
+        old_key = _pair_key(contacts, 0, ns, stride)
+    for c in range(keys.shape[0]):
+        k = keys[c]
+        while o < n_old and old_key < k:
+            o += 1  # old pairs now out of range: their contacts have ended already
+            if o < n_old:
+                old_key = _pair_key(contacts, o, ns, stride)
+        src[c] = o if o < n_old and old_key == k else -1
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _pair_key(contacts, c, ns, stride):
+    """Sort key ``i * stride + jj`` of listed pair c (``jj = ns + w`` for wall w)."""
+    j = contacts.j[c]
+    return contacts.i[c] * stride + (j if j >= 0 else ns - j - 1)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _move_pair(contacts, a, c):
+    """Copy the history of listed pair a into slot c: the dashpot extrapolates vn, an
+    ending contact needs its last overlap (end_impulse); the properties of a listed pair
+    are kept (whoever edits the materials mid-run must edit contacts.kn/kt/mu/cn too)."""
+    contacts.active[c] = contacts.active[a]
+    for d in range(3):
+        contacts.shear[c, d] = contacts.shear[a, d]
+    contacts.overlap[c] = contacts.overlap[a]
+    contacts.vn[c] = contacts.vn[a]
+    contacts.fn[c] = contacts.fn[a]
+    contacts.fn_viscous[c] = contacts.fn_viscous[a]
+    contacts.kn[c] = contacts.kn[a]
+    contacts.kt[c] = contacts.kt[a]
+    contacts.mu[c] = contacts.mu[a]
+    contacts.cn[c] = contacts.cn[a]
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
