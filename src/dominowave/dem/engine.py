@@ -44,7 +44,7 @@ from dominowave.dem.integrate import (
     update_listed_sphere_positions,
     update_sphere_positions,
 )
-from dominowave.dem.planar import compute_forces_planar
+from dominowave.dem.planar import compute_forces_planar, contact_power_planar
 
 __all__ = ["Recorder", "Settings", "run_loop"]
 
@@ -409,7 +409,10 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
                 bodies, settings.gravity, dt, settings.damping, settings.damp_gravity, planar
             )
             if settings.track_energy:
-                contact_power(bodies, spheres, walls, contacts, p_contacts)
+                if planar:
+                    contact_power_planar(bodies, spheres, walls, contacts, p_contacts)
+                else:
+                    contact_power(bodies, spheres, walls, contacts, p_contacts)
                 # trapezoidal rule for the work of the non-conservative forces since t_{n-1}
                 if step > 0:
                     rec.ledger[1] -= 0.5 * dt * (rec.power[0] + p_contacts[0])

@@ -43,7 +43,7 @@ from dominowave.dem.contact import (
 )
 from dominowave.dem.integrate import ROT_AXIS, ROT_ISOTROPIC, ROT_NONE
 
-__all__ = ["compute_forces_planar", "planar_violation"]
+__all__ = ["compute_forces_planar", "contact_power_planar", "planar_violation"]
 
 # A member sphere counts as in the plane if its centre is off by at most this fraction of
 # its distance from the centre of mass (the y row of R(q) of a body turned about y is
@@ -201,3 +201,44 @@ def compute_forces_planar(bodies, spheres, walls, contacts, dt, ledger, changes,
             _apply_planar(bodies, bj, rj0, rj2, f0, f2, 1.0)
         _apply_planar(bodies, bi, ri0, ri2, f0, f2, -1.0)
     return n_changes
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def contact_power_planar(bodies, spheres, walls, contacts, out):
+    """contact.contact_power for a planar scene (same arguments and outputs), without the y
+    components: the same sums to the bit (``v_y`` of every contact point and the shear's
+    ``u_y`` are exactly zero in a planar run)."""
+    pos = spheres.pos
+    body_pos, vel, omega = bodies.pos, bodies.vel_full, bodies.omega_full
+    u = contacts.shear
+    p_viscous = 0.0
+    p_friction = 0.0
+    for c in range(contacts.n[0]):
+        fd = contacts.fn_viscous[c]
+        if fd == 0.0 and (not contacts.active[c] or u[c, 0] == u[c, 2] == 0.0):
+            continue  # (ended contacts have zero shear)
+        i = contacts.i[c]
+        j = contacts.j[c]
+        bi = spheres.body[i]
+        if j >= 0:
+            dx = pos[j, 0] - pos[i, 0]
+            dz = pos[j, 2] - pos[i, 2]
+            inv_dist = 1.0 / math.sqrt(dx * dx + dz * dz)  # (as compute_forces_planar)
+            n0, n2 = dx * inv_dist, dz * inv_dist
+        else:
+            w = -j - 1
+            n0, n2 = -walls.normal[w, 0], -walls.normal[w, 2]
+        reach = spheres.radius[i] - 0.5 * contacts.overlap[c]
+        p0, p2 = pos[i, 0] + reach * n0, pos[i, 2] + reach * n2
+        ri0, ri2 = p0 - body_pos[bi, 0], p2 - body_pos[bi, 2]
+        dv0 = -(vel[bi, 0] + omega[bi, 1] * ri2)
+        dv2 = -(vel[bi, 2] - omega[bi, 1] * ri0)
+        if j >= 0:
+            bj = spheres.body[j]
+            rj0, rj2 = p0 - body_pos[bj, 0], p2 - body_pos[bj, 2]
+            dv0 += vel[bj, 0] + omega[bj, 1] * rj2
+            dv2 += vel[bj, 2] - omega[bj, 1] * rj0
+        p_viscous += fd * (n0 * dv0 + n2 * dv2)
+        p_friction -= contacts.kt[c] * (u[c, 0] * dv0 + u[c, 2] * dv2)
+    out[0] = p_viscous
+    out[1] = p_friction
