@@ -39,6 +39,7 @@ from dominowave.dem.integrate import (
     update_listed_sphere_positions,
     update_sphere_positions,
 )
+from dominowave.dem.planar import compute_forces_planar
 
 R = 0.005
 
@@ -108,35 +109,38 @@ def _leaning_tilt(heights, spacing, gap):
 
 
 @njit(cache=True, _nrt=False)
-def _loop_detection(spheres, walls, bodies, mats, contacts, skin, n):
+def _loop_detection(spheres, walls, bodies, mats, contacts, skin, n, planar):
     rebuilt = 0
     for _ in range(n):
         if needs_rebuild(bodies, skin, contacts.n[0]):
-            update_sphere_positions(bodies, spheres, False)
+            update_sphere_positions(bodies, spheres, planar)
             build_verlet_list(spheres, walls, bodies, mats, contacts, skin)
             rebuilt += 1
     return rebuilt
 
 
 @njit(cache=True, _nrt=False)
-def _loop_rebuild(spheres, walls, bodies, mats, contacts, skin, n):
+def _loop_rebuild(spheres, walls, bodies, mats, contacts, skin, n, planar):
     for _ in range(n):
-        update_sphere_positions(bodies, spheres, False)
+        update_sphere_positions(bodies, spheres, planar)
         build_verlet_list(spheres, walls, bodies, mats, contacts, skin)
 
 
 @njit(cache=True, _nrt=False)
-def _loop_forces(bodies, spheres, walls, contacts, dt, ledger, changes, n):
+def _loop_forces(bodies, spheres, walls, contacts, dt, ledger, changes, n, planar):
     for _ in range(n):
-        compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, False)
+        if planar:  # (the kernel the engine runs on a planar scene, dem/planar.py)
+            compute_forces_planar(bodies, spheres, walls, contacts, dt, ledger, changes, False)
+        else:
+            compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, False)
 
 
 @njit(cache=True, _nrt=False)
-def _loop_integration(bodies, spheres, gravity, dt, damping, n):
+def _loop_integration(bodies, spheres, gravity, dt, damping, n, planar):
     for _ in range(n):
-        kick(bodies, gravity, dt, damping, True)
-        drift(bodies, dt)
-        update_listed_sphere_positions(bodies, spheres, False)
+        kick(bodies, gravity, dt, damping, True, planar)
+        drift(bodies, dt, planar)
+        update_listed_sphere_positions(bodies, spheres, planar)
 
 
 def timed(fn, repeat):
@@ -176,21 +180,25 @@ def measure(make, n, steps, repeat):
     sim.run(n_steps=steps)
     rebuild_rate = (sim.rec.n_rebuilds[0] - rebuilds0) / steps
     s = sim.settings
+    planar = s.planar  # (the kernels of the runs above)
     b, sp, c = copy.deepcopy(sim.bodies), copy.deepcopy(sim.spheres), copy.deepcopy(sim.contacts)
     ledger = np.zeros(3)
     # compile / load each phase loop before timing it
-    _loop_detection(sp, sim.walls, b, sim.mats, c, s.skin, 1)
-    _loop_rebuild(sp, sim.walls, b, sim.mats, c, s.skin, 1)
-    _loop_forces(b, sp, sim.walls, c, s.dt, ledger, sim.rec.changes, 1)
-    _loop_integration(b, sp, s.gravity, s.dt, s.damping, 1)
-    check = timed(lambda: _loop_detection(sp, sim.walls, b, sim.mats, c, s.skin, steps), repeat)
+    walls, mats = sim.walls, sim.mats
+    _loop_detection(sp, walls, b, mats, c, s.skin, 1, planar)
+    _loop_rebuild(sp, walls, b, mats, c, s.skin, 1, planar)
+    _loop_forces(b, sp, walls, c, s.dt, ledger, sim.rec.changes, 1, planar)
+    _loop_integration(b, sp, s.gravity, s.dt, s.damping, 1, planar)
+    check = timed(lambda: _loop_detection(sp, walls, b, mats, c, s.skin, steps, planar), repeat)
     n_build = max(1, steps // 50)
-    build = timed(lambda: _loop_rebuild(sp, sim.walls, b, sim.mats, c, s.skin, n_build), repeat)
+    build = timed(lambda: _loop_rebuild(sp, walls, b, mats, c, s.skin, n_build, planar), repeat)
     forces = timed(
-        lambda: _loop_forces(b, sp, sim.walls, c, s.dt, ledger, sim.rec.changes, steps),
+        lambda: _loop_forces(b, sp, walls, c, s.dt, ledger, sim.rec.changes, steps, planar),
         repeat,
     )
-    integ = timed(lambda: _loop_integration(b, sp, s.gravity, s.dt, s.damping, steps), repeat)
+    integ = timed(
+        lambda: _loop_integration(b, sp, s.gravity, s.dt, s.damping, steps, planar), repeat
+    )
     row["rebuild_every"] = 1.0 / rebuild_rate if rebuild_rate > 0 else np.inf
     row["us_detect"] = 1e6 * (check / steps + rebuild_rate * build / n_build)
     row["us_forces"] = 1e6 * forces / steps

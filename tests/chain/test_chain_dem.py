@@ -99,8 +99,9 @@ def test_validate_ensemble_is_bit_reproducible_and_perturbed():
 )
 def test_validate_planar_kernels_reproduce_the_general_chain_to_the_bit(params):
     """The 2D chain is a planar scene (dem/planar.py): its runs take the planar kernels,
-    and give the trajectory of the general kernels bit for bit -- the whole run, with
-    sliding bases and frictional contacts, where the chain is long chaotic (so any
+    and give the trajectory of the general kernels bit for bit -- the whole recorded run
+    (energy ledger on), and 40 000 engines-only steps (the fused body pass), with sliding
+    bases and frictional contacts, long after the chain has become chaotic (so any
     difference in the last bit would have grown to a visible one)."""
     chain = DominoChain(ChainParams(n_dominoes=30, **params))
     runs = []
@@ -117,6 +118,17 @@ def test_validate_planar_kernels_reproduce_the_general_chain_to_the_bit(params):
         np.testing.assert_array_equal(getattr(a.bodies, name), getattr(b.bodies, name), name)
     n = a.contacts.n[0]
     np.testing.assert_array_equal(a.contacts.shear[:n, ::2], b.contacts.shear[:n, ::2])
+    # engines only (no energy ledger, no recorders): the fused planar body pass
+    sims = []
+    for planar in (True, False):
+        sim, _ = chain.build(chain.resolve(None), record=False, track_energy=False)
+        sim.planar_kernels = planar
+        sim.run(n_steps=40_000)
+        sims.append(sim)
+    for name in ("pos", "vel", "quat", "omega"):
+        np.testing.assert_array_equal(
+            getattr(sims[0].bodies, name), getattr(sims[1].bodies, name), name
+        )
 
 
 def test_validate_push_sets_rolling_motion_and_impulse_momentum():

@@ -10,7 +10,7 @@ from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation
 
 from dominowave.dem import END, ONSET, Material, Scene, Simulation, StopCondition, integrate
-from dominowave.dem.contact import build_verlet_list, needs_rebuild
+from dominowave.dem.contact import build_verlet_list, needs_rebuild, pair_properties
 
 
 def _box_scene(n=60, seed=0, friction=0.3, damping=0.0, restitution=0.5, **build):
@@ -143,7 +143,13 @@ def test_validate_verlet_build_matches_brute_force(seed):
         for f in fields:
             np.testing.assert_array_equal(getattr(c, f)[new_at], before[f][old_at])
         fresh = np.setdiff1d(np.arange(n), new_at)
+        assert fresh.size > 0
         assert not c.active[fresh].any() and not c.shear[fresh].any()
+        assert not c.fn_viscous[fresh].any()
+        props = np.empty(4)
+        for k in fresh:  # a new pair's properties from the materials
+            pair_properties(c.i[k], c.j[k], spheres, walls, bodies, sim.mats, props)
+            assert (c.kn[k], c.kt[k], c.mu[k], c.cn[k]) == tuple(props)
         before = {f: getattr(c, f)[:n].copy() for f in fields}
 
 
@@ -291,12 +297,13 @@ def test_validate_recorders_do_not_change_a_clump_trajectory():
     np.testing.assert_array_equal(runs[0].bodies.omega, runs[1].bodies.omega)
 
 
-@pytest.mark.parametrize("blocked", ["y rx rz", ""])
-def test_validate_fused_body_pass_is_the_separate_kick_and_drift(blocked):
+@pytest.mark.parametrize(("blocked", "dy"), [("y rx rz", 0.002), ("y rx rz", 0.0), ("", 0.002)])
+def test_validate_fused_body_pass_is_the_separate_kick_and_drift(blocked, dy):
     """Steps in which nothing reads the state between kick and drift take one fused pass
     over the bodies (engine._advance_bodies); steps with a check take kick, checks, drift.
     With a check every step (check_every=1) every step is separate: the trajectories of
-    planar (fixed axis) and free clumps must be bit-identical either way."""
+    fixed-axis clumps in parallel planes (general kernels), in one plane (a planar scene:
+    integrate.advance_body_planar) and of free clumps must be bit-identical either way."""
     runs = []
     for check_every in (100, 1):
         scene = Scene()
@@ -305,7 +312,7 @@ def test_validate_fused_body_pass_is_the_separate_kick_and_drift(blocked):
         scene.add_wall((0, 0, 0), (0, 0, 1), floor)
         for c in range(4):
             scene.add_clump(
-                column(6, base=(0.04 * c, 0.002 * c, R), tilt=0.3 if c % 2 == 0 else 0.0),
+                column(6, base=(0.04 * c, dy * c, R), tilt=0.3 if c % 2 == 0 else 0.0),
                 R,
                 [floor] + [face] * 5,
                 blocked=blocked,
@@ -313,6 +320,7 @@ def test_validate_fused_body_pass_is_the_separate_kick_and_drift(blocked):
             )
         sim = scene.build(record_pairs=False, track_energy=False, check_every=check_every)
         sim.run(until=0.05)
+        assert sim.settings.planar == (blocked != "" and dy == 0.0)
         runs.append(sim)
     assert runs[0].rec.n_rebuilds[0] > 1  # bodies moved: the Verlet test was exercised
     np.testing.assert_array_equal(runs[0].bodies.pos, runs[1].bodies.pos)

@@ -300,7 +300,10 @@ def _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys, first):
 def _sort_pairs(raw, raw_first, count, keys, first):
     """``raw`` keys (n,) sorted into ``keys`` (n,), their first indices ``raw_first`` into
     ``first``: a counting sort by the first index (``count`` (ns + 1,) zeroed scratch), then
-    an insertion sort of the few keys of each first index.  O(n + ns)."""
+    an insertion sort of the keys of each first index: O(n + ns + sum of g^2) for groups
+    of g keys -- a sphere has a handful of listed partners in a packing of similar spheres;
+    a sphere with hundreds (one large sphere among small ones) would make np.sort the
+    faster choice."""
     n = raw.shape[0]
     for k in range(n):
         count[raw_first[k] + 1] += 1
@@ -676,7 +679,11 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
         # contact point midway through the overlap (as YADE's ScGeom)
         reach = Ri - 0.5 * overlap
         p0, p1, p2 = pos[i, 0] + reach * n0, pos[i, 1] + reach * n1, pos[i, 2] + reach * n2
-        if overlap <= 0.0:  # an active contact opened in the last drift
+        if overlap <= 0.0:
+            if not contacts.active[c]:  # (d2 < rsum^2, but |d| rounds to rsum: no contact)
+                contacts.fn_viscous[c] = 0.0
+                continue
+            # an active contact opened in the last drift
             ledger[0] += _separate(
                 bodies, contacts, c, bi, bj, wall, n0, n1, n2, overlap, dt, p0, p1, p2
             )

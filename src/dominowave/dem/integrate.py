@@ -7,7 +7,8 @@ Step ``n -> n+1`` (forces ``F_n`` already computed at positions ``x_n``):
 2. drift  ``x_{n+1} = x_n + dt v_{n+1/2}`` and the orientation update.
 
 This is YADE's NewtonIntegrator leapfrog (velocities at half steps).  The full-step
-velocity ``v_n = (v_{n-1/2} + v_{n+1/2}) / 2`` is stored for recorders and energies.
+velocity ``v_n = (v_{n-1/2} + v_{n+1/2}) / 2`` is stored for recorders and energies (not
+in the fused steps of planar scenes, where nothing reads it: :func:`advance_body_planar`).
 
 Rotations (``rot_mode`` of a body):
 
@@ -77,18 +78,24 @@ def damped(a, v, dt, damping):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _store_matrix(rot, b, w, x, y, z):
-    """``rot[b]`` = the rotation matrix of the unit quaternion ``(w, x, y, z)`` (body ->
-    world; the kernels index rows of the (nb, 3, 3) array, they take no row views)."""
+def _store_rows_xz(rot, b, w, x, y, z):
+    """Rows x and z of :func:`_store_matrix` (all that the planar sphere placement reads)."""
     rot[b, 0, 0] = 1.0 - 2.0 * (y * y + z * z)
     rot[b, 0, 1] = 2.0 * (x * y - w * z)
     rot[b, 0, 2] = 2.0 * (x * z + w * y)
-    rot[b, 1, 0] = 2.0 * (x * y + w * z)
-    rot[b, 1, 1] = 1.0 - 2.0 * (x * x + z * z)
-    rot[b, 1, 2] = 2.0 * (y * z - w * x)
     rot[b, 2, 0] = 2.0 * (x * z - w * y)
     rot[b, 2, 1] = 2.0 * (y * z + w * x)
     rot[b, 2, 2] = 1.0 - 2.0 * (x * x + y * y)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _store_matrix(rot, b, w, x, y, z):
+    """``rot[b]`` = the rotation matrix of the unit quaternion ``(w, x, y, z)`` (body ->
+    world; the kernels index rows of the (nb, 3, 3) array, they take no row views)."""
+    _store_rows_xz(rot, b, w, x, y, z)
+    rot[b, 1, 0] = 2.0 * (x * y + w * z)
+    rot[b, 1, 1] = 1.0 - 2.0 * (x * x + z * z)
+    rot[b, 1, 2] = 2.0 * (y * z - w * x)
 
 
 # Below this half angle [rad] a turn takes cos x and sin(x)/x from their Taylor series to
@@ -442,10 +449,12 @@ def advance_body_planar(bodies, b, gravity, dt, damping, damp_gravity):
     which nothing reads the state between the two (engine._advance_bodies): the same
     positions, velocities and orientations to the bit, without what only readers need --
     the full-step velocities (``vel_full``, ``omega_full``, ``angmom_full``), the half-step
-    ``angmom``, the damping power, and row y of the rotation matrix (read only by the
-    general sphere placement; for a turn about e_y it stays (0, 1, 0) to round-off).
-    The next step with a reader kicks and drifts with the full versions, which write
-    them all afresh."""
+    ``angmom``, the damping power, and row y of the rotation matrix (for a turn about e_y
+    it stays (0, 1, 0) to round-off).  These are stale after a fused step, and nothing can
+    see them: engine.run_loop fuses a step only when no recorder, check or ledger reads
+    the state in it, the last step before every return to Python is not fused (``last``
+    makes it a check step), and the returns that grow buffers happen before a step changes
+    anything; the next kick and drift with a reader write them all afresh."""
     if bodies.held[b]:
         return
     h = dt
@@ -472,14 +481,7 @@ def advance_body_planar(bodies, b, gravity, dt, damping, damp_gravity):
     q = bodies.quat
     _turn_about_y(q, b, w, dt)
     _normalise(q, b)
-    w, x, y, z = q[b, 0], q[b, 1], q[b, 2], q[b, 3]
-    rot = bodies.rot  # (rows x and z of _store_matrix)
-    rot[b, 0, 0] = 1.0 - 2.0 * (y * y + z * z)
-    rot[b, 0, 1] = 2.0 * (x * y - w * z)
-    rot[b, 0, 2] = 2.0 * (x * z + w * y)
-    rot[b, 2, 0] = 2.0 * (x * z - w * y)
-    rot[b, 2, 1] = 2.0 * (y * z + w * x)
-    rot[b, 2, 2] = 1.0 - 2.0 * (x * x + y * y)
+    _store_rows_xz(bodies.rot, b, q[b, 0], q[b, 1], q[b, 2], q[b, 3])
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)

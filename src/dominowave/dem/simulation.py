@@ -167,7 +167,7 @@ class Simulation:
             record_peak_force=record_peak_force,
             check_every=check_every,
             track_energy=bool(track_energy),
-            planar=False,  # decided at each run (_use_planar)
+            planar=False,  # decided at each run (_start_run)
         )
         #: Use the planar kernels (dem/planar.py) when the scene is planar.  False forces
         #: the general ones (the results differ at round-off only).
@@ -552,7 +552,10 @@ class Simulation:
 
     def get_state(self) -> dict:
         """All state needed to resume bit-identically, as a flat dict of NumPy arrays."""
-        out = {"critical_dt": np.array(self.critical_dt)}
+        out = {
+            "critical_dt": np.array(self.critical_dt),
+            "planar_kernels": np.array(self.planar_kernels),
+        }
         for prefix, tup in self._groups().items():
             for name, value in tup._asdict().items():
                 if prefix == "rec" and name in self._PER_RUN:
@@ -591,6 +594,7 @@ class Simulation:
         self.mats, self.contacts, self.settings = new["mats"], new["contacts"], new["settings"]
         self.rec = new["rec"]
         self.critical_dt = float(state["critical_dt"])
+        self.planar_kernels = bool(state.get("planar_kernels", True))  # (older files lack it)
 
     def save(self, path):
         """Write :meth:`get_state` to an ``.npz`` file."""
