@@ -211,6 +211,22 @@ def _omega_from_angmom(rot, inertia, L, out, b):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _kick_translation(bodies, b, k, h, inv_m, gravity, dt, damping, damp_gravity):
+    """Kick of the velocity component k of body b by ``h`` (a blocked component keeps its
+    velocity); returns the power of its local damping [W]."""
+    v = bodies.vel[b, k]
+    if bodies.blocked[b, k]:
+        bodies.vel_full[b, k] = v
+        return 0.0
+    a_contact = bodies.force[b, k] * inv_m
+    a, a_free = _accelerate(a_contact, gravity[k], v, dt, damping, damp_gravity)
+    v_new = v + h * a
+    bodies.vel[b, k] = v_new
+    bodies.vel_full[b, k] = v_new - 0.5 * dt * a
+    return bodies.mass[b] * (a - a_free) * bodies.vel_full[b, k]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def kick_body(bodies, b, gravity, dt, damping, damp_gravity):
     """Kick of body b (see :func:`kick`); returns the power of its local damping [W]."""
     power = 0.0
@@ -220,19 +236,9 @@ def kick_body(bodies, b, gravity, dt, damping, damp_gravity):
     if bodies.fresh[b]:
         h = 0.5 * dt
         bodies.fresh[b] = 0
-    m = bodies.mass[b]
-    inv_m = 1.0 / m  # (one division per body, not per component)
+    inv_m = 1.0 / bodies.mass[b]  # (one division per body, not per component)
     for k in range(3):
-        v = bodies.vel[b, k]
-        if bodies.blocked[b, k]:
-            bodies.vel_full[b, k] = v
-            continue
-        a_contact = bodies.force[b, k] * inv_m
-        a, a_free = _accelerate(a_contact, gravity[k], v, dt, damping, damp_gravity)
-        v_new = v + h * a
-        bodies.vel[b, k] = v_new
-        bodies.vel_full[b, k] = v_new - 0.5 * dt * a
-        power += m * (a - a_free) * bodies.vel_full[b, k]
+        power += _kick_translation(bodies, b, k, h, inv_m, gravity, dt, damping, damp_gravity)
     mode = bodies.rot_mode[b]
     if mode == ROT_ISOTROPIC:
         inertia = bodies.inertia[b, 0]
@@ -326,19 +332,9 @@ def kick_body_planar(bodies, b, gravity, dt, damping, damp_gravity):
     if bodies.fresh[b]:
         h = 0.5 * dt
         bodies.fresh[b] = 0
-    m = bodies.mass[b]
-    inv_m = 1.0 / m
+    inv_m = 1.0 / bodies.mass[b]
     for k in (0, 2):
-        v = bodies.vel[b, k]
-        if bodies.blocked[b, k]:
-            bodies.vel_full[b, k] = v
-            continue
-        a_contact = bodies.force[b, k] * inv_m
-        a, a_free = _accelerate(a_contact, gravity[k], v, dt, damping, damp_gravity)
-        v_new = v + h * a
-        bodies.vel[b, k] = v_new
-        bodies.vel_full[b, k] = v_new - 0.5 * dt * a
-        power += m * (a - a_free) * bodies.vel_full[b, k]
+        power += _kick_translation(bodies, b, k, h, inv_m, gravity, dt, damping, damp_gravity)
     if bodies.rot_mode[b] == ROT_NONE or bodies.blocked[b, 4]:
         return power
     w = bodies.omega[b, 1]
