@@ -626,6 +626,46 @@ def _separate(bodies, contacts, c, bi, bj, wall, n0, n1, n2, gap, dt, p0, p1, p2
     return released
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _idle(contacts, c):
+    """Pair c is not in contact this step: its dashpot force (the end impulse of the last
+    step, if any) is zero now (stored only if needed: most listed pairs stay idle)."""
+    if contacts.fn_viscous[c] != 0.0:
+        contacts.fn_viscous[c] = 0.0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _log_change(changes, n_changes, c, kind):
+    """Append ``(c, kind)`` (ONSET / END) to ``changes``; returns the new count."""
+    changes[n_changes, 0] = c
+    changes[n_changes, 1] = kind
+    return n_changes + 1
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _begin(contacts, c):
+    """Pair c starts a contact: active, no shear history."""
+    contacts.active[c] = 1
+    for d in range(3):
+        contacts.shear[c, d] = 0.0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _normal_force(contacts, c, overlap, vn, weight, fn_elastic, new_contact):
+    """Normal force [N] of contact c: the elastic part plus the dashpot on the normal
+    velocity at t_n, extrapolated from the last two half steps (``vn`` [m/s] this one's;
+    ``weight`` of an onset, :func:`onset_averaged_overlap`); stores overlap, vn, fn and
+    its dashpot part."""
+    vn_dashpot = vn if new_contact else 1.5 * vn - 0.5 * contacts.vn[c]
+    contacts.vn[c] = vn
+    fn_viscous = -contacts.cn[c] * vn_dashpot * weight
+    fn = fn_elastic + fn_viscous
+    contacts.overlap[c] = overlap
+    contacts.fn[c] = fn
+    contacts.fn_viscous[c] = fn_viscous
+    return fn
+
+
 @njit(cache=True, error_model="numpy", _nrt=False)
 def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_step):
     """Contact forces and torques on all bodies for the current positions.
@@ -656,8 +696,7 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
             rsum = Ri + spheres.radius[j]
             d2 = dx * dx + dy * dy + dz * dz
             if d2 >= rsum * rsum and not contacts.active[c]:
-                if contacts.fn_viscous[c] != 0.0:  # (store only if needed: most pairs idle)
-                    contacts.fn_viscous[c] = 0.0
+                _idle(contacts, c)
                 continue
             dist = math.sqrt(d2)
             inv_dist = 1.0 / dist  # (one division per normal)
@@ -671,8 +710,7 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
             dist += (pos[i, 1] - walls.point[w, 1]) * wn1
             dist += (pos[i, 2] - walls.point[w, 2]) * wn2
             if dist >= Ri and not contacts.active[c]:
-                if contacts.fn_viscous[c] != 0.0:
-                    contacts.fn_viscous[c] = 0.0
+                _idle(contacts, c)
                 continue
             n0, n1, n2 = -wn0, -wn1, -wn2
             overlap = Ri - dist
@@ -681,24 +719,18 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
         p0, p1, p2 = pos[i, 0] + reach * n0, pos[i, 1] + reach * n1, pos[i, 2] + reach * n2
         if overlap <= 0.0:
             if not contacts.active[c]:  # (d2 < rsum^2, but |d| rounds to rsum: no contact)
-                contacts.fn_viscous[c] = 0.0
+                _idle(contacts, c)
                 continue
             # an active contact opened in the last drift
             ledger[0] += _separate(
                 bodies, contacts, c, bi, bj, wall, n0, n1, n2, overlap, dt, p0, p1, p2
             )
-            changes[n_changes, 0] = c
-            changes[n_changes, 1] = END
-            n_changes += 1
+            n_changes = _log_change(changes, n_changes, c, END)
             continue
         new_contact = not contacts.active[c]
         if new_contact:
-            contacts.active[c] = 1
-            for d in range(3):
-                contacts.shear[c, d] = 0.0
-            changes[n_changes, 0] = c
-            changes[n_changes, 1] = ONSET
-            n_changes += 1
+            _begin(contacts, c)
+            n_changes = _log_change(changes, n_changes, c, ONSET)
         # relative velocity of the contact point, j minus i (a wall is fixed)
         om = bodies.omega
         ri0, ri1, ri2 = _lever(bodies.pos, bi, p0, p1, p2)
@@ -734,14 +766,7 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
         # friction ledger, part 1: minus the change of the energy stored in the spring
         stored -= u0 * u0 + u1 * u1 + u2 * u2
         ledger[0] += 0.5 * kt * stored
-        # dashpot: the normal velocity at t_n, extrapolated from the last two half steps
-        vn_dashpot = vn if new_contact else 1.5 * vn - 0.5 * contacts.vn[c]
-        contacts.vn[c] = vn
-        fn_viscous = -contacts.cn[c] * vn_dashpot * weight
-        fn = fn_elastic + fn_viscous
-        contacts.overlap[c] = overlap
-        contacts.fn[c] = fn
-        contacts.fn_viscous[c] = fn_viscous
+        fn = _normal_force(contacts, c, overlap, vn, weight, fn_elastic, new_contact)
         # normal force plus the tangential spring force -kt u, on j (minus on i)
         f0, f1, f2 = fn * n0 + -kt * u0, fn * n1 + -kt * u1, fn * n2 + -kt * u2
         if not wall:

@@ -116,6 +116,19 @@ def _cos_sinc(x2):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _half_turn(w2, dt):
+    """``(cos x, sin(x) / |omega|)`` of the half angle ``x = |omega| dt / 2`` of a turn at
+    angular speed ``|omega| = sqrt(w2)`` [rad/s] over ``dt`` [s] (Taylor below
+    SMALL_HALF_ANGLE, the C library above)."""
+    x2 = 0.25 * dt * dt * w2
+    if x2 < SMALL_HALF_ANGLE * SMALL_HALF_ANGLE:
+        cos_x, sinc = _cos_sinc(x2)
+        return cos_x, 0.5 * dt * sinc
+    wn = math.sqrt(w2)
+    return math.cos(0.5 * wn * dt), math.sin(0.5 * wn * dt) / wn
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _turn_world(q, b, wx, wy, wz, dt):
     """q[b] <- exp(omega dt) * q[b]: rotate body b by the world-frame angle vector omega dt.
 
@@ -124,14 +137,7 @@ def _turn_world(q, b, wx, wy, wz, dt):
     w2 = wx * wx + wy * wy + wz * wz
     if w2 == 0.0:
         return
-    x2 = 0.25 * dt * dt * w2
-    if x2 < SMALL_HALF_ANGLE * SMALL_HALF_ANGLE:
-        a0, sinc = _cos_sinc(x2)
-        s = 0.5 * dt * sinc
-    else:
-        wn = math.sqrt(w2)
-        a0 = math.cos(0.5 * wn * dt)
-        s = math.sin(0.5 * wn * dt) / wn
+    a0, s = _half_turn(w2, dt)
     a1, a2, a3 = wx * s, wy * s, wz * s
     q0, q1, q2, q3 = q[b, 0], q[b, 1], q[b, 2], q[b, 3]
     q[b, 0] = a0 * q0 - a1 * q1 - a2 * q2 - a3 * q3
@@ -211,6 +217,16 @@ def _omega_from_angmom(rot, inertia, L, out, b):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _kick_length(bodies, b, dt):
+    """The time [s] over which body b is kicked: ``dt``, or ``dt/2`` for a fresh body (the
+    half kick of a velocity-Verlet start; the flag is cleared)."""
+    if bodies.fresh[b]:
+        bodies.fresh[b] = 0
+        return 0.5 * dt
+    return dt
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _kick_translation(bodies, b, k, h, inv_m, gravity, dt, damping, damp_gravity):
     """Kick of the velocity component k of body b by ``h`` (a blocked component keeps its
     velocity); returns the power of its local damping [W]."""
@@ -232,10 +248,7 @@ def kick_body(bodies, b, gravity, dt, damping, damp_gravity):
     power = 0.0
     if bodies.held[b]:
         return power
-    h = dt
-    if bodies.fresh[b]:
-        h = 0.5 * dt
-        bodies.fresh[b] = 0
+    h = _kick_length(bodies, b, dt)
     inv_m = 1.0 / bodies.mass[b]  # (one division per body, not per component)
     for k in range(3):
         power += _kick_translation(bodies, b, k, h, inv_m, gravity, dt, damping, damp_gravity)
@@ -328,10 +341,7 @@ def kick_body_planar(bodies, b, gravity, dt, damping, damp_gravity):
     power = 0.0
     if bodies.held[b]:
         return power
-    h = dt
-    if bodies.fresh[b]:
-        h = 0.5 * dt
-        bodies.fresh[b] = 0
+    h = _kick_length(bodies, b, dt)
     inv_m = 1.0 / bodies.mass[b]
     for k in (0, 2):
         power += _kick_translation(bodies, b, k, h, inv_m, gravity, dt, damping, damp_gravity)
@@ -406,15 +416,7 @@ def _turn_about_y(q, b, wy, dt):
     the products with the zero components (the same results to the bit)."""
     if wy == 0.0:
         return
-    w2 = wy * wy
-    x2 = 0.25 * dt * dt * w2
-    if x2 < SMALL_HALF_ANGLE * SMALL_HALF_ANGLE:
-        a0, sinc = _cos_sinc(x2)
-        s = 0.5 * dt * sinc
-    else:
-        wn = math.sqrt(w2)
-        a0 = math.cos(0.5 * wn * dt)
-        s = math.sin(0.5 * wn * dt) / wn
+    a0, s = _half_turn(wy * wy, dt)
     a2 = wy * s
     q0, q1, q2, q3 = q[b, 0], q[b, 1], q[b, 2], q[b, 3]
     q[b, 0] = a0 * q0 - a2 * q2
@@ -453,10 +455,7 @@ def advance_body_planar(bodies, b, gravity, dt, damping, damp_gravity):
     anything; the next kick and drift with a reader write them all afresh."""
     if bodies.held[b]:
         return
-    h = dt
-    if bodies.fresh[b]:
-        h = 0.5 * dt
-        bodies.fresh[b] = 0
+    h = _kick_length(bodies, b, dt)
     inv_m = 1.0 / bodies.mass[b]
     for k in (0, 2):
         if not bodies.blocked[b, k]:

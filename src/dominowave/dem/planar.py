@@ -42,6 +42,10 @@ from numba import njit
 from dominowave.dem.contact import (
     END,
     ONSET,
+    _begin,
+    _idle,
+    _log_change,
+    _normal_force,
     _separate,
     cundall_strack,
     onset_averaged_overlap,
@@ -131,8 +135,7 @@ def compute_forces_planar(bodies, spheres, walls, contacts, dt, ledger, changes,
             rsum = Ri + spheres.radius[j]
             d2 = dx * dx + dz * dz
             if d2 >= rsum * rsum and not contacts.active[c]:
-                if contacts.fn_viscous[c] != 0.0:  # (store only if needed: most pairs idle)
-                    contacts.fn_viscous[c] = 0.0
+                _idle(contacts, c)
                 continue
             dist = math.sqrt(d2)
             inv_dist = 1.0 / dist  # (one division per normal)
@@ -144,8 +147,7 @@ def compute_forces_planar(bodies, spheres, walls, contacts, dt, ledger, changes,
             wn0, wn2 = walls.normal[w, 0], walls.normal[w, 2]
             dist = (pos[i, 0] - walls.point[w, 0]) * wn0 + (pos[i, 2] - walls.point[w, 2]) * wn2
             if dist >= Ri and not contacts.active[c]:
-                if contacts.fn_viscous[c] != 0.0:
-                    contacts.fn_viscous[c] = 0.0
+                _idle(contacts, c)
                 continue
             n0, n2 = -wn0, -wn2
             overlap = Ri - dist
@@ -154,24 +156,18 @@ def compute_forces_planar(bodies, spheres, walls, contacts, dt, ledger, changes,
         p0, p2 = pos[i, 0] + reach * n0, pos[i, 2] + reach * n2
         if overlap <= 0.0:
             if not contacts.active[c]:  # (d2 < rsum^2, but |d| rounds to rsum: no contact)
-                contacts.fn_viscous[c] = 0.0
+                _idle(contacts, c)
                 continue
             # an active contact opened in the last drift
             ledger[0] += _separate(
                 bodies, contacts, c, bi, bj, wall, n0, 0.0, n2, overlap, dt, p0, pos[i, 1], p2
             )
-            changes[n_changes, 0] = c
-            changes[n_changes, 1] = END
-            n_changes += 1
+            n_changes = _log_change(changes, n_changes, c, END)
             continue
         new_contact = not contacts.active[c]
         if new_contact:
-            contacts.active[c] = 1
-            for d in range(3):
-                u[c, d] = 0.0
-            changes[n_changes, 0] = c
-            changes[n_changes, 1] = ONSET
-            n_changes += 1
+            _begin(contacts, c)
+            n_changes = _log_change(changes, n_changes, c, ONSET)
         # relative velocity of the contact point, j minus i (a wall is fixed);
         # v + omega x r with omega = (0, w, 0): (v_x + w r_z, v_z - w r_x)
         ri0, ri2 = p0 - body_pos[bi, 0], p2 - body_pos[bi, 2]
@@ -200,14 +196,7 @@ def compute_forces_planar(bodies, spheres, walls, contacts, dt, ledger, changes,
         # friction ledger, part 1: minus the change of the energy stored in the spring
         stored -= u0 * u0 + u2 * u2
         ledger[0] += 0.5 * kt * stored
-        # dashpot: the normal velocity at t_n, extrapolated from the last two half steps
-        vn_dashpot = vn if new_contact else 1.5 * vn - 0.5 * contacts.vn[c]
-        contacts.vn[c] = vn
-        fn_viscous = -contacts.cn[c] * vn_dashpot * weight
-        fn = fn_elastic + fn_viscous
-        contacts.overlap[c] = overlap
-        contacts.fn[c] = fn
-        contacts.fn_viscous[c] = fn_viscous
+        fn = _normal_force(contacts, c, overlap, vn, weight, fn_elastic, new_contact)
         # normal force plus the tangential spring force -kt u, on j (minus on i)
         f0, f2 = fn * n0 + -kt * u0, fn * n2 + -kt * u2
         if not wall:
