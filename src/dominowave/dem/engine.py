@@ -378,11 +378,11 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
         if rebuild_due:
             if not _finite(bodies):
                 return ABORT_NAN, done
-            update_sphere_positions(bodies, spheres, settings.planar)  # the search sees all
+            update_sphere_positions(bodies, spheres, planar)  # the search sees every sphere
             if build_verlet_list(spheres, walls, bodies, mats, contacts, settings.skin) < 0:
                 return GROW_CONTACTS, done
             rec.n_rebuilds[0] += 1
-        if settings.planar:
+        if planar:
             n_changes = compute_forces_planar(
                 bodies, spheres, walls, contacts, dt, rec.ledger, rec.changes, step == 0
             )
@@ -445,9 +445,9 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
                     kinetic_energy(bodies, kin)
                     if kin[0] + kin[1] < stop[2]:
                         code = STOP_KINETIC
-            drift(bodies, dt, settings.planar)
+            drift(bodies, dt, planar)
             rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
-        update_listed_sphere_positions(bodies, spheres, settings.planar)
+        update_listed_sphere_positions(bodies, spheres, planar)
         rec.clock[0] = t + dt
         rec.step[0] = step + 1
         if code >= 0:

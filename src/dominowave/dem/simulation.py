@@ -170,7 +170,7 @@ class Simulation:
             planar=False,  # decided at each run (_start_run)
         )
         #: Use the planar kernels (dem/planar.py) when the scene is planar.  False forces
-        #: the general ones (the results differ at round-off only).
+        #: the general ones (the same trajectories in every scene compared; planar.py).
         self.planar_kernels = True
         capacity = 8 * spheres.body.shape[0] + 64
         self.contacts = _empty_contacts(capacity)
