@@ -270,6 +270,8 @@ def test_read_only_output_folder(tmp_path, cli):
         ),
         (["animate", "{tmp}", "--out", "{tmp}/a.gif"], ["trajectory.nc: not found"]),
         (["resume", "{tmp}"], ["nothing to resume"]),
+        (["chain", "--n", "4", "--seed", "-1"], ["seed = -1", "[0, inf)"]),
+        (["chain", "--n", "4", "--members", "-3"], ["members = -3", "[1, inf)"]),
         (
             ["run", "{results}/other.toml", "--out", "{results}/run"],
             ["holds the result of another config", "--force"],

@@ -355,6 +355,7 @@ class DominoChain:
         is reproducible on its own and the ensemble is bit-identical for a seed.
         """
         check_in_range("members", members, 1, math.inf, lo_inclusive=True)
+        check_in_range("seed", seed, 0, math.inf, lo_inclusive=True)  # NumPy's seeds are >= 0
         check_nonnegative("jitter", jitter)
         push = self.resolve(push)
         runs = []

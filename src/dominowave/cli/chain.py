@@ -22,6 +22,7 @@ from dominowave.chain.build import ChainParams
 from dominowave.chain.paper_fig6 import FULL, QUICK, read_rows, run_sweep, summarise, write_summary
 from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push
 from dominowave.chain.wave import fit_speed, local_speeds
+from dominowave.checks import check_in_range
 from dominowave.units import speed_scale
 
 __all__ = ["register"]
@@ -137,6 +138,9 @@ def chain_command(
     out: Annotated[Path | None, typer.Option(help="directory for CSV + PNG")] = None,
 ) -> None:
     """Run one DEM domino chain (or an ensemble): per-domino table, speed vs theory, plot."""
+    # checked here too: a single run (members = 1) never reaches DominoChain.ensemble
+    check_in_range("members", members, 1, math.inf, lo_inclusive=True)
+    check_in_range("seed", seed, 0, math.inf, lo_inclusive=True)
     p = ChainParams(
         n_dominoes=n,
         height=height,

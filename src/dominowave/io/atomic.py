@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import contextlib
 import json
+import math
 import os
 import shutil
 import tempfile
@@ -67,17 +68,29 @@ def write_text(path: Path, text: str) -> None:
 
 
 def write_json(path: Path, data) -> None:
-    """Write ``data`` as indented JSON to ``path`` atomically (inf/nan allowed)."""
-    write_text(path, json.dumps(data, indent=2, sort_keys=True, default=_json_default) + "\n")
+    """Write ``data`` as indented, strict JSON (RFC 8259) to ``path`` atomically.
+
+    JSON has no NaN or infinity: a non-finite float is written as ``null``, so
+    that every JSON reader (not only Python's lenient one) can read the file.
+    """
+    text = json.dumps(_strict(data), indent=2, sort_keys=True, allow_nan=False)
+    write_text(path, text + "\n")
 
 
-def _json_default(obj):
-    if hasattr(obj, "item"):  # NumPy scalar
-        return obj.item()
-    if hasattr(obj, "tolist"):
-        return obj.tolist()
+def _strict(obj):
+    """``obj`` with NumPy values as Python ones and non-finite floats as ``None``."""
+    if isinstance(obj, dict):
+        return {key: _strict(value) for key, value in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_strict(value) for value in obj]
+    if hasattr(obj, "tolist"):  # NumPy scalar or array
+        return _strict(obj.tolist())
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
     if isinstance(obj, Path):
         return str(obj)
+    if obj is None or isinstance(obj, bool | int | str):
+        return obj
     raise TypeError(f"cannot write {type(obj).__name__} to JSON")
 
 
@@ -90,6 +103,7 @@ def atomic_dir(final: Path, fill: Callable[[Path], None]) -> bool:
     final = Path(final)
     tmp = Path(tempfile.mkdtemp(prefix=TMP_PREFIX + final.name + ".", dir=final.parent))
     try:
+        os.chmod(tmp, 0o777 & ~_umask())  # mkdtemp makes 0700; results are shared folders
         fill(tmp)
         try:
             os.rename(tmp, final)  # fails if final exists and is not empty

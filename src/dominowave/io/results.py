@@ -19,6 +19,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -140,8 +141,10 @@ def _read_json(path: Path) -> dict:
 
 
 def read_summary(folder: Path) -> dict:
-    """The summary.json of a result folder."""
-    return _read_json(Path(folder) / "summary.json")
+    """The summary.json of a result folder; a ``null`` value (a non-finite number in
+    strict JSON, see :func:`~dominowave.io.atomic.write_json`) reads as NaN."""
+    summary = _read_json(Path(folder) / "summary.json")
+    return {key: math.nan if value is None else value for key, value in summary.items()}
 
 
 def read_events(folder: Path) -> dict[str, np.ndarray]:

@@ -19,11 +19,12 @@ __all__ = ["dumps", "line_of_key", "loads_file", "toml_value"]
 def loads_file(path: Path) -> tuple[dict, str]:
     """Parse the TOML file ``path``; return ``(data, text)``.
 
-    Raises ``ValueError`` (one line, with the file name) for a missing,
-    unreadable or malformed file.
+    A UTF-8 byte-order mark (as some Windows editors write) is skipped; CRLF line
+    ends are TOML. Raises ``ValueError`` (one line, with the file name) for a
+    missing, unreadable or malformed file.
     """
     try:
-        text = Path(path).read_text(encoding="utf-8")
+        text = Path(path).read_text(encoding="utf-8-sig")
     except FileNotFoundError:
         raise ValueError(f"{path}: study file not found") from None
     except IsADirectoryError:

@@ -87,7 +87,9 @@ def run_one(study: Study, out: Path, ctx: RunContext | None = None, force: bool 
     Returns "ok" or "up to date" (``out`` already holds this config's result);
     raises ``ValueError`` if the run failed (the failure is recorded in ``out``).
     An existing result of another config is replaced only with ``force``, and then
-    atomically: old files stay until the new ones are complete. A failed result of
+    atomically and only by a successful run: old files stay until the new ones are
+    complete, and a failed forced run leaves them as they are and writes its failure
+    beside them in ``<out>.failed``. A failed result of
     the same config is run again. With ``ctx.checkpoint_dir`` (inside ``out``) an
     existing checkpoint is checked first and then resumed from.
     """
@@ -126,6 +128,16 @@ def run_one(study: Study, out: Path, ctx: RunContext | None = None, force: bool 
     store_outcome(new, config, outcome, study.output.trajectory)
     if ctx.vtk_every and outcome.status == "ok":
         write_result_vtk(new / "vtk", outcome.result, ctx.vtk_every)
+    if outcome.status == "failed" and result_status(out) == "ok":
+        # A forced re-run that failed never destroys the good result it was to replace:
+        # the failure goes beside it (a checkpoint stays in ``out``, where a re-run looks).
+        failed = out.parent / f"{out.name}.failed"
+        shutil.rmtree(failed, ignore_errors=True)
+        os.rename(new, failed)
+        raise ValueError(
+            f"run failed: {outcome.error} (the previous result in {out} is kept;"
+            f" traceback in {failed / 'failure.json'})"
+        )
     if outcome.status == "failed" and (out / "checkpoint").is_dir():
         os.rename(out / "checkpoint", new / "checkpoint")  # keep it: a re-run resumes from it
     if out.exists():

@@ -1,0 +1,92 @@
+"""Results are never destroyed, files are readable by any JSON/TOML reader, folders are shared.
+
+Each test reproduces a failure a user met: a forced re-run that failed deleted the good
+result it was to replace; summary.json held bare NaN (rejected by strict JSON readers);
+result folders were created 0700 whatever the umask; a study file saved with a byte-order
+mark was rejected as invalid TOML.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import stat
+
+import pytest
+
+from dominowave.io.atomic import atomic_dir, write_json
+from dominowave.io.config import load_study
+from dominowave.io.results import read_summary
+from dominowave.sweep.runner import run_one
+
+STUDY = '[scenario]\nkind = "slow_theory"\nn_dominoes = 8\nn_frames = 10\nspacing = {spacing}\n'
+
+
+def _strict_load(text: str):
+    """json.loads that rejects NaN and Infinity, as RFC 8259 readers do."""
+
+    def refuse(name):
+        raise ValueError(f"non-standard JSON constant {name}")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+def test_forced_rerun_that_fails_keeps_the_previous_result(tmp_path):
+    good = tmp_path / "good.toml"
+    good.write_text(STUDY.format(spacing=0.01))
+    out = tmp_path / "run"
+    assert run_one(load_study(good), out) == "ok"
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+
+    failing = tmp_path / "failing.toml"
+    failing.write_text(STUDY.format(spacing=0.03) + "fail_above = 0.02\n")
+    with pytest.raises(ValueError, match=r"run failed: .*previous result .* is kept"):
+        run_one(load_study(failing), out, force=True)
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    failure = json.loads((tmp_path / "run.failed" / "failure.json").read_text())
+    assert failure["error"].startswith("RuntimeError: deliberate failure")
+
+    # a forced re-run that succeeds replaces the result (and the failure stays beside it)
+    other = tmp_path / "other.toml"
+    other.write_text(STUDY.format(spacing=0.015))
+    assert run_one(load_study(other), out, force=True) == "ok"
+    assert (out / "summary.json").read_bytes() != before["summary.json"]
+
+
+def test_json_files_are_strict_and_nan_reads_back_as_nan(tmp_path):
+    folder = tmp_path / "point"
+    folder.mkdir()
+    write_json(folder / "summary.json", {"speed": 1.5, "steady_speed": math.nan, "t": math.inf})
+    data = _strict_load((folder / "summary.json").read_text())
+    assert data == {"speed": 1.5, "steady_speed": None, "t": None}
+    summary = read_summary(folder)
+    assert summary["speed"] == 1.5 and math.isnan(summary["steady_speed"])
+
+
+def test_every_json_file_of_a_run_is_strict(tmp_path):
+    study = tmp_path / "s.toml"
+    study.write_text(STUDY.format(spacing=0.01))
+    out = tmp_path / "run"
+    run_one(load_study(study), out)
+    for path in out.rglob("*.json"):
+        _strict_load(path.read_text())
+
+
+@pytest.mark.parametrize("umask", [0o022, 0o002])
+def test_result_folders_follow_the_umask(tmp_path, umask):
+    old = os.umask(umask)
+    try:
+        atomic_dir(tmp_path / "d", lambda folder: (folder / "f.txt").write_text("x"))
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE((tmp_path / "d").stat().st_mode) == 0o777 & ~umask
+
+
+def test_study_file_with_byte_order_mark_and_crlf_is_read(tmp_path, cli):
+    _, text, _ = cli("config", "--example", "theory")
+    path = tmp_path / "windows.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + text.replace("\n", "\r\n").encode("utf-8"))
+    code, stdout, err = cli("config", path)
+    assert code == 0, err
+    assert "ok, scenario theory, 1 point(s)" in stdout
