@@ -90,3 +90,47 @@ def test_study_file_with_byte_order_mark_and_crlf_is_read(tmp_path, cli):
     code, stdout, err = cli("config", path)
     assert code == 0, err
     assert "ok, scenario theory, 1 point(s)" in stdout
+
+
+SWEEP = '[scenario]\nkind = "theory"\nn_dominoes = 6\nn_frames = 10\n[sweep.grid]\nspacing = {grid}\n'
+
+
+def test_a_sweep_folder_refuses_another_study_unless_forced(dask_client, tmp_path, cli):
+    first, second = tmp_path / "a.toml", tmp_path / "b.toml"
+    first.write_text(SWEEP.format(grid="[0.01, 0.02]"))
+    second.write_text(SWEEP.format(grid="[0.03]"))
+    out = tmp_path / "sweep"
+    addr = dask_client.scheduler.address
+    assert cli("sweep", first, "--out", out, "--scheduler", addr, "--quiet")[0] == 0
+    study_before = (out / "study.toml").read_bytes()
+    code, _, err = cli("sweep", second, "--out", out, "--scheduler", addr, "--quiet")
+    assert code == 2
+    assert err.strip().count("\n") == 0
+    assert "holds another study" in err and "--force" in err
+    assert (out / "study.toml").read_bytes() == study_before
+    assert len(list((out / "points").iterdir())) == 2
+    # the same study again is a resume, not another study
+    code, stdout, _ = cli("sweep", first, "--out", out, "--scheduler", addr, "--quiet")
+    assert code == 0 and "2 already stored, 0 run now" in stdout
+    code, stdout, _ = cli("sweep", second, "--out", out, "--scheduler", addr, "--force", "--quiet")
+    assert code == 0 and len(list((out / "points").iterdir())) == 3
+
+
+def test_a_second_sweep_on_a_folder_in_use_is_refused(tmp_path):
+    from dominowave.sweep.runner import run_sweep
+    from dominowave.sweep.store import SweepStore
+
+    study = tmp_path / "s.toml"
+    study.write_text(SWEEP.format(grid="[0.01]"))
+    store = SweepStore(tmp_path / "sweep").open_for_writing()
+    with store.lock(), pytest.raises(ValueError, match="being written by another sweep"):
+        run_sweep(load_study(study), store.root, quiet=True)
+    assert not (store.root / "study.toml").exists()
+    # released: the folder can be swept again (no cluster needed for zero points to run)
+    with store.lock():
+        pass
+
+
+def test_sweep_help_names_the_sweep_table(cli):
+    code, stdout, _ = cli("sweep", "--help")
+    assert code == 0 and "Study file with a [sweep] table." in stdout

@@ -148,7 +148,7 @@ def _run(loaded, folder: Path, force: bool, policy: dict | None, vtk_every: int,
 
 
 def sweep_cmd(
-    study: Annotated[Path, typer.Argument(help="Study file with a [sweep] table.")],
+    study: Annotated[Path, typer.Argument(help=r"Study file with a \[sweep] table.")],
     out: Annotated[Path | None, typer.Option(help="Sweep folder (default: output.dir).")] = None,
     scheduler: Annotated[
         str | None, typer.Option(help="Address of an existing Dask scheduler (tcp://host:port).")
@@ -157,6 +157,9 @@ def sweep_cmd(
         int | None, typer.Option(help="Workers of the LocalCluster (default: all cores).")
     ] = None,
     retry_failed: Annotated[bool, typer.Option(help="Run failed points again.")] = False,
+    force: Annotated[
+        bool, typer.Option(help="Add the points to a folder that holds another study.")
+    ] = False,
     quiet: Annotated[bool, _QUIET] = False,
 ) -> None:
     """Run every point of a sweep on dask.distributed; stored points are skipped."""
@@ -172,10 +175,11 @@ def sweep_cmd(
         workers,
         retry_failed,
         quiet,
+        force,
     )
 
 
-def _sweep(loaded, folder, scheduler, workers, retry_failed, quiet) -> None:
+def _sweep(loaded, folder, scheduler, workers, retry_failed, quiet, force=False) -> None:
     from dominowave.sweep.runner import run_sweep
 
     if workers is not None and workers < 1:
@@ -192,6 +196,7 @@ def _sweep(loaded, folder, scheduler, workers, retry_failed, quiet) -> None:
         n_workers=workers,
         quiet=quiet,
         retry_failed=retry_failed,
+        force=force,
     )
     typer.echo(report.line())
     if report.interrupted:

@@ -216,17 +216,39 @@ def run_sweep(
     n_workers: int | None = None,
     quiet: bool = False,
     retry_failed: bool = False,
+    force: bool = False,
 ) -> SweepReport:
     """Run every point of ``study`` not yet stored in ``out``; return the counts.
 
     Points are keyed by :func:`~dominowave.sweep.hashing.point_key`; a stored point
     (ok or failed) is skipped, a failed one is run again with ``retry_failed``.
+    A sweep folder belongs to one study: a folder that holds another study is
+    refused (``ValueError``) unless ``force``, which adds this study's points to it.
+    One sweep at a time writes a folder: a second one started on it is refused.
     Give ``client`` to reuse a connected dask Client (tests, notebooks).
     Ctrl-C cancels the running points and returns with ``interrupted`` set:
     everything finished so far is on disk, and re-running resumes.
     """
     store = SweepStore(out).open_for_writing()
-    write_text(store.root / "study.toml", study_toml(study))
+    text = study_toml(study)
+    with store.lock():
+        _check_same_study(store.root / "study.toml", text, force)
+        write_text(store.root / "study.toml", text)
+        return _run_points(study, store, client, scheduler, n_workers, quiet, retry_failed)
+
+
+def _check_same_study(path: Path, text: str, force: bool) -> None:
+    """Refuse to mix two studies in one folder (``collect`` could not tell them apart)."""
+    if force or not path.is_file() or path.read_text(encoding="utf-8") == text:
+        return
+    raise ValueError(
+        f"sweep folder {path.parent} holds another study ({path.name} differs);"
+        " choose another --out or pass --force to add this study's points to it"
+    )
+
+
+def _run_points(study, store, client, scheduler, n_workers, quiet, retry_failed) -> SweepReport:
+    """The body of :func:`run_sweep`, run while the folder's lock is held."""
     configs = {}
     swept = {}
     for config, override in zip(study.points, study.overrides, strict=True):

@@ -6,6 +6,7 @@ Layout::
       study.toml          the study that was run (resolved)
       index.json          every stored point: key, status, swept values, folder
       points/<key>/       one result folder per point (see dominowave.io.results)
+      .lock               held (flock) by the sweep writing the folder
 
 The point folders are the truth: each appears atomically and only once (the
 first complete writer wins), and ``index.json`` is rebuilt from them, so a kill
@@ -14,15 +15,22 @@ at any moment loses at most the points still running.
 
 from __future__ import annotations
 
+import contextlib
+import fcntl
 import json
+import os
 import shutil
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
 from dominowave.io.atomic import TMP_PREFIX, ensure_writable_dir, write_json
 from dominowave.io.results import result_status
 
-__all__ = ["SweepStore"]
+__all__ = ["LOCK_NAME", "SweepStore"]
+
+LOCK_NAME = ".lock"
+"""File in the sweep folder that the sweep writing it holds locked."""
 
 
 @dataclass
@@ -49,6 +57,32 @@ class SweepStore:
         for stale in self.points_dir.glob(TMP_PREFIX + "*"):
             shutil.rmtree(stale, ignore_errors=True) if stale.is_dir() else stale.unlink()
         return self
+
+    @contextlib.contextmanager
+    def lock(self) -> Iterator[None]:
+        """Hold the folder's write lock; ``ValueError`` if another sweep holds it.
+
+        An advisory ``flock`` on ``SWEEP/.lock``: the kernel releases it when the
+        holder exits, so a killed sweep never leaves the folder locked.
+        """
+        with open(self.root / LOCK_NAME, "a+", encoding="utf-8") as fh:
+            try:
+                fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                fh.seek(0)
+                holder = fh.read().strip() or "unknown"
+                raise ValueError(
+                    f"sweep folder {self.root} is being written by another sweep (pid {holder});"
+                    " wait for it to end, or choose another --out"
+                ) from None
+            fh.seek(0)
+            fh.truncate()
+            fh.write(f"{os.getpid()}\n")
+            fh.flush()
+            try:
+                yield
+            finally:
+                fcntl.flock(fh, fcntl.LOCK_UN)
 
     def folder(self, key: str) -> Path:
         return self.points_dir / key
