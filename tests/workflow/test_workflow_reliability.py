@@ -92,7 +92,10 @@ def test_study_file_with_byte_order_mark_and_crlf_is_read(tmp_path, cli):
     assert "ok, scenario theory, 1 point(s)" in stdout
 
 
-SWEEP = '[scenario]\nkind = "theory"\nn_dominoes = 6\nn_frames = 10\n[sweep.grid]\nspacing = {grid}\n'
+SWEEP = (
+    '[scenario]\nkind = "theory"\nn_dominoes = 6\nn_frames = 10\n'
+    "[sweep.grid]\nspacing = {grid}\n"
+)
 
 
 def test_a_sweep_folder_refuses_another_study_unless_forced(dask_client, tmp_path, cli):
