@@ -93,8 +93,7 @@ def test_study_file_with_byte_order_mark_and_crlf_is_read(tmp_path, cli):
 
 
 SWEEP = (
-    '[scenario]\nkind = "theory"\nn_dominoes = 6\nn_frames = 10\n'
-    "[sweep.grid]\nspacing = {grid}\n"
+    '[scenario]\nkind = "theory"\nn_dominoes = 6\nn_frames = 10\n[sweep.grid]\nspacing = {grid}\n'
 )
 
 
