@@ -125,7 +125,8 @@ def test_sigkilled_run_resumes_bit_identically(tmp_path):
     assert not (out / "checkpoint").exists()  # a finished run keeps no checkpoint
 
 
-def test_ctrl_c_writes_a_checkpoint_and_partial_results(tmp_path):
+@pytest.mark.parametrize(("signum", "code"), [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_ctrl_c_or_sigterm_writes_a_checkpoint_and_partial_results(tmp_path, signum, code):
     study = _study(tmp_path, delay=1.0)  # three chunks of 1000 steps, each sleeping 1 s
     out = tmp_path / "run"
     proc = subprocess.Popen(
@@ -137,9 +138,9 @@ def test_ctrl_c_writes_a_checkpoint_and_partial_results(tmp_path):
     while not (out / "checkpoint" / "policy.json").is_file() and time.monotonic() < end:
         time.sleep(0.02)
     time.sleep(1.5)  # inside the second chunk
-    proc.send_signal(signal.SIGINT)
+    proc.send_signal(signum)
     _, stderr = proc.communicate(timeout=30)
-    assert proc.returncode == 130, stderr
+    assert proc.returncode == code, stderr
     assert "interrupted" in stderr and "Traceback" not in stderr
     _, meta = load_checkpoint(out / "checkpoint" / "state.npz")
     partial = _timeseries(out / "partial")

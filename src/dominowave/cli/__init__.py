@@ -7,10 +7,13 @@ on stderr and exit code 2, never as a traceback.
 
 from __future__ import annotations
 
+import functools
 import importlib
 import sys
 
 import typer
+
+from dominowave import signals
 
 app = typer.Typer(
     name="dominowave",
@@ -36,7 +39,28 @@ def _register_all() -> None:
         module.register(app)
 
 
+def _stop_on_signals(callback):
+    """Wrap a command: SIGINT/SIGTERM end it with one line and exit code 130/143.
+
+    (Click would turn the KeyboardInterrupt into an ``Abort``: exit code 1, and
+    SIGTERM would be indistinguishable from Ctrl-C.) A command that keeps partial
+    results catches the interrupt itself first and says so.
+    """
+
+    @functools.wraps(callback)
+    def wrapper(*args, **kwargs):
+        try:
+            return callback(*args, **kwargs)
+        except KeyboardInterrupt as exc:
+            typer.echo("dominowave: interrupted", err=True)
+            sys.exit(signals.exit_code(exc))
+
+    return wrapper
+
+
 _register_all()
+for _command in app.registered_commands:
+    _command.callback = _stop_on_signals(_command.callback)
 
 
 def main() -> None:
@@ -44,8 +68,10 @@ def main() -> None:
 
     Every error a user can cause is one line on stderr with exit code 2: usage
     errors (unknown option, missing argument) and bad physical input, which raises
-    ``ValueError`` deep inside the package. No traceback.
+    ``ValueError`` deep inside the package. No traceback. SIGINT and SIGTERM stop
+    any command with one line and exit code 130 and 143 (:mod:`dominowave.signals`).
     """
+    signals.install()
     try:
         result = app(standalone_mode=False)
     except typer.TyperException as exc:  # click usage errors

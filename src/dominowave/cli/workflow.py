@@ -17,6 +17,8 @@ from typing import Annotated
 
 import typer
 
+from dominowave import signals
+
 __all__ = ["register"]
 
 _QUIET = typer.Option("--quiet", "-q", help="No progress bar (also off when not on a terminal).")
@@ -27,7 +29,8 @@ _ADDRESS = re.compile(r"((tcp|tls|ucx|ws|wss|inproc)://)?[\w.\-\[\]:]+:\d{1,5}")
 
 
 def _errors_as_values(command):
-    """Turn OS errors into one-line ``ValueError`` and Ctrl-C into exit code 130."""
+    """Turn OS errors into one-line ``ValueError``, and Ctrl-C (SIGTERM) into a line
+    and exit code 130 (143)."""
 
     @functools.wraps(command)
     def wrapper(*args, **kwargs):
@@ -36,11 +39,11 @@ def _errors_as_values(command):
         except BrokenPipeError:  # e.g. `dominowave config --example chain | head`
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
             sys.exit(0)
-        except KeyboardInterrupt:
+        except KeyboardInterrupt as exc:
             typer.echo(
                 "dominowave: interrupted; finished results are kept, re-run to resume", err=True
             )
-            sys.exit(130)
+            sys.exit(signals.exit_code(exc))
         except OSError as exc:
             where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
             raise ValueError(f"{exc.strerror or exc}{where}") from None
@@ -200,7 +203,7 @@ def _sweep(loaded, folder, scheduler, workers, retry_failed, quiet, force=False)
     )
     typer.echo(report.line())
     if report.interrupted:
-        sys.exit(130)
+        sys.exit(report.interrupted)
     if report.failed:
         typer.echo(f"{report.failed} point(s) failed: see failure.json in their folders", err=True)
         sys.exit(1)

@@ -17,13 +17,11 @@ equal ``advance(a + b)``) -- each stepper's tests check that.
 
 from __future__ import annotations
 
-import contextlib
-import signal
-import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from dominowave import signals
 from dominowave.io.checkpoint import load_checkpoint, save_checkpoint
 from dominowave.io.results import write_result_folder
 from dominowave.sweep.hashing import config_dict, point_key
@@ -100,42 +98,19 @@ def _save(stepper, policy: CheckpointPolicy) -> None:
     save_checkpoint(policy.path, stepper.get_state(), meta)
 
 
-@contextlib.contextmanager
-def _interrupt_between_chunks():
-    """Defer Ctrl-C (SIGINT) to the end of the current chunk.
-
-    A KeyboardInterrupt in the middle of ``advance`` could leave the state half
-    updated, and a checkpoint of it would not resume bit-identically. In the main
-    thread the signal only sets a flag, checked between chunks; elsewhere (e.g. a
-    dask worker thread) signals are not ours to handle and nothing changes.
-    """
-    flag = {"interrupted": False}
-    if threading.current_thread() is not threading.main_thread():
-        yield flag
-        return
-
-    def handler(signum, frame):
-        flag["interrupted"] = True
-
-    previous = signal.signal(signal.SIGINT, handler)
-    try:
-        yield flag
-    finally:
-        signal.signal(signal.SIGINT, previous)
-
-
 def run_stepper(stepper, policy: CheckpointPolicy | None = None, progress=None):
     """Advance ``stepper`` to the end, checkpointing per ``policy``; return it.
 
-    On Ctrl-C the current chunk finishes, a final checkpoint is written and
-    ``KeyboardInterrupt`` is raised, so ``resume`` continues from exactly there.
+    On Ctrl-C or SIGTERM the current chunk finishes, a final checkpoint is written
+    and :class:`~dominowave.signals.Interrupted` is raised, so ``resume`` continues
+    from exactly there.
     """
     chunk = policy.chunk if policy is not None else 1000
     if policy is not None and policy.steps:
         chunk = min(chunk, policy.steps)
     last_wall = time.monotonic()
     last_steps = stepper.steps
-    with _interrupt_between_chunks() as flag:
+    with signals.defer() as flag:
         _loop(stepper, policy, progress, chunk, flag, last_wall, last_steps)
     return stepper
 
@@ -143,8 +118,8 @@ def run_stepper(stepper, policy: CheckpointPolicy | None = None, progress=None):
 def _loop(stepper, policy, progress, chunk, flag, last_wall, last_steps) -> None:
     try:
         while True:
-            if flag["interrupted"]:
-                raise KeyboardInterrupt
+            if flag["signum"] is not None:
+                raise signals.Interrupted(flag["signum"])
             done = stepper.advance(chunk)
             if progress is not None:
                 progress(

@@ -19,6 +19,7 @@ import traceback
 from dataclasses import dataclass
 from pathlib import Path
 
+from dominowave import signals
 from dominowave.io.atomic import TMP_PREFIX, ensure_writable_dir, write_json, write_text
 from dominowave.io.checkpoint import load_checkpoint
 from dominowave.io.config import Study
@@ -37,6 +38,9 @@ __all__ = ["SweepReport", "run_one", "run_sweep", "store_outcome", "study_toml"]
 _UNFINISHED_RUN_ENTRIES = {"checkpoint", "partial"}
 """What a result folder holds while its run is unfinished (besides temporary files)."""
 
+POLL_S = 0.05
+"""How often the sweep client looks for finished points and for a stop signal [s]."""
+
 INDEX_INTERVAL_S = 1.0
 """Minimum time between rewrites of index.json during a sweep [s] (it is also
 rebuilt from the point folders at the start and end, so nothing depends on it)."""
@@ -51,7 +55,8 @@ class SweepReport:
     skipped: int
     ran: int = 0
     failed: int = 0
-    interrupted: bool = False
+    interrupted: int = 0
+    """0, or the exit code of the signal that stopped the sweep (130 SIGINT, 143 SIGTERM)."""
 
     def line(self) -> str:
         state = "interrupted" if self.interrupted else "done"
@@ -194,16 +199,15 @@ def dask_client(scheduler: str | None = None, n_workers: int | None = None):
             yield client
         return
     workers = n_workers or os.cpu_count() or 1
-    with (
-        LocalCluster(
+    with signals.ignore_sigint():  # the workers inherit it: Ctrl-C is the client's alone
+        cluster = LocalCluster(
             n_workers=workers,
             threads_per_worker=1,
             processes=True,
             dashboard_address=":0",
             silence_logs=logging.ERROR,
-        ) as cluster,
-        Client(cluster) as client,
-    ):
+        )
+    with cluster, Client(cluster) as client:
         yield client
 
 
@@ -266,16 +270,20 @@ def _run_points(study, store, client, scheduler, n_workers, quiet, retry_failed)
     if not todo:
         return report
     keep = study.output.trajectory
-    with contextlib.ExitStack() as stack:
+    # Signals are only noted while dask runs: a KeyboardInterrupt raised inside the
+    # client's machinery can leave it unable to shut its cluster down (a hang).
+    with signals.defer() as flag, contextlib.ExitStack() as stack:
         if client is None:
             client = stack.enter_context(dask_client(scheduler, n_workers))
         progress = stack.enter_context(SweepProgress(len(configs), report.skipped, quiet))
-        report = _gather(client, store, configs, todo, swept, keep, progress, report)
+        report = _gather(client, store, configs, todo, swept, keep, progress, report, flag)
     store.write_index(swept)
     return report
 
 
-def _gather(client, store, configs, todo, swept, keep, progress, report) -> SweepReport:
+def _gather(client, store, configs, todo, swept, keep, progress, report, flag) -> SweepReport:
+    """Submit the points ``todo``, store each outcome as it arrives; stop on a signal
+    noted in ``flag`` (see :func:`dominowave.signals.defer`) within ``POLL_S``."""
     from distributed import as_completed
 
     futures = {}
@@ -290,8 +298,16 @@ def _gather(client, store, configs, todo, swept, keep, progress, report) -> Swee
         )
         futures[future] = key
     last_index = time.monotonic()
-    try:
-        for future in as_completed(futures):
+    arrivals = as_completed(futures)
+    while not arrivals.is_empty():
+        if flag["signum"] is not None:
+            client.cancel(list(futures))
+            report.interrupted = signals.Interrupted(flag["signum"]).exit_code
+            break
+        if not arrivals.has_ready():
+            time.sleep(POLL_S)
+            continue
+        for future in arrivals.next_batch(block=False):
             key = futures.pop(future)
             outcome = _outcome(future, key)
             store_outcome(store.folder(key), configs[key], outcome, keep)
@@ -299,12 +315,9 @@ def _gather(client, store, configs, todo, swept, keep, progress, report) -> Swee
             report.failed += outcome.status == "failed"
             progress.advance(outcome.status)
             future.release()
-            if time.monotonic() - last_index > INDEX_INTERVAL_S:
-                store.write_index(swept)
-                last_index = time.monotonic()
-    except KeyboardInterrupt:
-        client.cancel(list(futures))
-        report.interrupted = True
+        if time.monotonic() - last_index > INDEX_INTERVAL_S:
+            store.write_index(swept)
+            last_index = time.monotonic()
     return report
 
 

@@ -1,0 +1,87 @@
+"""SIGINT and SIGTERM stop a sweep within seconds, keep its points, leave no workers.
+
+The three ways a user stops a sweep: Ctrl-C on a terminal (SIGINT to the whole
+process group, workers included), ``kill -INT`` of the client (also when it was
+started as a background job, whose SIGINT the shell ignores), and ``kill`` (SIGTERM,
+as sent by a batch system). Each must end the command with exit code 130 (143), no
+traceback, every finished point stored, and no dask worker process left behind.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import psutil
+import pytest
+
+HERE = Path(__file__).parent
+CLI = [sys.executable, str(HERE / "cli_with_helpers.py")]
+
+STUDY = (
+    '[scenario]\nkind = "slow_theory"\nn_dominoes = 6\nn_frames = 10\ndelay = 1.0\n'
+    "[sweep.grid]\nspacing = [0.010, 0.011, 0.012, 0.013, 0.014, 0.015, 0.016, 0.017,"
+    " 0.018, 0.019, 0.020, 0.021]\n"
+)
+
+
+def _ignore_sigint():
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # what `cmd &` gets from a shell
+
+
+@pytest.mark.parametrize(
+    ("signum", "to_group", "background", "code"),
+    [
+        (signal.SIGINT, True, False, 130),  # Ctrl-C on a terminal
+        (signal.SIGINT, False, True, 130),  # kill -INT of a background job
+        (signal.SIGTERM, False, False, 143),  # kill
+    ],
+    ids=["ctrl-c", "kill-int-background", "sigterm"],
+)
+def test_a_signal_stops_a_sweep_cleanly(tmp_path, signum, to_group, background, code):
+    study = tmp_path / "s.toml"
+    study.write_text(STUDY)
+    out = tmp_path / "sweep"
+    proc = subprocess.Popen(
+        [*CLI, "sweep", str(study), "--out", str(out), "--workers", "2", "--quiet"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+        preexec_fn=_ignore_sigint if background else None,
+    )
+    points = out / "points"
+    end = time.monotonic() + 120
+    while time.monotonic() < end:
+        if points.is_dir() and any(not p.name.startswith(".") for p in points.iterdir()):
+            break
+        time.sleep(0.05)
+    workers = psutil.Process(proc.pid).children(recursive=True)
+    assert workers, "the sweep must have started its workers"
+    sent = time.monotonic()
+    if to_group:
+        os.killpg(proc.pid, signum)
+    else:
+        proc.send_signal(signum)
+    stdout, stderr = proc.communicate(timeout=60)
+    assert proc.returncode == code, stderr
+    assert time.monotonic() - sent < 20
+    assert "Traceback" not in stderr
+    assert "sweep interrupted: 12 points" in stdout
+    stored = [p for p in points.iterdir() if not p.name.startswith(".")]
+    assert 1 <= len(stored) < 12
+    _, alive = psutil.wait_procs(workers, timeout=10)
+    assert not alive, f"worker processes left behind: {alive}"
+    # and the sweep resumes where it stopped
+    again = subprocess.run(
+        [*CLI, "sweep", str(study), "--out", str(out), "--workers", "2", "--quiet"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert again.returncode == 0, again.stderr
+    assert f"{len(stored)} already stored, {12 - len(stored)} run now" in again.stdout
