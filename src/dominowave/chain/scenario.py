@@ -134,6 +134,10 @@ class ChainEnsemble:
     theory_window_speed: EnsembleStats
 
 
+MAX_STEPS = 1e10
+"""Most time steps a chain run may need (about a day of engine time at N = 300)."""
+
+
 class DominoChain:
     """The DEM model of a domino chain for parameters ``params`` (``ChainParams``).
 
@@ -176,6 +180,34 @@ class DominoChain:
         self.max_time = check_positive("max_time", max_time)
         self.shape = domino_shape(params)
         self.positions = chain_positions(params)
+        self._check_resolvable()
+
+    def _check_resolvable(self) -> None:
+        """Refuse stiffnesses the DEM cannot represent, before anything is allocated.
+
+        Too soft: a domino standing on the floor would sink more than one sphere
+        radius into it under its own weight (``_sink``), so contacts are no longer
+        small overlaps of rigid spheres (the premise of the linear contact model);
+        such a chain ran one time step longer than the whole wave and reported it.
+        Too stiff: the time step resolving the collision would need more than
+        ``MAX_STEPS`` steps for the run.
+        """
+        p = self.params
+        stiffness = f"the contact stiffness k_n = {p.contact_stiffness:.4g} N/m (k/k* = "
+        stiffness += f"{p.stiffness_over_kstar:.4g})"
+        sink = self._sink() / p.radius
+        if not sink <= 1.0:
+            raise ValueError(
+                f"{stiffness} is too soft: a standing domino would sink {sink:.3g} sphere radii"
+                f" into the floor under its weight (m g / k_n); the DEM needs well below 1"
+                f" (k/k* >= {p.stiffness_over_kstar * sink:.3g} for this chain)"
+            )
+        steps = (self.max_time + self.tail_time) / self.dt
+        if not steps <= MAX_STEPS:
+            raise ValueError(
+                f"{stiffness} needs dt = {self.dt:.3g} s to resolve a collision: {steps:.3g}"
+                f" steps for this run, more than the {MAX_STEPS:.0e} allowed"
+            )
 
     # --- scene --------------------------------------------------------------------------
     def resolve(self, push: Push | None) -> Push:

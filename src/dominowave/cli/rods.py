@@ -18,7 +18,7 @@ import typer
 from dominowave import theory
 from dominowave.chain import theory_vs_rods as tvr
 from dominowave.chain.wave import steady_speed
-from dominowave.checks import check_positive
+from dominowave.checks import check_in_range
 from dominowave.cli.theory import parse_values
 from dominowave.rods import first_collisions, simulate
 
@@ -26,6 +26,10 @@ __all__ = ["register"]
 
 QUICK_D_OVER_L = "0.2,0.4,0.7"
 QUICK_K_RATIO = "1e2,1e4"
+MAX_PUSH = 100.0
+"""Largest push of ``dominowave rods``, in units of the chain's steady Omega (eq 9)."""
+MIN_D_OVER_L = 1e-3
+"""Smallest gap d/l of ``dominowave rods``."""
 FULL_D_OVER_L = "0.05,0.1,0.2,0.3,0.4,0.5,0.6,0.7,0.8,0.9,0.95"
 FULL_K_RATIO = "1,1e2,1e4,1e6,1e8"
 
@@ -51,10 +55,10 @@ def _print_table(header, rows) -> None:
 
 
 def rods_command(
-    d_over_l: Annotated[float, typer.Option(help="gap / height d/l in (0, 1)")] = 0.4,
+    d_over_l: Annotated[float, typer.Option(help="gap / height d/l in [0.001, 1)")] = 0.4,
     k_ratio: Annotated[float, typer.Option(help="paper's stiffness k/k*")] = 1e4,
     n: Annotated[int, typer.Option(help="number of dominoes")] = 40,
-    push: Annotated[float, typer.Option(help="push of domino 1 in units of Omega (eq 9)")] = 1.0,
+    push: Annotated[float, typer.Option(help="push of domino 1 in units of Omega (eq 9), (0, 100]")] = 1.0,
     normal: Normal = "geometric",
     mass: Mass = "point",
     s_over_l: Annotated[float, typer.Option(help="thickness s/l")] = 0.0,
@@ -67,7 +71,11 @@ def rods_command(
     rows: Annotated[int, typer.Option(help="collisions shown in the table")] = 15,
 ) -> None:
     """One run of the hinged-domino model: its collisions and wave speed (dimensionless)."""
-    check_positive("push", push)
+    # Outside these ranges the run says nothing about a domino wave: a push far above
+    # the chain's own steady Omega drives the first contacts through the dominoes, and
+    # below d/l = 1e-3 Omega (~ l/d) and the collision rate outgrow any time step.
+    check_in_range("push", push, 0.0, MAX_PUSH, hi_inclusive=True)
+    check_in_range("d_over_l", d_over_l, MIN_D_OVER_L, 1.0, lo_inclusive=True)
     chain = tvr.paper_chain(
         d_over_l,
         k_ratio,
