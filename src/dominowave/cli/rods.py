@@ -58,7 +58,7 @@ def rods_command(
     d_over_l: Annotated[float, typer.Option(help="gap / height d/l in [0.001, 1)")] = 0.4,
     k_ratio: Annotated[float, typer.Option(help="paper's stiffness k/k*")] = 1e4,
     n: Annotated[int, typer.Option(help="number of dominoes")] = 40,
-    push: Annotated[float, typer.Option(help="push of domino 1 in units of Omega (eq 9), (0, 100]")] = 1.0,
+    push: Annotated[float, typer.Option(help="push of domino 1 [Omega, eq 9], (0, 100]")] = 1.0,
     normal: Normal = "geometric",
     mass: Mass = "point",
     s_over_l: Annotated[float, typer.Option(help="thickness s/l")] = 0.0,
