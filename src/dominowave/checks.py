@@ -14,7 +14,13 @@ import math
 
 import numpy as np
 
-__all__ = ["check_finite", "check_in_range", "check_nonnegative", "check_positive"]
+__all__ = [
+    "check_finite",
+    "check_in_range",
+    "check_memory",
+    "check_nonnegative",
+    "check_positive",
+]
 
 
 def _first_bad(value, bad_mask):
@@ -77,3 +83,31 @@ def check_positive(name: str, value):
 def check_nonnegative(name: str, value):
     """Raise ``ValueError`` unless every element of ``value`` is >= 0 and finite."""
     return check_in_range(name, value, 0.0, math.inf, lo_inclusive=True)
+
+
+MEMORY_FRACTION = 0.8
+"""Largest share of the machine's available memory one run may plan to use."""
+
+
+def available_memory() -> int:
+    """Memory this process can still allocate without swapping [bytes] (psutil)."""
+    import psutil
+
+    return int(psutil.virtual_memory().available)
+
+
+def check_memory(nbytes: float, what: str, culprits: str) -> None:
+    """Raise ``ValueError`` if a run would need more than the machine can hold.
+
+    ``nbytes`` is the run's estimated peak memory [bytes], ``what`` says what it is
+    for and ``culprits`` names the parameters that set it (with their values). Called
+    before the big arrays are allocated, so that a run too large fails at once with
+    one line instead of a ``MemoryError`` (or swapping) minutes into the run.
+    """
+    limit = MEMORY_FRACTION * available_memory()
+    if nbytes > limit:
+        raise ValueError(
+            f"{culprits}: the run needs about {nbytes / 2**30:.3g} GiB for {what}, more than"
+            f" this machine can hold ({limit / 2**30:.3g} GiB, {MEMORY_FRACTION:.0%} of the"
+            " memory available now); choose smaller values"
+        )

@@ -44,7 +44,7 @@ from dominowave.chain.wave import (
     secondary_wave,
     steady_speed,
 )
-from dominowave.checks import check_in_range, check_nonnegative, check_positive
+from dominowave.checks import check_in_range, check_memory, check_nonnegative, check_positive
 
 __all__ = ["ChainEnsemble", "ChainRun", "DominoChain", "Push"]
 
@@ -134,6 +134,12 @@ class ChainEnsemble:
     theory_window_speed: EnsembleStats
 
 
+BYTES_PER_DOMINO = 60e3
+"""Engine state of one 10-sphere domino with its candidate pairs [bytes] (measured with
+tracemalloc on 100- and 1000-domino chains: about 52 kB)."""
+BYTES_PER_FRAME_DOMINO = 13 * 8
+"""One domino in one trajectory frame: position, quaternion, velocity, spin [bytes]."""
+
 MAX_STEPS = 1e10
 """Most time steps a chain run may need (about a day of engine time at N = 300)."""
 
@@ -181,6 +187,12 @@ class DominoChain:
         self.shape = domino_shape(params)
         self.positions = chain_positions(params)
         self._check_resolvable()
+        frames = (self.max_time + self.tail_time) / self.frame_interval
+        check_memory(
+            params.n_dominoes * (BYTES_PER_DOMINO + frames * BYTES_PER_FRAME_DOMINO),
+            f"its bodies, contacts and up to {frames:.3g} trajectory frames",
+            f"n_dominoes = {params.n_dominoes}",
+        )
 
     def _check_resolvable(self) -> None:
         """Refuse stiffnesses the DEM cannot represent, before anything is allocated.

@@ -18,7 +18,7 @@ import numpy as np
 import typer
 
 from dominowave import theory as th
-from dominowave.checks import check_in_range, check_nonnegative, check_positive
+from dominowave.checks import check_in_range, check_memory, check_nonnegative, check_positive
 from dominowave.units import beta_from_spacing
 
 __all__ = ["register", "theory_table"]
@@ -38,6 +38,10 @@ COLUMNS = (
     ("regime", "regime"),
     ("pair_regime", "pair(T>T_c/2)"),
 )
+
+
+BYTES_PER_ROW = 2000
+"""One row of the table: a dict of about 15 numbers and its formatted line [bytes]."""
 
 
 def parse_values(text: str, name: str, geometric: bool = False) -> np.ndarray:
@@ -176,6 +180,11 @@ def theory_cmd(
     # validate before the (d/l, k/k*) grid is formed, so messages name the given values
     check_positive("k_ratio", k_values)
     check_nonnegative("mu", mu)
+    check_memory(
+        BYTES_PER_ROW * d_values.size * k_values.size,
+        f"a table of {d_values.size * k_values.size} rows",
+        f"d_over_l ({d_values.size} values) x k_ratio ({k_values.size} values)",
+    )
     rows = theory_table(d_values, k_values, s_over_l, mu, convention)
     typer.echo(FORMATTERS[fmt](rows))
 

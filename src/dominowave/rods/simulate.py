@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from dominowave.checks import check_finite, check_in_range, check_positive
+from dominowave.checks import check_finite, check_in_range, check_memory, check_positive
 from dominowave.rods import kernel as _k
 from dominowave.rods.model import RodChain
 
@@ -201,6 +201,13 @@ class RodStepper:
         n_steps_est = t_max / dt
         sample_every = max(1, int(n_steps_est // max(n_samples - 1, 1)))
         max_events = 200 * n + 1000 if max_events is None else max_events
+        frames = int(max_frames) if frame_every > 0 else 0
+        records = max_events * _k.EV_COLUMNS + n_samples * _k.SA_COLUMNS + frames * (2 * n + 1)
+        check_memory(
+            8.0 * (records + 20 * 3 * n),  # + per-contact-slot and per-domino state
+            "its state and records",
+            f"n = {n}" + (f", max_frames = {frames}" if frames else ""),
+        )
         self.chain = chain
         self.push = float(push)
         mass = chain.mass

@@ -13,6 +13,7 @@ import numpy as np
 
 from dominowave import theory
 from dominowave.chain.wave import local_speeds, steady_speed
+from dominowave.checks import check_memory
 from dominowave.io.models import TheoryScenario
 from dominowave.io.results import RunResult
 from dominowave.io.trajectory import ChainTrajectory
@@ -35,6 +36,11 @@ def lean_angle(theta_next, pitch, thickness, height):
     return np.minimum(theta_next + np.arcsin(ratio), np.pi / 2)
 
 
+TRAJECTORY_FIELDS = 6
+"""(n_frames, N) float arrays a theory trajectory holds at its peak (angles, spins,
+pivot positions and the temporaries of one domino's fall)."""
+
+
 def theory_trajectory(cfg: TheoryScenario, start, omega, t_c, n_frames) -> ChainTrajectory:
     """Side-view kinematics of the theory's wave, for drawing (not a prediction).
 
@@ -49,6 +55,11 @@ def theory_trajectory(cfg: TheoryScenario, start, omega, t_c, n_frames) -> Chain
     pitch = cfg.spacing + s
     beta = np.arcsin(cfg.d_over_l)
     n = start.size
+    check_memory(
+        8.0 * n_frames * n * TRAJECTORY_FIELDS,
+        "its trajectory",
+        f"n_dominoes = {n}, n_frames = {n_frames}",
+    )
     # free-fall time to reach each angle of a grid, per domino (N, M)
     grid = np.linspace(_THETA_EPS, np.pi / 2 - _THETA_EPS, 400)
     tau = theory.fall_time(omega[:, None], grid[None, :], l, g)

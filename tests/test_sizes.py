@@ -1,0 +1,54 @@
+"""Runs too large for the machine are refused up front, with one line naming the sizes.
+
+Each case used to allocate until a MemoryError (rods: a 194 GiB traceback) or grow
+silently to gigabytes. The machine's memory is pinned at 8 GiB here so that the
+verdicts do not depend on the machine that runs the tests.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from dominowave import checks
+
+GIB = 2**30
+
+
+@pytest.fixture(autouse=True)
+def eight_gib(monkeypatch):
+    monkeypatch.setattr(checks, "available_memory", lambda: 8 * GIB)
+
+
+@pytest.mark.parametrize(
+    ("args", "fragments"),
+    [
+        (["rods", "--n", "10000000"], ["n = 10000000", "GiB for its state and records"]),
+        (
+            ["theory", "--d-over-l", "0.01:0.99:10000000"],
+            ["d_over_l (10000000 values) x k_ratio (3 values)", "GiB for a table"],
+        ),
+        (["chain", "--n", "30000"], ["n_dominoes = 30000", "trajectory frames"]),
+    ],
+    ids=["rods", "theory-grid", "chain"],
+)
+def test_oversized_runs_are_refused_in_one_line(cli, args, fragments):
+    code, _, err = cli(*args)
+    assert code == 2, err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    for fragment in fragments:
+        assert fragment in err
+    assert "6.4 GiB, 80% of the memory available now" in err
+
+
+def test_a_theory_study_too_large_fails_before_allocating(tmp_path, cli):
+    study = tmp_path / "big.toml"
+    study.write_text('[scenario]\nkind = "theory"\nn_dominoes = 100000\nn_frames = 100000\n')
+    code, _, err = cli("run", study, "--out", tmp_path / "out")
+    assert code == 2
+    assert "n_dominoes = 100000, n_frames = 100000" in err and "GiB for its trajectory" in err
+
+
+def test_check_memory_accepts_what_fits():
+    checks.check_memory(6 * GIB, "a test", "x = 1")
+    with pytest.raises(ValueError, match=r"x = 2: the run needs about 7 GiB for a test"):
+        checks.check_memory(7 * GIB, "a test", "x = 2")
