@@ -44,6 +44,17 @@ def test_validate_clump_inertia_against_monte_carlo_free_orientation():
     np.testing.assert_allclose(moments_rot, moments, rtol=1e-10)
 
 
+@pytest.mark.parametrize("x", [0.0, 0.02, 0.06, 0.37, 12.5])
+def test_validate_a_column_keeps_the_world_axes_as_principal_axes(x):
+    """A column of spheres along z (two equal moments, the DEM domino) has the world axes
+    as principal axes wherever it stands: the frame must not depend on the round-off of
+    its position (LAPACK may rotate the basis of a degenerate pair by any angle)."""
+    centres = column(6, base=(x, 0.001, R))
+    _, _, moments, axes, tensor = clump_mass_properties(centres, [R] * 6, [RHO] * 6)
+    assert set(np.unique(np.abs(axes))) <= {0.0, 1.0}
+    np.testing.assert_allclose(axes @ np.diag(moments) @ axes.T, tensor, rtol=1e-12, atol=0)
+
+
 def _racket_scene():
     scene = Scene(gravity=(0, 0, 0))
     m = scene.add_material(Material(density=RHO, kn=1e4))

@@ -193,6 +193,12 @@ def clump_mass_properties(centres, radii, densities):
     tensor = np.zeros((3, 3))
     for mi, ri, Ri in zip(m, r, np.asarray(radii, dtype=float), strict=True):
         tensor += 0.4 * mi * Ri**2 * np.eye(3) + mi * (ri @ ri * np.eye(3) - np.outer(ri, ri))
+    # Products of inertia that are round-off of the centre-of-mass subtraction (a body
+    # symmetric about the world axes) are set to zero: with two equal moments LAPACK
+    # may otherwise return any rotated basis of their plane, different from one CPU to
+    # another, and the body frame (hence every trajectory's round-off) with it.
+    off_diagonal = ~np.eye(3, dtype=bool)
+    tensor[off_diagonal & (np.abs(tensor) <= 1e-14 * np.abs(tensor).max())] = 0.0
     moments, axes = np.linalg.eigh(tensor)
     # Snap near-degenerate round-off so that symmetric bodies keep world-aligned axes.
     axes[np.abs(axes) < 1e-14] = 0.0
