@@ -136,3 +136,43 @@ def test_a_second_sweep_on_a_folder_in_use_is_refused(tmp_path):
 def test_sweep_help_names_the_sweep_table(cli):
     code, stdout, _ = cli("sweep", "--help")
     assert code == 0 and "Study file with a [sweep] table." in stdout
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["figures"],
+        ["chain", "--n", "4"],
+        ["compare-rods", "--quick"],
+        ["paper-fig6", "--quick"],
+    ],
+    ids=lambda a: a[0],
+)
+def test_an_output_folder_that_is_a_file_is_one_line(tmp_path, cli, args):
+    target = tmp_path / "afile"
+    target.write_text("not a folder")
+    code, _, err = cli(*args, "--out", target)
+    assert code == 2
+    assert err == f"dominowave: error: output folder {target} exists and is not a folder\n"
+    assert target.read_text() == "not a folder"
+
+
+def test_a_full_disk_is_said_in_one_line(tmp_path, cli, monkeypatch):
+    """HDF5 reports a full disk as "NetCDF: HDF error"; the user reads "disk full"."""
+    import shutil
+    from collections import namedtuple
+
+    from dominowave.io import results
+
+    def hdf_error(path, ds):
+        raise RuntimeError("NetCDF: HDF error")
+
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr(results, "_write_netcdf", hdf_error)
+    monkeypatch.setattr(shutil, "disk_usage", lambda path: usage(10**9, 10**9, 4096))
+    study = tmp_path / "s.toml"
+    study.write_text(STUDY.format(spacing=0.01))
+    code, _, err = cli("run", study, "--out", tmp_path / "run")
+    assert code == 1
+    assert err.startswith("dominowave: error: disk full") and err.count("\n") == 1
+    assert not (tmp_path / "run").exists()  # nothing half-written is left

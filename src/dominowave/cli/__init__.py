@@ -14,6 +14,7 @@ import sys
 import typer
 
 from dominowave import signals
+from dominowave.io.atomic import os_error_line
 
 app = typer.Typer(
     name="dominowave",
@@ -84,6 +85,12 @@ def main() -> None:
     except (ValueError, FileNotFoundError, PermissionError, NotADirectoryError) as exc:
         typer.echo(f"dominowave: error: {exc}", err=True)
         sys.exit(2)
+    except (FileExistsError, IsADirectoryError) as exc:  # a path given by the user
+        typer.echo(f"dominowave: error: {exc.strerror}: {exc.filename}", err=True)
+        sys.exit(2)
+    except OSError as exc:  # the machine, not the input: exit code 1
+        typer.echo(f"dominowave: error: {os_error_line(exc)}", err=True)
+        sys.exit(1)
     except typer.Abort:
         typer.echo("dominowave: aborted", err=True)
         sys.exit(1)

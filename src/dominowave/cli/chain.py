@@ -23,6 +23,7 @@ from dominowave.chain.paper_fig6 import FULL, QUICK, read_rows, run_sweep, summa
 from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push
 from dominowave.chain.wave import fit_speed, local_speeds
 from dominowave.checks import check_in_range
+from dominowave.io.atomic import ensure_writable_dir
 from dominowave.units import speed_scale
 
 __all__ = ["register"]
@@ -141,6 +142,8 @@ def chain_command(
     # checked here too: a single run (members = 1) never reaches DominoChain.ensemble
     check_in_range("members", members, 1, math.inf, lo_inclusive=True)
     check_in_range("seed", seed, 0, math.inf, lo_inclusive=True)
+    if out is not None:
+        ensure_writable_dir(out)  # before the run, not after it
     p = ChainParams(
         n_dominoes=n,
         height=height,
@@ -244,6 +247,8 @@ def paper_fig6_command(
 ) -> None:
     """Reproduce the paper's Fig 6 B-E (DEM sweeps; resumable): PNG + CSV in OUT."""
     from dominowave.plots.fig6 import plot_fig6
+
+    ensure_writable_dir(out)
 
     preset = QUICK if quick else FULL
     console = Console()

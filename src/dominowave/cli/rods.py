@@ -20,6 +20,7 @@ from dominowave.chain import theory_vs_rods as tvr
 from dominowave.chain.wave import steady_speed
 from dominowave.checks import check_in_range
 from dominowave.cli.theory import parse_values
+from dominowave.io.atomic import ensure_writable_dir
 from dominowave.rods import first_collisions, simulate
 
 __all__ = ["register"]
@@ -149,6 +150,7 @@ def compare_rods_command(
     ] = True,
 ) -> None:
     """Rod model vs theory over a (d/l, k/k*) grid: table, CSV and figures."""
+    ensure_writable_dir(out)  # before the runs, not after them
     if quick:
         d_over_l, k_ratio, n = QUICK_D_OVER_L, QUICK_K_RATIO, 30
     d_values = parse_values(d_over_l, "d_over_l")

@@ -19,6 +19,7 @@ import typer
 
 from dominowave import theory as th
 from dominowave.checks import check_in_range, check_memory, check_nonnegative, check_positive
+from dominowave.io.atomic import ensure_writable_dir
 from dominowave.units import beta_from_spacing
 
 __all__ = ["register", "theory_table"]
@@ -195,7 +196,7 @@ def figures_cmd(
     ] = "figures",
 ) -> None:
     """Write Fig 1D, 4A, 4B and 5B of the paper (PNG + CSV of the plotted data)."""
-    Path(out).mkdir(parents=True, exist_ok=True)  # fail fast, before importing matplotlib
+    ensure_writable_dir(Path(out))  # fail fast, before importing matplotlib
     from dominowave.plots.paper_theory import write_all  # matplotlib only when needed
 
     for path in write_all(out):

@@ -18,6 +18,7 @@ from typing import Annotated
 import typer
 
 from dominowave import signals
+from dominowave.io.atomic import os_error_line
 
 __all__ = ["register"]
 
@@ -29,8 +30,8 @@ _ADDRESS = re.compile(r"((tcp|tls|ucx|ws|wss|inproc)://)?[\w.\-\[\]:]+:\d{1,5}")
 
 
 def _errors_as_values(command):
-    """Turn OS errors into one-line ``ValueError``, and Ctrl-C (SIGTERM) into a line
-    and exit code 130 (143)."""
+    """Turn errors of user-given paths into one-line ``ValueError``, and Ctrl-C
+    (SIGTERM) into a line and exit code 130 (143)."""
 
     @functools.wraps(command)
     def wrapper(*args, **kwargs):
@@ -44,9 +45,9 @@ def _errors_as_values(command):
                 "dominowave: interrupted; finished results are kept, re-run to resume", err=True
             )
             sys.exit(signals.exit_code(exc))
-        except OSError as exc:
-            where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
-            raise ValueError(f"{exc.strerror or exc}{where}") from None
+        except (FileNotFoundError, PermissionError, NotADirectoryError, IsADirectoryError) as exc:
+            raise ValueError(os_error_line(exc)) from None  # a path given by the user: exit 2
+        # any other OSError (a full disk, an I/O error) reaches main: one line, exit 1
 
     return wrapper
 

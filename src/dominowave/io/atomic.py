@@ -14,6 +14,7 @@ bottleneck.
 from __future__ import annotations
 
 import contextlib
+import errno
 import json
 import math
 import os
@@ -26,7 +27,9 @@ __all__ = [
     "TMP_PREFIX",
     "atomic_dir",
     "atomic_path",
+    "disk_full_said",
     "ensure_writable_dir",
+    "os_error_line",
     "write_json",
     "write_text",
 ]
@@ -104,7 +107,8 @@ def atomic_dir(final: Path, fill: Callable[[Path], None]) -> bool:
     tmp = Path(tempfile.mkdtemp(prefix=TMP_PREFIX + final.name + ".", dir=final.parent))
     try:
         os.chmod(tmp, 0o777 & ~_umask())  # mkdtemp makes 0700; results are shared folders
-        fill(tmp)
+        with disk_full_said(final.parent):
+            fill(tmp)
         try:
             os.rename(tmp, final)  # fails if final exists and is not empty
         except OSError:
@@ -115,6 +119,45 @@ def atomic_dir(final: Path, fill: Callable[[Path], None]) -> bool:
     finally:
         if tmp.exists():
             shutil.rmtree(tmp, ignore_errors=True)
+
+
+LOW_DISK_BYTES = 16 * 2**20
+"""Free space below which a failed write is taken for a full disk [bytes]."""
+
+
+@contextlib.contextmanager
+def disk_full_said(folder: Path) -> Iterator[None]:
+    """Turn a write that failed on a full disk into ``OSError(ENOSPC)``.
+
+    Libraries report a full disk in their own words (HDF5 behind netCDF says
+    "NetCDF: HDF error"); if a write into ``folder`` fails and the disk has less than
+    ``LOW_DISK_BYTES`` free, the error is re-raised as what it is.
+    """
+    try:
+        yield
+    except OSError as exc:
+        if exc.errno in (errno.ENOSPC, errno.EDQUOT) or not _disk_is_full(folder):
+            raise
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(folder)) from exc
+    except Exception as exc:
+        if not _disk_is_full(folder):
+            raise
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(folder)) from exc
+
+
+def os_error_line(exc: OSError) -> str:
+    """One line for an operating-system error, saying "disk full" when it is that."""
+    where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
+    if exc.errno in (errno.ENOSPC, errno.EDQUOT):
+        return f"disk full{where}: free some space and re-run (finished results are kept)"
+    return f"{exc.strerror or exc}{where}"
+
+
+def _disk_is_full(folder: Path) -> bool:
+    try:
+        return shutil.disk_usage(folder).free < LOW_DISK_BYTES
+    except OSError:
+        return False
 
 
 def ensure_writable_dir(path: Path) -> Path:
