@@ -14,7 +14,7 @@ import pytest
 import xarray as xr
 from workflow_helpers import SAMPLE_EVERY, PendulumStepper, ToyPendulums
 
-from dominowave.io.checkpoint import load_checkpoint, save_checkpoint
+from dominowave.io.checkpoint import history_dir, load_checkpoint, save_checkpoint
 from dominowave.sweep.longrun import CheckpointPolicy, resume_stepper, run_stepper
 
 HERE = Path(__file__).parent
@@ -54,6 +54,59 @@ def test_checkpoint_of_another_config_is_refused(tmp_path):
     save_checkpoint(tmp_path / "c.npz", {"x": np.zeros(2)}, {"key": "aaa", "steps": 0})
     with pytest.raises(ValueError, match="belongs to config 'aaa', not 'bbb'"):
         load_checkpoint(tmp_path / "c.npz", key="bbb")
+
+
+def _growing_run(rng, saves: int):
+    """States of a run whose "frames" history grows by a few rows per save."""
+    frames = np.empty((0, 3))
+    for step in range(saves):
+        frames = np.concatenate([frames, rng.normal(size=(rng.integers(0, 4), 3))])
+        yield step, {"frames": frames.copy(), "engine": rng.normal(size=5)}
+
+
+def test_history_is_stored_once_and_restored_bit_exact(tmp_path):
+    path = tmp_path / "state.npz"
+    rng = np.random.default_rng(2)
+    for step, state in _growing_run(rng, 6):
+        save_checkpoint(path, state, {"key": "k", "steps": step}, history=["frames"])
+        back, meta = load_checkpoint(path, key="k")
+        assert meta["steps"] == step
+        for name, array in state.items():
+            np.testing.assert_array_equal(back[name], array)
+            assert back[name].dtype == array.dtype
+    stored = sum(np.load(f)["frames"].shape[0] for f in history_dir(path).iterdir())
+    assert stored == len(state["frames"])  # every row once, over all the saves
+    with np.load(path) as main:
+        assert main["frames"].shape == (0, 3)  # the checkpoint itself holds no history
+
+
+def test_a_history_chunk_left_by_a_killed_save_is_ignored(tmp_path):
+    path = tmp_path / "state.npz"
+    rng = np.random.default_rng(3)
+    states = [state for _, state in _growing_run(rng, 4) if len(state["frames"])]
+    save_checkpoint(path, states[0], {"key": "k", "steps": 0}, history=["frames"])
+    listed = sorted(history_dir(path).iterdir())
+    (history_dir(path) / f"{len(listed):06d}.npz").write_bytes(b"half a chunk")
+    back, _ = load_checkpoint(path, key="k")
+    np.testing.assert_array_equal(back["frames"], states[0]["frames"])
+    save_checkpoint(path, states[-1], {"key": "k", "steps": 1}, history=["frames"])
+    np.testing.assert_array_equal(load_checkpoint(path)[0]["frames"], states[-1]["frames"])
+
+
+@pytest.mark.parametrize("damage", ["missing", "flip"])
+def test_a_damaged_history_chunk_is_refused(tmp_path, damage):
+    path = tmp_path / "state.npz"
+    frames = np.linspace(0, 1, 3000).reshape(1000, 3)
+    save_checkpoint(path, {"frames": frames}, {"key": "k", "steps": 1}, history=["frames"])
+    chunk = next(history_dir(path).iterdir())
+    if damage == "missing":
+        chunk.unlink()
+    else:
+        raw = bytearray(chunk.read_bytes())
+        raw[len(raw) // 2] ^= 0xFF
+        chunk.write_bytes(bytes(raw))
+    with pytest.raises(ValueError, match=r"history chunk .* (missing|corrupt)"):
+        load_checkpoint(path)
 
 
 def test_chunked_run_equals_one_long_run():

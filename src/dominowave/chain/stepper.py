@@ -189,6 +189,14 @@ class ChainStepper:
         state["wall_time"] = np.array(self.wall_time)
         return state
 
+    @property
+    def history_keys(self) -> tuple[str, ...]:
+        """Arrays of :meth:`get_state` that only grow along their first axis (frames,
+        events, contact records): a checkpoint stores their rows once
+        (:func:`dominowave.io.checkpoint.save_checkpoint`)."""
+        groups = {"frames": _FRAMES, "events": _EVENTS, "contacts": _CONTACTS}
+        return tuple(f"{group}.{k}" for group, keys in groups.items() for k in keys)
+
     def set_state(self, state: dict[str, np.ndarray]) -> None:
         """Restore a state of :meth:`get_state` (from a stepper of the same chain and push)."""
         self.sim.set_state({k[4:]: v for k, v in state.items() if k.startswith("sim.")})

@@ -71,6 +71,10 @@ class ScenarioStepper:
     def set_state(self, state: dict) -> None:
         self.stepper.set_state(state)
 
+    @property
+    def history_keys(self) -> tuple[str, ...]:
+        return getattr(self.stepper, "history_keys", ())
+
     def result(self):
         raise NotImplementedError("a scenario stepper turns its run into a RunResult")
 
@@ -95,7 +99,8 @@ class CheckpointPolicy:
 
 def _save(stepper, policy: CheckpointPolicy) -> None:
     meta = {"key": policy.key, "steps": int(stepper.steps), "time": float(stepper.time)}
-    save_checkpoint(policy.path, stepper.get_state(), meta)
+    history = getattr(stepper, "history_keys", ())  # arrays that only grow: saved once
+    save_checkpoint(policy.path, stepper.get_state(), meta, history=history)
 
 
 def run_stepper(stepper, policy: CheckpointPolicy | None = None, progress=None):
