@@ -29,6 +29,18 @@ GOOD = '[scenario]\nkind = "theory"\nn_dominoes = 6\nn_frames = 10\n'
 STUDY_CASES = [
     ("unknown-table", '[scenaro]\nkind = "theory"\n', [], ["unknown key scenaro"]),
     (
+        "chain-too-soft",
+        '[scenario]\nkind = "chain"\nstiffness_ratio = 1e-6\n',
+        [],
+        ["k/k* = 1e-06) is too soft"],
+    ),
+    (
+        "chain-too-stiff",
+        '[scenario]\nkind = "chain"\nstiffness_ratio = 1e308\n',
+        [],
+        ["1e+10 allowed"],
+    ),
+    (
         "unknown-key",
         GOOD + "spacng = 0.02\n",
         [],

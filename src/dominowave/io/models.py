@@ -240,7 +240,12 @@ class ChainScenario(ScenarioModel):
                 f"stiffness_ratio = {self.stiffness_ratio!r}, kn = {self.kn!r},"
                 f" young = {self.young!r}: give exactly one of them"
             )
-        self.params()  # ChainParams checks the rest (e.g. thickness < height / 2)
+        from dominowave.chain.scenario import DominoChain
+
+        # ChainParams checks the rest (e.g. thickness < height / 2), DominoChain that the
+        # DEM can resolve the stiffness and hold the run (so `config` refuses what `run`
+        # would), at no cost: nothing is simulated or allocated
+        DominoChain(self.params(), steps_per_collision=self.steps_per_collision)
         return self
 
     _RUN_FIELDS: ClassVar = ("kind", "push_omega", "steps_per_collision")
