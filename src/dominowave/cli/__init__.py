@@ -24,6 +24,35 @@ app = typer.Typer(
     pretty_exceptions_enable=False,
 )
 
+
+def version_line() -> str:
+    """``dominowave X.Y.Z`` and, when imported from a git checkout, its commit."""
+    from dominowave import __version__
+    from dominowave.io.provenance import git_commit
+
+    commit = git_commit()
+    return f"dominowave {__version__}" + (f" (git {commit})" if commit else "")
+
+
+def _print_version(value: bool) -> None:
+    if value:
+        typer.echo(version_line())
+        raise typer.Exit()
+
+
+@app.callback()
+def _options(
+    version: bool = typer.Option(
+        False,
+        "--version",
+        help="Print the version and exit.",
+        callback=_print_version,
+        is_eager=True,
+    ),
+) -> None:
+    """How fast are elastic domino waves? Theory, reduced rod model and DEM."""
+
+
 # Command modules of this package, each exposing ``register(app)``.
 _COMMAND_MODULES: tuple[str, ...] = ("theory", "rods", "chain", "workflow")
 
