@@ -1,10 +1,18 @@
-"""Fixtures shared by all test directories."""
+"""Fixtures shared by all test directories, and the ``validate`` marker."""
 
 import sys
 
 import pytest
 
 from dominowave.cli import main
+
+
+def pytest_collection_modifyitems(items):
+    """Mark every physics validation (``test_validate_*``): ``pytest -m validate`` runs
+    them alone, ``-m "not validate"`` the rest."""
+    for item in items:
+        if item.originalname.startswith("test_validate"):
+            item.add_marker(pytest.mark.validate)
 
 
 @pytest.fixture

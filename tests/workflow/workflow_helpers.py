@@ -14,9 +14,9 @@ from typing import Literal
 
 import numpy as np
 
-from dominowave.io.config import ScenarioModel, quantity, register_scenario_model
 from dominowave.io.models import TheoryScenario
 from dominowave.io.results import RunResult
+from dominowave.io.schema import ScenarioModel, quantity, register_scenario_model
 from dominowave.sweep.registry import register_runner, register_stepper
 from dominowave.sweep.run_theory import run_theory
 

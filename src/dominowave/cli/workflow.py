@@ -128,7 +128,7 @@ def run_cmd(
 
 def _run(loaded, folder: Path, force: bool, policy: dict | None, vtk_every: int, quiet: bool):
     from dominowave.io.progress import RunProgress
-    from dominowave.sweep.registry import RunContext
+    from dominowave.sweep.context import RunContext
     from dominowave.sweep.runner import run_one
 
     if vtk_every and not getattr(type(loaded.scenario), "RECORDS_FRAMES", False):

@@ -46,6 +46,7 @@ from numba import njit
 
 __all__ = [
     "advance_body_planar",
+    "check_blocked_spin",
     "drift",
     "drift_body",
     "drift_body_planar",
@@ -60,6 +61,27 @@ ROT_ISOTROPIC = 0
 ROT_FREE = 1
 ROT_AXIS = 2
 ROT_NONE = 3
+
+
+def check_blocked_spin(body, omega, mode, axis):
+    """ValueError if an aspherical clump is given a spin about a blocked rotation axis.
+
+    Spheres keep a blocked component (YADE: a blocked DOF keeps its velocity); a planar
+    clump (``ROT_AXIS``) turns only about ``axis``, a clump with every rotation blocked
+    (``ROT_NONE``) not at all, so silently dropping the rest would change the input.
+    """
+    if mode == ROT_AXIS:
+        stray = omega - axis * (omega @ axis)
+    elif mode == ROT_NONE:
+        stray = omega
+    else:
+        return
+    if np.any(np.abs(stray) > 1e-12 * max(1.0, float(np.abs(omega).max()))):
+        raise ValueError(
+            f"angular_velocity = {omega.tolist()} rad/s of body {body} turns about a blocked "
+            "axis; an aspherical clump with blocked rotations can only turn about its free "
+            "axis (valid: components about blocked axes = 0)"
+        )
 
 
 @njit(cache=True, error_model="numpy", inline="always")

@@ -8,7 +8,14 @@ import numpy as np
 
 from dominowave.checks import check_finite, check_in_range, check_positive
 from dominowave.dem.contact import RULE_PAPER, RULE_YADE
-from dominowave.dem.integrate import ROT_AXIS, ROT_FREE, ROT_ISOTROPIC, ROT_NONE
+from dominowave.dem.integrate import (
+    ROT_AXIS,
+    ROT_FREE,
+    ROT_ISOTROPIC,
+    ROT_NONE,
+    check_blocked_spin,
+)
+from dominowave.dem.simulation import Simulation
 from dominowave.dem.state import (
     Bodies,
     Material,
@@ -313,7 +320,6 @@ class Scene:
             the total read nan, and a blow-up is detected as growth of the mechanical
             energy instead.  The trajectory is the same either way.
         """
-        from dominowave.dem.simulation import Simulation
         from dominowave.dem.timestep import critical_timestep
 
         if not self._spheres:
@@ -356,27 +362,6 @@ class Scene:
             record_peak_force=bool(record_peak_force),
             check_every=int(check_every),
             track_energy=bool(track_energy),
-        )
-
-
-def check_blocked_spin(body, omega, mode, axis):
-    """ValueError if an aspherical clump is given a spin about a blocked rotation axis.
-
-    Spheres keep a blocked component (YADE: a blocked DOF keeps its velocity); a planar
-    clump (``ROT_AXIS``) turns only about ``axis``, a clump with every rotation blocked
-    (``ROT_NONE``) not at all, so silently dropping the rest would change the input.
-    """
-    if mode == ROT_AXIS:
-        stray = omega - axis * (omega @ axis)
-    elif mode == ROT_NONE:
-        stray = omega
-    else:
-        return
-    if np.any(np.abs(stray) > 1e-12 * max(1.0, float(np.abs(omega).max()))):
-        raise ValueError(
-            f"angular_velocity = {omega.tolist()} rad/s of body {body} turns about a blocked "
-            "axis; an aspherical clump with blocked rotations can only turn about its free "
-            "axis (valid: components about blocked axes = 0)"
         )
 
 

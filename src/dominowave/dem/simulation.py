@@ -236,13 +236,12 @@ class Simulation:
 
         Blocked components are kept (a blocked DOF keeps its velocity, YADE semantics);
         an aspherical clump given a spin about a blocked axis is a ValueError
-        (scene.check_blocked_spin).  Between runs only: the next step's tangential
+        (integrate.check_blocked_spin).  Between runs only: the next step's tangential
         increment of the body's existing contacts uses the new velocity instead of the
         one of the last drift, i.e. the shear springs jump by ``(v_new - v_old) dt``
         (negligible unless set on a body in frictional contact).
         """
-        from dominowave.dem.integrate import ROT_AXIS, ROT_FREE, ROT_NONE
-        from dominowave.dem.scene import check_blocked_spin
+        from dominowave.dem.integrate import ROT_AXIS, ROT_FREE, ROT_NONE, check_blocked_spin
 
         check_in_range("body", body, 0, self.n_bodies - 1, lo_inclusive=True, hi_inclusive=True)
         b = self.bodies

@@ -12,7 +12,8 @@ A study file has three tables::
     dir = "results/my_study"
 
 Every scenario kind registers its pydantic model in :data:`SCENARIO_MODELS`
-(see :mod:`dominowave.io.models`). Everything is validated before anything
+(:mod:`dominowave.io.schema`; the package's own kinds are in
+:mod:`dominowave.io.models`). Everything is validated before anything
 runs -- every sweep point too -- and the first problem is reported as one line
 naming the file, the line, the key, the value and the valid range::
 
@@ -29,8 +30,16 @@ from pathlib import Path
 from typing import Any
 
 import annotated_types
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import BaseModel, Field, ValidationError, model_validator
 
+import dominowave.io.models  # noqa: F401  (the package's scenario kinds register themselves)
+from dominowave.io.schema import (
+    SCENARIO_MODELS,
+    ScenarioModel,
+    StrictModel,
+    quantity,
+    register_scenario_model,
+)
 from dominowave.io.toml_text import dumps, line_of_key, loads_file
 
 __all__ = [
@@ -46,43 +55,6 @@ __all__ = [
     "scenario_from_dict",
     "set_dotted",
 ]
-
-
-class StrictModel(BaseModel):
-    """Base of every config model: unknown keys and implicit conversions are errors.
-
-    ``strict`` refuses ``"0.05"`` for a float and ``true`` for a number; ints are
-    accepted for floats. NaN and infinities are refused unless a field allows them.
-    """
-
-    model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False, frozen=True)
-
-
-class ScenarioModel(StrictModel):
-    """Base of scenario models; ``kind`` is the registry key."""
-
-    kind: str
-
-
-def quantity(default: Any, unit: str, doc: str, **constraints) -> Any:
-    """A documented physical field: ``default``, ``unit`` (SI), description, bounds.
-
-    ``constraints`` are pydantic's ``gt``, ``ge``, ``lt``, ``le`` and
-    ``allow_inf_nan``. The unit is kept in the schema so that error messages and
-    ``dominowave config --example`` can print it.
-    """
-    return Field(default, description=doc, json_schema_extra={"unit": unit}, **constraints)
-
-
-SCENARIO_MODELS: dict[str, type[ScenarioModel]] = {}
-"""kind -> pydantic model of that scenario."""
-
-
-def register_scenario_model(model: type[ScenarioModel]) -> type[ScenarioModel]:
-    """Class decorator: make ``model`` selectable by ``kind = "<its kind>"``."""
-    kind = model.model_fields["kind"].default
-    SCENARIO_MODELS[kind] = model
-    return model
 
 
 class SweepSpec(StrictModel):
@@ -292,8 +264,6 @@ def parse_study(data: dict, path: Path | None = None, text: str = "") -> Study:
     kind = raw.scenario.get("kind")
     where = f"{path or '<study>'}"
     if kind not in SCENARIO_MODELS:
-        _load_builtin_models()
-    if kind not in SCENARIO_MODELS:
         line = line_of_key(text, "scenario.kind") if text else None
         loc = f"{where}:{line}" if line else where
         known = ", ".join(sorted(SCENARIO_MODELS))
@@ -363,7 +333,6 @@ def _point(base: dict, model, override, index, sweep, path, text) -> ScenarioMod
 
 def scenario_from_dict(data: dict, where: str = "<config>") -> ScenarioModel:
     """Validate a resolved scenario table (e.g. a result folder's config.toml)."""
-    _load_builtin_models()
     model = SCENARIO_MODELS.get(data.get("kind"))
     if model is None:
         raise ValueError(f"{where}: unknown scenario kind {data.get('kind')!r}")
@@ -388,11 +357,6 @@ def load_study(path: str | Path) -> Study:
     return parse_study(data, path, text)
 
 
-def _load_builtin_models() -> None:
-    """Import the package's scenario models (they register themselves)."""
-    import dominowave.io.models  # noqa: F401
-
-
 # --------------------------------------------------------------------------- examples
 
 
@@ -411,7 +375,6 @@ def example_toml(name: str) -> str:
     ``name`` is a scenario kind (single run) or ``"sweep"`` (a theory sweep over
     spacing and stiffness).
     """
-    _load_builtin_models()
     kind = "theory" if name == "sweep" else name
     if kind not in SCENARIO_MODELS:
         choices = ", ".join([*sorted(SCENARIO_MODELS), "sweep"])

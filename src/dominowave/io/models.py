@@ -13,7 +13,7 @@ from typing import ClassVar, Literal
 import numpy as np
 from pydantic import model_validator
 
-from dominowave.io.config import ScenarioModel, quantity, register_scenario_model
+from dominowave.io.schema import ScenarioModel, quantity, register_scenario_model
 from dominowave.units import G_STANDARD, k_star
 
 __all__ = ["ChainScenario", "DominoChainBase", "RodsScenario", "TheoryScenario"]

@@ -24,8 +24,8 @@ from pathlib import Path
 from dominowave import signals
 from dominowave.io.checkpoint import load_checkpoint, save_checkpoint
 from dominowave.io.results import write_result_folder
+from dominowave.sweep.context import RunContext
 from dominowave.sweep.hashing import config_dict, point_key
-from dominowave.sweep.registry import RunContext
 
 __all__ = [
     "CheckpointPolicy",

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import importlib
 from collections.abc import Callable
-from dataclasses import dataclass
-from pathlib import Path
+
+from dominowave.sweep.context import RunContext
 
 __all__ = [
     "RUNNERS",
@@ -37,25 +37,6 @@ STEPPABLE: set[str] = {"rods", "chain"}
 ``longrun.run_stepping`` with its stepper, what :func:`register_stepper` sets up,
 without importing simulation code into the registry.
 """
-
-
-@dataclass
-class RunContext:
-    """What the workflow offers a running scenario (all optional).
-
-    progress : called as ``progress(sim_time=, end_time=, steps=, toppled=)`` [s, s, -, -]
-        whenever the scenario likes (it throttles itself); None when quiet.
-    vtk_every : VTK frames wanted every this many recorded frames (0: none); a scenario
-        then also returns its spheres (``RunResult.spheres``) if it has any.
-    checkpoint_dir : folder for checkpoints of long runs (None: no checkpoints).
-    checkpoint_every_steps, checkpoint_every_seconds : how often to checkpoint.
-    """
-
-    progress: Callable[..., None] | None = None
-    vtk_every: int = 0
-    checkpoint_dir: Path | None = None
-    checkpoint_every_steps: int = 0
-    checkpoint_every_seconds: float = 0.0
 
 
 def register_runner(kind: str, runner: str | Callable) -> None:

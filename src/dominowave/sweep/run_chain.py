@@ -23,8 +23,8 @@ from dominowave.chain.scenario import ChainRun, DominoChain, Push
 from dominowave.io.models import ChainScenario
 from dominowave.io.results import RunResult
 from dominowave.io.trajectory import ChainTrajectory, SphereTrajectory
+from dominowave.sweep.context import RunContext
 from dominowave.sweep.longrun import ScenarioStepper, run_stepping
-from dominowave.sweep.registry import RunContext
 
 __all__ = [
     "ChainScenarioStepper",

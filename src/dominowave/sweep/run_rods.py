@@ -34,8 +34,8 @@ from dominowave.io.models import RodsScenario
 from dominowave.io.results import RunResult
 from dominowave.io.trajectory import ChainTrajectory
 from dominowave.rods import RodChain, RodRun, RodStepper
+from dominowave.sweep.context import RunContext
 from dominowave.sweep.longrun import ScenarioStepper, run_stepping
-from dominowave.sweep.registry import RunContext
 
 __all__ = [
     "FRAME_INTERVAL",

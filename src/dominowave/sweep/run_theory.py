@@ -17,7 +17,7 @@ from dominowave.checks import check_memory
 from dominowave.io.models import TheoryScenario
 from dominowave.io.results import RunResult
 from dominowave.io.trajectory import ChainTrajectory
-from dominowave.sweep.registry import RunContext
+from dominowave.sweep.context import RunContext
 
 __all__ = ["lean_angle", "run_theory", "theory_trajectory"]
 

@@ -1,0 +1,58 @@
+"""The building blocks of scenario models: a strict pydantic base, documented physical
+fields and the registry of scenario kinds.
+
+Each scenario kind declares its model with these (:mod:`dominowave.io.models`) and
+registers it under its ``kind``; :mod:`dominowave.io.config` reads study files against
+the registry. (Kept apart from both so that neither imports the other back.)
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from pydantic import BaseModel, ConfigDict, Field
+
+__all__ = [
+    "SCENARIO_MODELS",
+    "ScenarioModel",
+    "StrictModel",
+    "quantity",
+    "register_scenario_model",
+]
+
+
+class StrictModel(BaseModel):
+    """Base of every config model: unknown keys and implicit conversions are errors.
+
+    ``strict`` refuses ``"0.05"`` for a float and ``true`` for a number; ints are
+    accepted for floats. NaN and infinities are refused unless a field allows them.
+    """
+
+    model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False, frozen=True)
+
+
+class ScenarioModel(StrictModel):
+    """Base of scenario models; ``kind`` is the registry key."""
+
+    kind: str
+
+
+def quantity(default: Any, unit: str, doc: str, **constraints) -> Any:
+    """A documented physical field: ``default``, ``unit`` (SI), description, bounds.
+
+    ``constraints`` are pydantic's ``gt``, ``ge``, ``lt``, ``le`` and
+    ``allow_inf_nan``. The unit is kept in the schema so that error messages and
+    ``dominowave config --example`` can print it.
+    """
+    return Field(default, description=doc, json_schema_extra={"unit": unit}, **constraints)
+
+
+SCENARIO_MODELS: dict[str, type[ScenarioModel]] = {}
+"""kind -> pydantic model of that scenario."""
+
+
+def register_scenario_model(model: type[ScenarioModel]) -> type[ScenarioModel]:
+    """Class decorator: make ``model`` selectable by ``kind = "<its kind>"``."""
+    kind = model.model_fields["kind"].default
+    SCENARIO_MODELS[kind] = model
+    return model
