@@ -26,6 +26,8 @@ import math
 import numpy as np
 from numba import njit
 
+from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
+
 __all__ = [
     "RULE_PAPER",
     "RULE_YADE",
@@ -47,7 +49,7 @@ END = 0
 
 @njit(cache=True, error_model="numpy")
 def particle_stiffness(modulus, radius, given_kn, rule):
-    """Stiffness of one particle [N/m]: pi R E ("paper", eq. 20), E R ("yade") or kn."""
+    """Stiffness of one particle [N/m]: pi R E ("paper", eq. 23), E R ("yade") or kn."""
     if given_kn:
         return modulus
     if rule == RULE_PAPER:
@@ -59,7 +61,7 @@ def particle_stiffness(modulus, radius, given_kn, rule):
 def pair_stiffness(k1, k2, given_kn, rule):
     """Contact stiffness of two particles [N/m].
 
-    "paper": springs in series ``k1 k2 / (k1 + k2)`` (eq. 21, equal spheres: pi R E / 2);
+    "paper": springs in series ``k1 k2 / (k1 + k2)`` (eq. 22; equal spheres: pi R E / 2, eq. 24);
     "yade" and given kn: ``2 k1 k2 / (k1 + k2)`` (Ip2_FrictMat_FrictMat_FrictPhys).
     """
     if k1 <= 0.0 or k2 <= 0.0:
@@ -670,8 +672,8 @@ def _normal_force(contacts, c, overlap, vn, weight, fn_elastic, new_contact):
 def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_step):
     """Contact forces and torques on all bodies for the current positions.
 
-    ``ledger[0]`` -= change of the energy stored in the tangential springs (the work of
-    the tangential and dashpot forces is booked after the kick, from
+    ``ledger[LEDGER_FRICTION]`` -= change of the energy stored in the tangential springs
+    (the work of the tangential and dashpot forces is booked after the kick, from
     :func:`contact_power` with the full-step velocities).  Every contact that
     starts or ends is appended to ``changes`` as ``(c, kind)`` rows; returns their count.
     ``first_step``: the initial configuration, no shear increment (no previous step).
@@ -722,7 +724,7 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
                 _idle(contacts, c)
                 continue
             # an active contact opened in the last drift
-            ledger[0] += _separate(
+            ledger[LEDGER_FRICTION] += _separate(
                 bodies, contacts, c, bi, bj, wall, n0, n1, n2, overlap, dt, p0, p1, p2
             )
             n_changes = _log_change(changes, n_changes, c, END)
@@ -765,7 +767,7 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
         contacts.shear[c, 0], contacts.shear[c, 1], contacts.shear[c, 2] = u0, u1, u2
         # friction ledger, part 1: minus the change of the energy stored in the spring
         stored -= u0 * u0 + u1 * u1 + u2 * u2
-        ledger[0] += 0.5 * kt * stored
+        ledger[LEDGER_FRICTION] += 0.5 * kt * stored
         fn = _normal_force(contacts, c, overlap, vn, weight, fn_elastic, new_contact)
         # normal force plus the tangential spring force -kt u, on j (minus on i)
         f0, f1, f2 = fn * n0 + -kt * u0, fn * n1 + -kt * u1, fn * n2 + -kt * u2
@@ -824,8 +826,8 @@ def contact_power(bodies, spheres, walls, contacts, out):
         dv0, dv1, dv2 = vj0 - vi0, vj1 - vi1, vj2 - vi2
         p_viscous += fd * (n0 * dv0 + n1 * dv1 + n2 * dv2)
         p_friction -= kt * (u[c, 0] * dv0 + u[c, 1] * dv1 + u[c, 2] * dv2)
-    out[0] = p_viscous
-    out[1] = p_friction
+    out[POWER_VISCOUS] = p_viscous
+    out[POWER_FRICTION] = p_friction
 
 
 @njit(cache=True, error_model="numpy")

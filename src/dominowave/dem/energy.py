@@ -33,6 +33,14 @@ LEDGER_FRICTION = 0
 LEDGER_VISCOUS = 1
 LEDGER_DAMPING = 2
 
+# the (2,) output of contact.contact_power / planar.contact_power_planar [W]
+POWER_VISCOUS = 0
+POWER_FRICTION = 1
+# the engine's (3,) record of the last step's powers (engine.Recorder.power) [W]
+LAST_POWER_VISCOUS = 0
+LAST_POWER_DAMPING = 1
+LAST_POWER_FRICTION = 2
+
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def kinetic_energy(bodies, out):

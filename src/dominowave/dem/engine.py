@@ -34,7 +34,18 @@ from dominowave.dem.contact import (
     moved_beyond,
     needs_rebuild,
 )
-from dominowave.dem.energy import energies, kinetic_energy
+from dominowave.dem.energy import (
+    LAST_POWER_DAMPING,
+    LAST_POWER_FRICTION,
+    LAST_POWER_VISCOUS,
+    LEDGER_DAMPING,
+    LEDGER_FRICTION,
+    LEDGER_VISCOUS,
+    POWER_FRICTION,
+    POWER_VISCOUS,
+    energies,
+    kinetic_energy,
+)
 from dominowave.dem.integrate import (
     advance_body_planar,
     drift,
@@ -61,6 +72,12 @@ GROW_ENERGY = 13
 GROW_CONTACT_FORCES = 14
 ABORT_NAN = 20
 ABORT_RUNAWAY = 21
+
+# entries of run_loop's (4,) ``stop`` argument (see run_loop)
+STOP_ARG_QUIET = 0
+STOP_ARG_TOUCHED_BODY = 1
+STOP_ARG_KINETIC_BELOW = 2
+STOP_ARG_RUN_START = 3
 
 Settings = namedtuple(
     "Settings",
@@ -354,7 +371,7 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
     dt = settings.dt
     kin = work[0]
     p_contacts = work[1]
-    touched_body = int(stop[1])
+    touched_body = int(stop[STOP_ARG_TOUCHED_BODY])
     planar = settings.planar
     rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
     for done in range(n_steps):
@@ -398,7 +415,7 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
         code = -1
         if touched_body >= 0 and rec.touched[touched_body]:
             code = STOP_TOUCHED
-        elif t + dt - max(rec.last_onset[0], stop[3]) >= stop[0]:
+        elif t + dt - max(rec.last_onset[0], stop[STOP_ARG_RUN_START]) >= stop[STOP_ARG_QUIET]:
             code = STOP_NO_ONSET
         check_due = (step + 1) % settings.check_every == 0 or last or code >= 0
         if not (traj_due or energy_due or check_due or settings.track_energy):
@@ -415,12 +432,15 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
                     contact_power(bodies, spheres, walls, contacts, p_contacts)
                 # trapezoidal rule for the work of the non-conservative forces since t_{n-1}
                 if step > 0:
-                    rec.ledger[1] -= 0.5 * dt * (rec.power[0] + p_contacts[0])
-                    rec.ledger[2] -= 0.5 * dt * (rec.power[1] + p_damping)
-                    rec.ledger[0] -= 0.5 * dt * (rec.power[2] + p_contacts[1])
-                rec.power[0] = p_contacts[0]
-                rec.power[1] = p_damping
-                rec.power[2] = p_contacts[1]
+                    viscous = rec.power[LAST_POWER_VISCOUS] + p_contacts[POWER_VISCOUS]
+                    damping = rec.power[LAST_POWER_DAMPING] + p_damping
+                    friction = rec.power[LAST_POWER_FRICTION] + p_contacts[POWER_FRICTION]
+                    rec.ledger[LEDGER_VISCOUS] -= 0.5 * dt * viscous
+                    rec.ledger[LEDGER_DAMPING] -= 0.5 * dt * damping
+                    rec.ledger[LEDGER_FRICTION] -= 0.5 * dt * friction
+                rec.power[LAST_POWER_VISCOUS] = p_contacts[POWER_VISCOUS]
+                rec.power[LAST_POWER_DAMPING] = p_damping
+                rec.power[LAST_POWER_FRICTION] = p_contacts[POWER_FRICTION]
             if forces_due:  # (before _record_frame: the frame index is traj_n)
                 _record_contact_forces(spheres, walls, contacts, rec)
             if traj_due:
@@ -441,9 +461,9 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
                 slack = 0.5 * rec.clock[1] + 1e-9 * abs(rec.energy_ref[2])
                 if energy_excess(rec.energy_now, rec.energy_ref, settings.track_energy) > slack:
                     return ABORT_RUNAWAY, done
-                if code < 0 and stop[2] >= 0.0:
+                if code < 0 and stop[STOP_ARG_KINETIC_BELOW] >= 0.0:
                     kinetic_energy(bodies, kin)
-                    if kin[0] + kin[1] < stop[2]:
+                    if kin[0] + kin[1] < stop[STOP_ARG_KINETIC_BELOW]:
                         code = STOP_KINETIC
             drift(bodies, dt, planar)
             rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])

@@ -51,6 +51,7 @@ from dominowave.dem.contact import (
     onset_averaged_overlap,
     rotate_shear,
 )
+from dominowave.dem.energy import POWER_FRICTION, POWER_VISCOUS
 from dominowave.dem.integrate import ROT_AXIS, ROT_ISOTROPIC, ROT_NONE
 
 __all__ = ["compute_forces_planar", "contact_power_planar", "planar_violation"]
@@ -242,5 +243,5 @@ def contact_power_planar(bodies, spheres, walls, contacts, out):
             dv2 += vel[bj, 2] - omega[bj, 1] * rj0
         p_viscous += fd * (n0 * dv0 + n2 * dv2)
         p_friction -= contacts.kt[c] * (u[c, 0] * dv0 + u[c, 2] * dv2)
-    out[0] = p_viscous
-    out[1] = p_friction
+    out[POWER_VISCOUS] = p_viscous
+    out[POWER_FRICTION] = p_friction

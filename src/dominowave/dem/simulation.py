@@ -357,14 +357,17 @@ class Simulation:
             )
         if stop.kinetic_below is not None:
             check_positive("kinetic_below", stop.kinetic_below)
-        stop_array = np.array(
-            [
-                np.inf if stop.no_onset_for is None else stop.no_onset_for,
-                -1 if stop.touched_body is None else stop.touched_body,
-                -1.0 if stop.kinetic_below is None else stop.kinetic_below,
-                self.time,
-            ]
+        stop_array = np.empty(4)
+        stop_array[engine.STOP_ARG_QUIET] = (
+            np.inf if stop.no_onset_for is None else stop.no_onset_for
         )
+        stop_array[engine.STOP_ARG_TOUCHED_BODY] = (
+            -1 if stop.touched_body is None else stop.touched_body
+        )
+        stop_array[engine.STOP_ARG_KINETIC_BELOW] = (
+            -1.0 if stop.kinetic_below is None else stop.kinetic_below
+        )
+        stop_array[engine.STOP_ARG_RUN_START] = self.time
         remaining = np.iinfo(np.int64).max if n_steps is None else int(n_steps)
         t_end = np.inf if until is None else float(until)
         self._start_run(trajectory_every, energy_every, record_contact_forces)
