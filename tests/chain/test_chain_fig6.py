@@ -76,6 +76,19 @@ def test_chain_command_reports_an_unsettled_wave_without_nan():
     assert "nan ±" not in res.stdout
 
 
+def test_chain_command_names_units_and_which_speed_to_quote(cli):
+    code, stdout, _ = cli("chain", "--n", "12", "--d-over-l", "0.6", "--members", "4")
+    assert code == 0
+    header = next(line for line in stdout.splitlines() if "t_arr" in line)
+    for unit in ("t_arr [s]", "t_theory [s]", "v_local [m/s]", "slip [m]", "max tilt [rad]"):
+        assert unit in header
+    quote = stdout[stdout.index("quote the") :]
+    assert quote.startswith("quote the ensemble speed with its standard error")
+    # members whose wave did not settle are named beside the ensemble, never silently dropped
+    ensemble = next(line for line in stdout.splitlines() if line.startswith("ensemble"))
+    assert "n=4)" in ensemble or "members did not settle and are left out" in ensemble
+
+
 def test_chain_command_rejects_bad_input_in_one_line():
     res = _cli("chain", "--d-over-l", "1.5")
     assert res.returncode == 2

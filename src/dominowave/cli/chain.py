@@ -16,6 +16,7 @@ from typing import Annotated
 import numpy as np
 import typer
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
 
 from dominowave.chain.build import ChainParams
@@ -108,6 +109,33 @@ def _print_unsettled(console: Console, run: ChainRun, scale: float) -> None:
         )
 
 
+def _unsettled(ens: ChainEnsemble) -> str:
+    """The members an ensemble speed leaves out, said beside it."""
+    failed = ens.speed.n_failed
+    if not failed:
+        return ""
+    return f" ({failed} of {failed + ens.speed.n} members did not settle and are left out)"
+
+
+def _what_to_quote(run: ChainRun, ens: ChainEnsemble | None) -> str:
+    """One sentence: which of the printed speeds to quote, and why the others differ."""
+    limit = "eq 34 is the theory's limit for an infinite chain of rigid-limit collisions"
+    if ens is not None and ens.speed.n >= 2:
+        return (
+            "quote the ensemble speed with its standard error: one run's speed depends on "
+            f"chaotic details of its collisions; {limit}"
+        )
+    if run.wave.settled:
+        return (
+            "quote the steady speed: the wave's own speed once it no longer changes along "
+            f"the chain; the transient theory is for the same dominoes, {limit}"
+        )
+    return (
+        "quote the mean speed over the last dominoes beside the theory's transient over the "
+        f"same dominoes: this chain is too short for the wave to settle; {limit}"
+    )
+
+
 def chain_command(
     n: Annotated[int, typer.Option("--n", help="number of dominoes")] = 30,
     d_over_l: Annotated[float, typer.Option(help="gap d over height l")] = 0.4,
@@ -189,8 +217,8 @@ def chain_command(
         "rebound_angle": "rebound [rad]",
         "mechanism": "Fig 5A",
     }
-    for header in cols.values():
-        table.add_column(header, justify="right")
+    for header in cols.values():  # escaped: rich would read "[s]" as strike-through markup
+        table.add_column(escape(header), justify="right")
     rows = _domino_rows(run)
     for r in rows:
         cells = [_fmt(r[c]) for c in cols]
@@ -206,7 +234,7 @@ def chain_command(
     else:
         _print_unsettled(console, run, scale)
     if ens is not None:
-        console.print(f"ensemble ({members} members): {ens.speed} m/s")
+        console.print(f"ensemble ({members} members): {ens.speed} m/s{_unsettled(ens)}")
     window = (
         f"; transient theory on the same dominoes: {_fmt(run.theory_window_speed)} m/s"
         if w.settled
@@ -218,6 +246,7 @@ def chain_command(
     )
     if run.secondary is not None and run.secondary.catching_up:
         console.print(f"secondary wave catching up; merged at pair {run.secondary.merged_pair}")
+    console.print(_what_to_quote(run, ens))
     console.print(f"dt = {run.dt:.3g} s, {run.n_steps} steps, wall {wall:.2f} s")
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
