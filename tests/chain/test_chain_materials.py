@@ -176,3 +176,10 @@ def test_missing_file_and_broken_toml_name_the_file(tmp_path):
         load_materials(tmp_path / "nowhere.toml")
     with pytest.raises(MaterialsError, match=r"materials.toml: not valid TOML"):
         load_materials(_write(tmp_path, "[domino\n"))
+
+
+def test_the_user_docs_table_shows_the_shipped_values(mat):
+    doc = (Path(__file__).parents[2] / "docs/real_dominoes.md").read_text(encoding="utf-8")
+    for name, e in mat.entries():
+        row = f"| `{name}` | {e.value:g} | [{e.lo:g}, {e.hi:g}] | {e.unit} | {e.kind} |"
+        assert row in doc, row

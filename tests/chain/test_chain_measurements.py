@@ -3,17 +3,24 @@
 from __future__ import annotations
 
 import csv
+import math
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
+from scipy.integrate import quad
 
 from dominowave.chain.measurements import (
     BASES,
     COLUMNS,
     SPEED_KINDS,
     MeasurementsError,
+    eq34_rigid_speed,
     load_measurements,
 )
+from dominowave.theory import omega_limit
+from dominowave.units import G_STANDARD
 
 SHIPPED = Path(__file__).parents[2] / "src/dominowave/chain/data/measurements.csv"
 
@@ -122,3 +129,65 @@ def test_a_row_with_a_missing_cell_is_refused(tmp_path):
 
 def test_the_shipped_file_has_the_documented_columns():
     assert SHIPPED.read_text(encoding="utf-8").splitlines()[0] == ",".join(COLUMNS)
+
+
+# --- the paper's eq 34 beside each measurement ------------------------------------------------
+
+
+def test_validate_eq34_rigid_speed_by_quadrature_of_the_free_fall(tmp_path):
+    """``(d + s) / T`` with ``T`` integrated directly: a point mass on a massless rod of
+    height ``l`` falls from upright at the EJ limit rate ``Omega`` (eq 9) to ``beta``,
+    ``theta'^2 = Omega^2 + 2 g/l (1 - cos theta)`` (energy), ``T = int dtheta / theta'``."""
+    l, s, g, d = 0.048, 0.0075, G_STANDARD, 0.012
+    beta = math.asin(d / l)
+    omega = float(omega_limit(beta, l, g))
+    fall, _ = quad(lambda th: 1.0 / math.sqrt(omega**2 + 2 * g / l * (1 - math.cos(th))), 0, beta)
+    for basis, spacing in (("gap", d), ("pitch", d + s)):
+        row = _good_row(spacing_m=str(spacing), spacing_basis=basis, thickness_m=str(s))
+        (m,) = load_measurements(_write(tmp_path, [row]))
+        assert eq34_rigid_speed(m) == pytest.approx((d + s) / fall, rel=1e-9)
+
+
+def test_eq34_rigid_speed_needs_height_thickness_and_a_gap_below_the_height(tmp_path):
+    for cells in ({"height_m": ""}, {"thickness_m": ""}, {"spacing_m": "0.05"}):
+        (m,) = load_measurements(_write(tmp_path, [_good_row(**cells)]))
+        assert eq34_rigid_speed(m) is None
+
+
+def test_the_theory_table_script_regenerates_the_table(tmp_path):
+    script = Path(__file__).parents[2] / "docs/real_dominoes/theory_table.py"
+    rows = [_good_row(), _good_row(key="b2021", height_m="")]
+    out_csv = tmp_path / "table.csv"
+    done = subprocess.run(
+        [
+            sys.executable,
+            str(script),
+            "--measurements",
+            str(_write(tmp_path, rows)),
+            "--csv",
+            str(out_csv),
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    lines = done.stdout.splitlines()
+    assert lines[0].startswith("| key |") and len(lines) == 4
+    (m,) = load_measurements(_write(tmp_path, [_good_row()]))
+    expected = eq34_rigid_speed(m)
+    table = list(csv.DictReader(out_csv.open(encoding="utf-8")))
+    assert float(table[0]["eq34_m_s"]) == pytest.approx(expected, rel=1e-2)
+    assert table[0]["diff_pct"] == f"{100 * (expected - 1.2) / 1.2:+.0f}"
+    assert table[1]["eq34_m_s"] == table[1]["diff_pct"] == "n/a"
+
+
+def test_the_shipped_theory_table_is_current():
+    """docs/real_dominoes/theory_vs_measurements.csv and the table in real_dominoes.md are
+    what the script makes of the shipped data."""
+    script = Path(__file__).parents[2] / "docs/real_dominoes/theory_table.py"
+    shipped = script.parent / "theory_vs_measurements.csv"
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, check=True)
+    n_rows = len(list(csv.DictReader(shipped.open(encoding="utf-8"))))
+    assert n_rows == len(load_measurements()) == len(done.stdout.splitlines()) - 2
+    doc = (script.parents[1] / "real_dominoes.md").read_text(encoding="utf-8")
+    assert done.stdout.strip() in doc, "regenerate the table in docs/real_dominoes.md"

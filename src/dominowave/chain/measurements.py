@@ -22,12 +22,16 @@ from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 
+from dominowave.theory import wave_speed_rigid
+from dominowave.units import G_STANDARD
+
 __all__ = [
     "BASES",
     "COLUMNS",
     "SPEED_KINDS",
     "Measurement",
     "MeasurementsError",
+    "eq34_rigid_speed",
     "load_measurements",
 ]
 
@@ -223,3 +227,21 @@ def load_measurements(path: str | Path | None = None) -> list[Measurement]:
     if not rows:
         raise MeasurementsError(f"{name}: no measurements")
     return rows
+
+
+def eq34_rigid_speed(m: Measurement, g: float = G_STANDARD) -> float | None:
+    """The paper's speed for this measurement's dominoes in the rigid limit [m/s].
+
+    Eq 34 with ``T_c = 0``: ``v^s = (d + s) / T``, ``T`` the Efthimiou-Johnson limit fall
+    time (eq 13) of thin dominoes of height ``l`` at ``sin(beta) = d / l``, ``d`` the gap
+    and ``s`` the thickness (the paper's thin-domino free fall, point mass at the top).
+    ``None`` where the source does not publish ``l`` or ``s``, or where ``d >= l`` (no
+    collision).
+    """
+    if m.height is None or m.thickness is None:
+        return None
+    d = m.gap
+    if d is None or d >= m.height:
+        return None
+    beta = math.asin(d / m.height)
+    return float(wave_speed_rigid(beta, m.height, g)) * (d + m.thickness) / d  # eq. 34
