@@ -82,19 +82,3 @@ def test_chain_result_files(chain_result, tmp_path):
     n = write_result_vtk(tmp_path / "vtk", result, every=50)
     assert len(list((tmp_path / "vtk").glob("spheres_*.vtu"))) == n
     assert len(list((tmp_path / "vtk").glob("dominoes_*.vtu"))) == n
-
-
-def test_chain_config_mirrors_chain_params():
-    """Every ChainParams field is a config field with the same default (drift check)."""
-    import dataclasses
-
-    from dominowave.chain.build import ChainParams
-
-    params = {f.name: f.default for f in dataclasses.fields(ChainParams)}
-    config = ChainScenario()
-    own = set(ChainScenario.model_fields) - set(ChainScenario._RUN_FIELDS)
-    assert own == set(params)
-    for name, default in params.items():
-        if name != "stiffness_ratio":  # None in ChainParams means its default 1e4
-            assert getattr(config, name) == default, name
-    assert config.params().contact_stiffness == ChainParams().contact_stiffness

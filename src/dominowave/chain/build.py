@@ -51,11 +51,8 @@ from typing import Literal
 
 import numpy as np
 
-from dominowave.checks import (
-    check_in_range,
-    check_nonnegative,
-    check_positive,
-)
+from dominowave.checks import check_in_range
+from dominowave.params import check_parameters, parameter
 from dominowave.theory import contact_stiffness, contact_stiffness_from_material
 from dominowave.units import G_STANDARD, k_star
 
@@ -84,63 +81,61 @@ class ChainParams:
     coefficient in [0, 1); ``restitution`` (None = elastic) adds a normal dashpot.
     """
 
-    n_dominoes: int = 30
-    height: float = 0.05
-    thickness: float = 0.005
-    width: float = 0.025
-    d_over_l: float = 0.4
-    density: float = 1000.0
-    stiffness_ratio: float | None = None
-    kn: float | None = None
-    young: float | None = None
-    young_rule: YoungRule = "paper"
-    kt_ratio: float = 1.0
-    friction_dominoes: float = 0.0
-    friction_floor: float = 0.3
-    damping: float = 0.0
-    restitution: float | None = None
-    model: Model = "2d"
-    spheres_per_column: int | None = None
-    base: Base = "one"
-    held: bool = True
-    lateral_asymmetry: float = 0.0
-    asymmetry_seed: int = 0
-    g: float = G_STANDARD
+    n_dominoes: int = parameter(30, "", "number of dominoes", ge=2, le=100_000)
+    height: float = parameter(0.05, "m", "domino height l", gt=0)
+    thickness: float = parameter(
+        0.005, "m", "domino thickness s = sphere diameter (below l/2)", gt=0
+    )
+    width: float = parameter(0.025, "m", "domino width (3D model)", gt=0)
+    d_over_l: float = parameter(0.4, "", "spacing ratio d/l (d = clear gap)", gt=0, lt=1)
+    density: float = parameter(1000.0, "kg/m^3", "bead density", gt=0)
+    stiffness_ratio: float | None = parameter(
+        None,
+        "",
+        "paper's k/k* (k per particle, contact spring k_n = k/2, eq 24); 1e4 when neither"
+        " kn nor young is given",
+        gt=0,
+        allow_inf=True,
+    )
+    kn: float | None = parameter(None, "N/m", "contact spring k_n, directly", gt=0, allow_inf=True)
+    young: float | None = parameter(
+        None, "Pa", "Young's modulus (with young_rule)", gt=0, allow_inf=True
+    )
+    young_rule: YoungRule = parameter(
+        "paper",
+        "",
+        "k_n from young: paper pi R E / 2 (eq 24) or yade E R",
+        choices=("paper", "yade"),
+    )
+    kt_ratio: float = parameter(
+        1.0, "", "tangential / normal contact stiffness", gt=0, allow_inf=True
+    )
+    friction_dominoes: float = parameter(0.0, "", "friction between dominoes phi_d", ge=0)
+    friction_floor: float = parameter(0.3, "", "friction with the floor phi_f", ge=0)
+    damping: float = parameter(0.0, "", "local (YADE-style) damping", ge=0, lt=1)
+    restitution: float | None = parameter(
+        None, "", "normal restitution (not set = elastic)", gt=0, le=1
+    )
+    model: Model = parameter("2d", "", "2d: xz plane only; 3d: free", choices=("2d", "3d"))
+    spheres_per_column: int | None = parameter(
+        None, "", "spheres per column (not set: round(l/s), touching)", ge=2
+    )
+    base: Base = parameter("one", "", "one bottom sphere, or two half-size", choices=("one", "two"))
+    held: bool = parameter(True, "", "untouched dominoes are held until first touched")
+    lateral_asymmetry: float = parameter(0.0, "rad", "random yaw amplitude (3d)", ge=0, lt=0.1)
+    asymmetry_seed: int = parameter(0, "", "seed of the lateral asymmetry", ge=0)
+    g: float = parameter(G_STANDARD, "m/s^2", "gravitational acceleration", gt=0, allow_inf=True)
 
     def __post_init__(self):
-        check_in_range("n_dominoes", self.n_dominoes, 2, math.inf, lo_inclusive=True)
-        check_positive("height", self.height)
+        check_parameters(self)
+        # the rules that join several fields
         check_in_range("thickness", self.thickness, 0.0, self.height / 2)
-        check_positive("width", self.width)
-        check_in_range("d_over_l", self.d_over_l, 0.0, 1.0)
-        check_positive("density", self.density)
         given = [x for x in (self.stiffness_ratio, self.kn, self.young) if x is not None]
         if len(given) > 1:
             raise ValueError(
                 "give the stiffness once: stiffness_ratio, kn or young "
                 f"(got stiffness_ratio={self.stiffness_ratio}, kn={self.kn}, young={self.young})"
             )
-        for name in ("stiffness_ratio", "kn", "young"):
-            if getattr(self, name) is not None:
-                check_positive(name, getattr(self, name))
-        if self.young_rule not in ("paper", "yade"):
-            raise ValueError(f"young_rule = {self.young_rule!r} is not one of 'paper', 'yade'")
-        check_positive("kt_ratio", self.kt_ratio)
-        check_nonnegative("friction_dominoes", self.friction_dominoes)
-        check_nonnegative("friction_floor", self.friction_floor)
-        check_in_range("damping", self.damping, 0.0, 1.0, lo_inclusive=True)
-        if self.restitution is not None:
-            check_in_range("restitution", self.restitution, 0.0, 1.0, hi_inclusive=True)
-        if self.model not in ("2d", "3d"):
-            raise ValueError(f"model = {self.model!r} is not one of '2d', '3d'")
-        if self.base not in ("one", "two"):
-            raise ValueError(f"base = {self.base!r} is not one of 'one', 'two'")
-        if self.spheres_per_column is not None:
-            check_in_range(
-                "spheres_per_column", self.spheres_per_column, 2, math.inf, lo_inclusive=True
-            )
-        check_in_range("lateral_asymmetry", self.lateral_asymmetry, 0.0, 0.1, lo_inclusive=True)
-        check_positive("g", self.g)
 
     # --- derived geometry -------------------------------------------------------------
     @property

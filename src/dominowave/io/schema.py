@@ -8,14 +8,18 @@ the registry. (Kept apart from both so that neither imports the other back.)
 
 from __future__ import annotations
 
+import typing
 from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field
+
+from dominowave.params import parameter_specs
 
 __all__ = [
     "SCENARIO_MODELS",
     "ScenarioModel",
     "StrictModel",
+    "fields_from_parameters",
     "quantity",
     "register_scenario_model",
 ]
@@ -45,6 +49,23 @@ def quantity(default: Any, unit: str, doc: str, **constraints) -> Any:
     ``dominowave config --example`` can print it.
     """
     return Field(default, description=doc, json_schema_extra={"unit": unit}, **constraints)
+
+
+def fields_from_parameters(params_cls) -> dict[str, tuple[Any, Any]]:
+    """Pydantic field definitions ``name -> (type, Field)`` of a parameter dataclass.
+
+    ``params_cls`` declares its fields with :func:`dominowave.params.parameter`; each
+    becomes a :func:`quantity` of the same name, type, default, unit, description and
+    bounds, so a study file is checked against the scenario's own declaration.
+    """
+    hints = typing.get_type_hints(params_cls)
+    out = {}
+    for name, (field, spec) in parameter_specs(params_cls).items():
+        out[name] = (
+            hints[name],
+            quantity(field.default, spec.unit, spec.doc, **spec.pydantic_constraints),
+        )
+    return out
 
 
 SCENARIO_MODELS: dict[str, type[ScenarioModel]] = {}
