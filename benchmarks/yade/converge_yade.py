@@ -3,7 +3,7 @@
 A 4-domino 2D chain on a frictionless floor (two-sphere base, no holding), the scene of
 ``compare_yade.py``: the first three collision times of each code, at the chain's time
 step divided by the given factors, against ``planar_chain_collisions`` of
-``tests/chain/chain_reference.py`` (scipy DOP853 of planar rigid bodies with the same
+``tests/reference/planar_chain.py`` (scipy DOP853 of planar rigid bodies with the same
 linear springs). Both codes report onsets interpolated inside the step by the same rule.
 With ``--friction-floor F > 0`` the ODE (frictionless) no longer applies: the row gives
 YADE relative to dominowave instead (``yade_vs_ours``).
@@ -27,8 +27,8 @@ from compare_yade import run_yade, scene_dict
 from dominowave.chain.build import ChainParams
 from dominowave.chain.scenario import DominoChain
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tests" / "chain"))
-from chain_reference import chain_collisions
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tests"))
+from reference.planar_chain import chain_collisions
 
 T_END = 0.16  # [s] long enough for the third collision at d/l <= 0.6
 

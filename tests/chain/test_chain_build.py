@@ -6,7 +6,6 @@ import math
 
 import numpy as np
 import pytest
-from chain_reference import rolling_column_time
 
 from dominowave import theory
 from dominowave.chain.build import ChainParams, chain_positions, domino_shape, place_domino
@@ -16,6 +15,7 @@ from dominowave.chain.compare import (
     theory_speed,
 )
 from dominowave.units import beta_from_spacing
+from reference.rolling_column import rolling_column_time
 
 
 def test_default_2d_domino_is_a_column_of_ten_touching_spheres():

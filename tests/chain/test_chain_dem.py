@@ -6,16 +6,13 @@ import math
 
 import numpy as np
 import pytest
-from chain_reference import (
-    chain_collisions,
-    rolling_column_contact_angle,
-    rolling_column_time,
-)
 
 from dominowave import dem
 from dominowave.chain.build import ChainParams
 from dominowave.chain.compare import effective_domino
 from dominowave.chain.scenario import DominoChain, Push
+from reference.planar_chain import chain_collisions
+from reference.rolling_column import rolling_column_contact_angle, rolling_column_time
 
 
 def _first_touch(chain: DominoChain, push: Push, body: int) -> tuple[float, np.ndarray]:

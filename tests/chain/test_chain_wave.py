@@ -6,7 +6,6 @@ import math
 
 import numpy as np
 import pytest
-from chain_reference import ej_transient_arrivals
 
 from dominowave.chain.wave import (
     ensemble_arrival_stats,
@@ -18,6 +17,7 @@ from dominowave.chain.wave import (
     settled_start,
     steady_speed,
 )
+from reference.rigid_chain import ej_transient_arrivals
 
 
 @pytest.mark.parametrize(("d_over_l", "omega_factor"), [(0.5, 0.3), (0.5, 2.0), (0.7, 0.5)])

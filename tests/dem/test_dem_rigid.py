@@ -4,10 +4,11 @@ inclined plane, local damping, blocked degrees of freedom."""
 import numpy as np
 import pytest
 from dem_scenes import RHO, R, column, sphere_mass, tilt_of
-from scipy.integrate import solve_ivp
 
 from dominowave.dem import Material, Scene, clump_mass_properties
 from dominowave.dem.integrate import kick
+from reference.rigid_body import free_rotation, quaternion_matrix
+from reference.rolling_column import rolling_column_friction_ratio, rolling_column_time
 
 G = 9.81
 
@@ -80,21 +81,13 @@ def test_validate_tennis_racket_free_rotation():
     # body-frame angular velocity from the recorded quaternions
     w_body = np.array(
         [
-            _matrix(q).T @ w
+            quaternion_matrix(q).T @ w
             for q, w in zip(res.quaternions[:, 0], res.angular_velocities[:, 0], strict=True)
         ]
     )
-
-    def euler(t, w):
-        return [
-            (I[1] - I[2]) * w[1] * w[2] / I[0],
-            (I[2] - I[0]) * w[2] * w[0] / I[1],
-            (I[0] - I[1]) * w[0] * w[1] / I[2],
-        ]
-
-    ref = solve_ivp(euler, (0, t_end), w_body0, t_eval=res.times, rtol=1e-11, atol=1e-13)
+    ref = free_rotation(I, w_body0, res.times)  # Euler's equations by scipy
     assert np.min(w_body[:, 1]) < -9.0, "the racket flips"
-    np.testing.assert_allclose(w_body, ref.y.T, atol=0.05)  # rad/s, of |omega| = 10
+    np.testing.assert_allclose(w_body, ref, atol=0.05)  # rad/s, of |omega| = 10
     np.testing.assert_allclose(b.angmom[0], L0, rtol=1e-12, atol=1e-18)
     # the largest energy error over the whole run, the flip included
     # (measured 4.9e-10: the splitting's bounded energy error, no drift)
@@ -102,63 +95,20 @@ def test_validate_tennis_racket_free_rotation():
     assert np.max(np.abs(res.energy["total"] / E0 - 1)) < 1e-8
 
 
-def _matrix(q):
-    w, x, y, z = q
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
-    )
-
-
-def _rolling_column_fall_time(n, theta0, theta_end, radius, inertia_com):
-    """Rigid column of n spheres rolling without slip on its base sphere (radius R).
-
-    Base centre x_c = R theta (no slip), COM at height h = (n-1) R above it:
-    x = R theta + h sin(theta), z = R + h cos(theta).  Lagrange:
-    M(theta) theta'' - m R h sin(theta) theta'^2 = m g h sin(theta),
-    M = I_G + m (R^2 + h^2 + 2 R h cos(theta)).
-    Returns the time to tilt from theta0 (at rest) to theta_end and the largest
-    |friction / normal| force ratio needed on the way.
-    """
-    m = n * sphere_mass(radius)
-    h = (n - 1) * radius
-
-    def rhs(t, y):
-        th, om = y
-        M = inertia_com + m * (radius**2 + h**2 + 2 * radius * h * np.cos(th))
-        return [om, (m * G * h * np.sin(th) + m * radius * h * np.sin(th) * om**2) / M]
-
-    hit = lambda t, y: y[0] - theta_end  # noqa: E731
-    hit.terminal = True
-    sol = solve_ivp(
-        rhs, (0, 10), [theta0, 0], events=hit, rtol=1e-12, atol=1e-14, dense_output=True
-    )
-    t = np.linspace(0, sol.t_events[0][0], 2000)
-    th, om = sol.sol(t)
-    al = np.array([rhs(0, y)[1] for y in zip(th, om, strict=True)])
-    ax = (radius + h * np.cos(th)) * al - h * np.sin(th) * om**2
-    az = -h * np.sin(th) * al - h * np.cos(th) * om**2
-    ratio = np.max(np.abs(m * ax) / (m * (G + az)))
-    return sol.t_events[0][0], ratio
-
-
 def test_validate_domino_pivot_fall_time():
     """A column of 10 spheres (planar, y rx rz blocked) on a frictional floor falls from
-    0.05 rad to 1 rad in the time of the rigid rolling-without-slip equation (scipy)."""
+    0.05 rad to 1 rad in the time of the rigid column rolling without slip on its base
+    sphere (energy quadrature, tests/reference/rolling_column.py)."""
     n, theta0, theta_end, mu, kn = 10, 0.05, 1.0, 1.0, 1e6
     scene = Scene(gravity=(0, 0, -G))
     floor = scene.add_material(Material(density=RHO, kn=kn, friction=mu, restitution=0.5))
     scene.add_wall((0, 0, 0), (0, 0, 1), floor)
     scene.add_clump(column(n, tilt=theta0), R, floor, blocked="y rx rz")
     sim = scene.build(safety=0.1)
-    # moment of inertia about the y axis through the COM, from the geometry alone
-    ms = sphere_mass()
-    heights = 2 * R * (np.arange(n) - (n - 1) / 2)
-    inertia_com = n * 0.4 * ms * R**2 + ms * np.sum(heights**2)
-    t_ref, ratio = _rolling_column_fall_time(n, theta0, theta_end, R, inertia_com)
+    # the rigid column rolling on its base sphere, from the geometry alone
+    upright = (np.full(n, sphere_mass()), column(n)[:, 2], np.full(n, R), R)
+    t_ref = rolling_column_time(*upright, 0.0, theta_end, G, theta0=theta0)
+    ratio = rolling_column_friction_ratio(*upright, 0.0, theta_end, G, theta0=theta0)
     assert ratio < mu, "friction suffices for rolling without slip"
     res = sim.run(until=1.2 * t_ref, trajectory_every=20)
     theta = tilt_of(sim, res.quaternions[:, 0])

@@ -4,10 +4,12 @@ import math
 
 import numpy as np
 import pytest
-from scipy.integrate import quad
 
 from dominowave.rods import RodChain, block, first_collisions, point_mass, simulate, thin_rod
 from dominowave.rods import kernel as K
+from reference.compliant_collision import linear_contact
+from reference.contact_mechanics import dashpot_restitution, hertz_collision
+from reference.rigid_chain import hinged_fall_time_from_rest
 
 G = 9.81
 L = 1.0
@@ -15,28 +17,10 @@ M = 1.0
 K_STAR = M * G / L
 
 
-def _fall_time_quadrature(mass, theta0, theta1, g=G):
-    """Time from rest at theta0 to theta1 from the energy equation, by quadrature.
-
-    (1/2) I w^2 = m g (h(theta0) - h(theta)), h = -cm_u sin + cm_w cos; substitution
-    theta = theta0 + x^2 removes the 1/sqrt singularity at the start.
-    """
-
-    def drop(x):
-        # h(theta0) - h(theta0 + x^2) without cancellation (sum-to-product identities)
-        mid = theta0 + 0.5 * x * x
-        half = math.sin(0.5 * x * x)
-        dh = 2.0 * half * (mass.cm_u * math.cos(mid) + mass.cm_w * math.sin(mid))
-        return 2.0 * mass.m * g * dh / mass.inertia
-
-    def integrand(x):
-        if x == 0.0:  # series limit: drop ~ (2 m g (cm_u cos + cm_w sin)(theta0)/I) x^2
-            slope = mass.cm_u * math.cos(theta0) + mass.cm_w * math.sin(theta0)
-            return 2.0 / math.sqrt(2.0 * mass.m * g * slope / mass.inertia)
-        return 2.0 * x / math.sqrt(drop(x))
-
-    value, _ = quad(integrand, 0.0, math.sqrt(theta1 - theta0), epsabs=0, epsrel=1e-12, limit=200)
-    return value
+def _fall_time(mass, theta0, theta1):
+    """Time [s] for a rod-model domino of mass distribution ``mass`` to fall from rest at
+    ``theta0`` to ``theta1`` (energy quadrature, tests/reference/rigid_chain.py)."""
+    return hinged_fall_time_from_rest(mass.m, mass.inertia, mass.cm_u, mass.cm_w, theta0, theta1, G)
 
 
 @pytest.mark.parametrize("mass", [point_mass(M, L), thin_rod(M, L)], ids=["point", "rod"])
@@ -47,7 +31,7 @@ def test_validate_single_domino_fall_time(mass):
     chain = RodChain(n=2, l=L, d=d, mass=mass, k=1e4 * K_STAR / 2)
     theta0 = 0.05
     run = simulate(chain, push=0.0, theta0=[theta0, 0.0], omega0=[0.0, 0.0])
-    expected = _fall_time_quadrature(mass, theta0, math.asin(d / L))
+    expected = _fall_time(mass, theta0, math.asin(d / L))
     assert run.arrival[1] == pytest.approx(expected, rel=1e-4)
 
 
@@ -58,29 +42,15 @@ def test_validate_base_reaction_of_falling_point_mass():
     chain = RodChain(n=2, l=L, d=0.95 * L, mass=mass, k=1e4 * K_STAR / 2)
     theta0 = 1e-3
     # stop before lift-off: peak |H|/V is tan of the angle reached
-    t_early = _fall_time_quadrature(mass, theta0, 0.8)
+    t_early = _fall_time(mass, theta0, 0.8)
     run = simulate(chain, push=0.0, theta0=[theta0, 0.0], omega0=[0.0, 0.0], t_max=t_early)
     assert run.lift_steps[0] == 0
     assert run.hv_max[0] == pytest.approx(math.tan(run.theta[0]), rel=1e-4)
     # run past cos(theta) = 2/3 (but before the contact at asin 0.95): the base lifts off
-    t_late = _fall_time_quadrature(mass, theta0, 1.1)
+    t_late = _fall_time(mass, theta0, 1.1)
     run = simulate(chain, push=0.0, theta0=[theta0, 0.0], omega0=[0.0, 0.0], t_max=t_late)
     assert run.lift_steps[0] > 0
     assert run.hv_max[0] == pytest.approx(math.tan(math.acos(2.0 / 3.0)), rel=1e-3)
-
-
-def _linearised_collision(ga, gb, inertia, k, omega):
-    """Two hinged bodies, a linear spring on the overlap delta = ga th_a - gb th_b.
-
-    ``ga``, ``gb`` > 0 are the lever arms of the contact force on the striker and the
-    struck domino. delta'' = -(ga^2/I + gb^2/I) k delta: a half sine of duration
-    pi sqrt(m_r/k), m_r = 1/(ga^2/I + gb^2/I); impulse J = 2 m_r delta'(0) (elastic),
-    omega_a' = omega_a - J ga / I, omega_b' = +J gb / I (struck domino at rest).
-    """
-    m_r = 1.0 / (ga * ga / inertia + gb * gb / inertia)
-    duration = math.pi * math.sqrt(m_r / k)
-    impulse = 2.0 * m_r * ga * omega
-    return duration, omega - impulse * ga / inertia, impulse * gb / inertia
 
 
 @pytest.mark.parametrize(
@@ -109,7 +79,7 @@ def test_validate_two_body_collision(normal, d_over_l, s):
         ga = gb = L * math.cos(theta_c)
     else:  # force along the striker's path xi: lever l on the striker, l cos^2 on the struck
         ga, gb = L, L * c2
-    duration, omega_b, omega_next = _linearised_collision(ga, gb, mass.inertia, k, omega)
+    duration, omega_b, omega_next = linear_contact(ga, gb, mass.inertia, k, omega)
     assert col.duration[0] == pytest.approx(duration, rel=1e-3)
     assert col.omega_b[0] == pytest.approx(omega_b, abs=1e-3 * omega)
     assert col.omega_next[0] == pytest.approx(omega_next, rel=1e-3)
@@ -136,9 +106,9 @@ def test_validate_hertz_collision_duration():
     lever = L * math.cos(theta_c)
     m_r = M * L * L / (2 * lever * lever)
     v = lever * omega
-    delta_max = (1.25 * m_r * v * v / k) ** 0.4
+    duration, delta_max = hertz_collision(m_r, k, v)  # duration 2.9432 delta_max / v
     col = first_collisions(run)
-    assert col.duration[0] == pytest.approx(2.9432 * delta_max / v, rel=2e-3)
+    assert col.duration[0] == pytest.approx(duration, rel=2e-3)
     assert col.delta_max[0] == pytest.approx(delta_max, rel=2e-3)
 
 
@@ -158,9 +128,7 @@ def test_validate_restitution_of_dashpot():
     col = first_collisions(run)
     # overlap rate delta' = l cos(beta) (omega_a - omega_b) for the geometric normal
     e = -(col.omega_b[0] - col.omega_next[0]) / (col.omega_f[0] - 0.0)
-    root = math.sqrt(1 - zeta**2)
-    phase = math.pi - math.atan(2 * zeta * root / (1 - 2 * zeta**2))
-    assert e == pytest.approx(math.exp(-zeta / root * phase), rel=2e-3)
+    assert e == pytest.approx(dashpot_restitution(zeta), rel=2e-3)
 
 
 def test_validate_energy_conservation_100_dominoes():

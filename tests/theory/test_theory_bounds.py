@@ -11,6 +11,7 @@ from scipy.optimize import brentq
 
 from dominowave import theory as th
 from dominowave.theory import Regime
+from reference.block_statics import block_moment_about_com, moment, sign_change_force
 
 L, M, G = 0.05, 0.008, 9.81
 K_STAR = M * G / L
@@ -42,32 +43,6 @@ def test_peak_force_scaling_and_rigid_limit():
     np.testing.assert_allclose(scaled, f1 / (M * G), rtol=1e-13)
 
 
-def _moment(point, force, about):
-    """Signed z-component of (point - about) x force; x forward (the wave's direction),
-    y up. Negative = clockwise = the top of the domino turns forwards."""
-    r = np.subtract(point, about)
-    return r[0] * force[1] - r[1] * force[0]
-
-
-def _block_moment_about_g(f, beta, mu, s_over_l, friction, x_normal):
-    """Signed moment about the centre of mass G of a block (height 1, thickness s/l,
-    weight 1, base from -s/2 to s/2) pushed on its back face at height cos(b) by the
-    horizontal part f cos(b) of the contact force; kinetic friction mu along +x
-    (friction = +1: the base slides backwards) or -x (friction = -1: forwards) on the
-    floor; normal force 1 at x_normal."""
-    s = s_over_l
-    centre = (0.0, 0.5)
-    push = _moment((-s / 2, np.cos(beta)), (f * np.cos(beta), 0.0), centre)
-    floor = _moment((x_normal, 0.0), (friction * mu, 0.0), centre)
-    normal = _moment((x_normal, 0.0), (0.0, 1.0), centre)
-    return push + floor + normal
-
-
-def _threshold(moment_of_f):
-    """The force f at which a signed moment (linear in f) changes sign."""
-    return brentq(moment_of_f, -1e7, 1e7, xtol=1e-14, rtol=1e-14)
-
-
 @pytest.mark.parametrize("beta", [0.2, 0.6, 1.2, 1.45])
 @pytest.mark.parametrize("mu, s_over_l", [(0.3, 0.1), (0.6, 0.02), (0.1, 0.3)])
 def test_validate_boundaries_from_signed_moment_balance(beta, mu, s_over_l):
@@ -82,32 +57,32 @@ def test_validate_boundaries_from_signed_moment_balance(beta, mu, s_over_l):
     cos_b = np.cos(beta)
     if beta > np.pi / 3:
         # eq 38: backward tipping (counter-clockwise) against the normal force at the back edge
-        eq38 = _threshold(lambda f: _block_moment_about_g(f, beta, mu, s, -1, -s / 2))
+        eq38 = sign_change_force(lambda f: block_moment_about_com(f, beta, mu, s, -1, -s / 2))
         assert b.rotation == pytest.approx(eq38, rel=1e-10)
-        assert _block_moment_about_g(1.01 * eq38, beta, mu, s, -1, -s / 2) > 0  # backwards
+        assert block_moment_about_com(1.01 * eq38, beta, mu, s, -1, -s / 2) > 0  # backwards
         # eq 41 lower bound: contact moment = friction moment (normal force under G)
-        eq41 = _threshold(lambda f: _block_moment_about_g(f, beta, mu, s, -1, 0.0))
+        eq41 = sign_change_force(lambda f: block_moment_about_com(f, beta, mu, s, -1, 0.0))
         assert b.friction_moment == pytest.approx(eq41, rel=1e-10)
     else:
         assert np.isnan(b.friction_moment)
         # forward tipping against the normal force at the front edge, friction along +x
-        paper = _threshold(lambda f: _block_moment_about_g(f, beta, mu, s, +1, s / 2))
+        paper = sign_change_force(lambda f: block_moment_about_com(f, beta, mu, s, +1, s / 2))
         assert b.rotation == pytest.approx(paper, rel=1e-10)
-        assert _block_moment_about_g(1.01 * paper, beta, mu, s, +1, s / 2) < 0  # forwards
-        signed = _threshold(lambda f: _block_moment_about_g(f, beta, mu, s, -1, s / 2))
+        assert block_moment_about_com(1.01 * paper, beta, mu, s, +1, s / 2) < 0  # forwards
+        signed = sign_change_force(lambda f: block_moment_about_com(f, beta, mu, s, -1, s / 2))
         assert signed == pytest.approx((s - mu) / (cos_b * (2 * cos_b - 1)), rel=1e-10)
         assert signed < b.rotation  # forward slip tips the block at a lower force
     # eq 39: horizontal push against kinetic friction
-    assert b.sliding == pytest.approx(_threshold(lambda f: f * cos_b - mu), rel=1e-12)
+    assert b.sliding == pytest.approx(sign_change_force(lambda f: f * cos_b - mu), rel=1e-12)
     # eq 42: a block at rest (static friction and normal force at the front edge, no
     # moment there) tips about its front edge when the push beats gravity's moment
     front = (s / 2, 0.0)
 
     def about_front_edge(f):
-        push = _moment((-s / 2, cos_b), (f * cos_b, 0.0), front)
-        return push + _moment((0.0, 0.5), (0.0, -1.0), front)
+        push = moment((-s / 2, cos_b), (f * cos_b, 0.0), front)
+        return push + moment((0.0, 0.5), (0.0, -1.0), front)
 
-    assert b.toppling == pytest.approx(_threshold(about_front_edge), rel=1e-10)
+    assert b.toppling == pytest.approx(sign_change_force(about_front_edge), rel=1e-10)
     assert about_front_edge(1.01 * b.toppling) < 0  # clockwise: tips forwards
 
 
@@ -123,8 +98,8 @@ def test_validate_sliding_rotation_sign_from_cross_products(beta, f, mu, s_over_
     |x_N| <= s/2 cancels the moment about G; otherwise it turns the way the moment does.
     Checked with the signed cross products, the normal force at both base edges."""
     sign = int(th.sliding_rotation_sign(beta, f, mu, s_over_l))
-    at_back = _block_moment_about_g(f, beta, mu, s_over_l, -1, -s_over_l / 2)
-    at_front = _block_moment_about_g(f, beta, mu, s_over_l, -1, s_over_l / 2)
+    at_back = block_moment_about_com(f, beta, mu, s_over_l, -1, -s_over_l / 2)
+    at_front = block_moment_about_com(f, beta, mu, s_over_l, -1, s_over_l / 2)
     margin = 1e-9 * (1 + f)
     if at_back < -margin and at_front < -margin:
         assert sign == +1  # clockwise whatever the normal force does: tips forwards

@@ -6,59 +6,13 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from scipy.integrate import solve_ivp
 
 from dominowave import theory as th
 from dominowave.units import k_star
+from reference.compliant_collision import head_on_contact, thick_chain_speed
 
 L, M, G = 0.05, 0.008, 9.81
 K_STAR = float(k_star(M, L, G))
-
-
-def simulate_contact(omega_f, beta, k_r, m=M, l=L, striker_fixed=False):
-    """Newton's law for the two dominoes of Fig 3 during a linear-spring contact.
-
-    Frozen geometry (rotations during the contact are small, as the paper assumes):
-    domino n (I = m l^2) turns by ``phi``, its tip moving l*phi along xi (perpendicular to
-    it); domino n+1 turns by ``psi``, its struck point (height l cos b) moving
-    l cos(b) psi horizontally, i.e. l cos^2(b) psi along xi. Overlap
-    ``delta = l phi - l cos^2(b) psi``; force ``F = k_r delta`` along xi, with moment arm
-    ``l`` about hinge n and ``l cos^2 b`` about hinge n+1. Integrated until the contact opens.
-    ``striker_fixed``: domino n keeps its angular velocity (infinite inertia), so the
-    spring acts on domino n+1 alone.
-
-    Returns (duration, omega_n_after, omega_next, psi_at_end, peak_force).
-    """
-    c = np.cos(beta) ** 2
-    inertia = m * l**2
-
-    def rhs(_t, y):
-        phi, psi, dphi, dpsi = y
-        force = k_r * max(l * phi - l * c * psi, 0.0)
-        striker = 0.0 if striker_fixed else -force * l / inertia
-        return [dphi, dpsi, striker, force * l * c / inertia]
-
-    def opens(t, y):
-        return (l * y[0] - l * c * y[1]) if t > 0 else 1.0
-
-    opens.terminal, opens.direction = True, -1
-    t_guess = np.pi * np.sqrt(m / c**2 / k_r)  # the longest: striker of infinite mass
-    sol = solve_ivp(
-        rhs,
-        (0, 10 * t_guess),
-        [0.0, 0.0, omega_f, 0.0],
-        method="DOP853",
-        rtol=1e-12,
-        atol=1e-16,
-        events=opens,
-        dense_output=True,
-    )
-    duration = sol.t_events[0][0]
-    _phi, psi, dphi, dpsi = sol.y_events[0][0]
-    t = np.linspace(0, duration, 4001)
-    phi_t, psi_t = sol.sol(t)[:2]
-    peak_force = k_r * np.max(l * phi_t - l * c * psi_t)
-    return duration, dphi, dpsi, psi, peak_force
 
 
 @pytest.mark.parametrize("beta", [0.1, 0.5, 1.0, 1.4])
@@ -70,7 +24,7 @@ def test_validate_collision_against_integrated_contact(beta, convention):
     k = 1e4 * K_STAR
     k_r = th.contact_stiffness(k, convention)
     omega_f = th.omega_before_collision(th.omega_limit(beta, L, G), beta, L, G)
-    duration, omega_back, omega_next, psi_end, peak = simulate_contact(omega_f, beta, k_r)
+    duration, omega_back, omega_next, psi_end, peak = head_on_contact(omega_f, beta, k_r, M, L)
     t_c = th.collision_time(k, M, beta, convention)
     assert duration == pytest.approx(t_c, rel=1e-9)
     expected_next, expected_back = th.collision_map(omega_f, beta)
@@ -115,11 +69,11 @@ def test_validate_effective_masses_from_integrated_contact(beta):
     striker's speed. The two-body contact then lasts pi sqrt(m_r/k_r) with eq 30."""
     k_r = 1e4 * K_STAR
     omega_f = 3.0
-    duration, _, omega_next, _, _ = simulate_contact(omega_f, beta, k_r, striker_fixed=True)
+    duration, _, omega_next, _, _ = head_on_contact(omega_f, beta, k_r, M, L, striker_fixed=True)
     m_struck = k_r * (duration / np.pi) ** 2
     assert m_struck == pytest.approx(th.struck_effective_mass(M, beta), rel=1e-9)
     assert omega_next * L * np.cos(beta) ** 2 == pytest.approx(2 * L * omega_f, rel=1e-9)
-    duration, *_ = simulate_contact(omega_f, beta, k_r)
+    duration, *_ = head_on_contact(omega_f, beta, k_r, M, L)
     assert k_r * (duration / np.pi) ** 2 == pytest.approx(th.reduced_mass(M, beta), rel=1e-9)
 
 
@@ -133,7 +87,7 @@ def test_validate_paper_convention_from_spheres_in_series(beta):
     k_sphere = E * np.pi * R**2 / R
     k_series = 1.0 / (1.0 / k_sphere + 1.0 / k_sphere)
     omega_f = th.omega_before_collision(th.omega_limit(beta, L, G), beta, L, G)
-    duration, *_ = simulate_contact(omega_f, beta, k_series)
+    duration, *_ = head_on_contact(omega_f, beta, k_series, M, L)
     assert duration == pytest.approx(th.collision_time(np.pi * R * E, M, beta), rel=1e-9)
     assert duration == pytest.approx(th.collision_time_from_material(R, E, M, beta), rel=1e-9)
     yade = th.collision_time_from_material(R, E, M, beta, "contact")
@@ -187,47 +141,6 @@ def test_thickness_ratio():
     np.testing.assert_allclose(vws / vw, ratio, rtol=1e-14)
 
 
-def _fall_from(psi_0, omega_0, beta, l=L, g=G):
-    """A domino at angle psi_0, angular velocity omega_0, falls to beta under Newton's law
-    theta'' = (g/l) sin theta (point mass at the tip): (time taken, angular velocity)."""
-
-    def hit(_t, y):
-        return y[0] - beta
-
-    hit.terminal, hit.direction = True, 1
-    sol = solve_ivp(
-        lambda _t, y: [y[1], g / l * np.sin(y[0])],
-        (0, 1e3),
-        [psi_0, omega_0],
-        method="DOP853",
-        rtol=1e-13,
-        atol=1e-15,
-        events=hit,
-    )
-    return sol.t_events[0][0], sol.y_events[0][0][1]
-
-
-def simulate_thick_chain_speed(beta, s_over_l, k, n_dominoes=6):
-    """A chain of thick dominoes: bases at x_n = n (d + s) (domino n occupies
-    [x_n - s, x_n] and pivots on its front edge); the tip of n meets the back face of
-    n+1 when l sin(theta) = x_{n+1} - s - x_n. Free fall by Newton's law, each contact
-    integrated (simulate_contact), the struck domino falling on from the angle and
-    angular velocity the contact left it with. Returns distance / time between the
-    contact onsets of the second and the last collision."""
-    s, d = s_over_l * L, L * np.sin(beta)
-    k_r = th.contact_stiffness(k)
-    x = np.arange(n_dominoes) * (d + s)
-    onsets, t, psi, omega = [], 0.0, 0.0, th.omega_limit(beta, L, G)
-    for n in range(n_dominoes - 1):
-        hit_angle = np.arcsin((x[n + 1] - s - x[n]) / L)  # geometry of the thick chain
-        falling, omega_f = _fall_from(psi, omega, hit_angle)
-        t += falling
-        onsets.append(t)
-        duration, _, omega, psi, _ = simulate_contact(omega_f, hit_angle, k_r)
-        t += duration
-    return (x[-2] - x[1]) / (onsets[-1] - onsets[1])
-
-
 @pytest.mark.parametrize("beta, s_over_l", [(0.4, 0.1), (1.0, 0.25)])
 def test_validate_thick_chain_speed_from_integrated_contacts(beta, s_over_l):
     """Eq 34 against the simulated thick chain. Eq 19 neglects gravity during the
@@ -236,7 +149,8 @@ def test_validate_thick_chain_speed_from_integrated_contacts(beta, s_over_l):
     errors = []
     for ratio in (1e4, 1e6):
         k = ratio * K_STAR
-        simulated = simulate_thick_chain_speed(beta, s_over_l, k)
+        omega_1 = th.omega_limit(beta, L, G)
+        simulated = thick_chain_speed(beta, s_over_l, th.contact_stiffness(k), omega_1, M, L, G)
         errors.append(abs(simulated / th.wave_speed_thick(beta, L, M, k, s_over_l * L, G) - 1))
     assert errors[0] < 1e-3 and errors[1] < 1e-5
     assert 80 < errors[0] / errors[1] < 120  # ~ 1/k

@@ -4,54 +4,20 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from scipy.integrate import quad, solve_ivp
-from scipy.optimize import brentq
 from scipy.special import ellipk, ellipkinc
 
 from dominowave import theory as th
+from reference.rigid_chain import ej_chain_by_newton, ej_collision, ej_fall_time
 
 L, G = 0.05, 9.81  # a real domino: 5 cm, standard gravity
 BETAS = np.array([1e-4, 1e-3, 0.01, 0.1, 0.3, 0.6, 0.9, 1.2, 1.5, np.pi / 2 - 1e-6])
-
-
-def _quadrature_fall_time(omega_n, beta, l, g):
-    """Eq 11 integrated numerically: int_0^beta dtheta / sqrt(Omega_n^2 + (2g/l)(1 - cos theta)).
-
-    With w = Omega_n sqrt(l/g) and 1 - cos(theta) = 2 sin^2(theta/2), the substitution
-    sinh(u) = 2 sin(theta/2) / w turns the integrand into the smooth
-    sqrt(l/g) / cos(theta/2): a slowly started domino (w -> 0, beta -> pi/2) has a
-    near-logarithmic peak at theta = 0 that plain quadrature cannot resolve to 1e-10.
-    """
-    w = omega_n * np.sqrt(l / g)
-
-    def integrand(u):
-        return 1.0 / np.sqrt(1.0 - (0.5 * w * np.sinh(u)) ** 2)  # 1 / cos(theta/2)
-
-    u_max = np.arcsinh(2.0 * np.sin(beta / 2.0) / w)
-    value, _ = quad(integrand, 0.0, u_max, epsabs=0.0, epsrel=1e-13, limit=400)
-    return np.sqrt(l / g) * value
-
-
-def _solve_collision(omega_f, beta):
-    """Eq 2 solved numerically: energy + angular momentum about A_{n+1}.
-
-    Eliminating Omega_{n+1} = cos^2(b)(Omega_f - Omega_b) leaves one equation in Omega_b
-    with the trivial root Omega_b = Omega_f; the physical root lies in [-Omega_f, 0].
-    """
-    c = np.cos(beta) ** 2
-
-    def energy_residual(omega_b):
-        return omega_f**2 - omega_b**2 - (c * (omega_f - omega_b)) ** 2
-
-    omega_b = brentq(energy_residual, -omega_f, 0.0, xtol=1e-300, rtol=1e-15)
-    return c * (omega_f - omega_b), omega_b
 
 
 @pytest.mark.parametrize("omega_scale", [0.05, 0.5, 1.0, 5.0, 100.0])
 def test_validate_fall_time_against_quadrature(omega_scale):
     """T_n (eq 12, elliptic integrals) equals direct quadrature of eq 11 to 1e-10."""
     omega_n = omega_scale * np.sqrt(G / L)
-    exact = np.array([_quadrature_fall_time(omega_n, b, L, G) for b in BETAS])
+    exact = np.array([ej_fall_time(omega_n, b, L, G) for b in BETAS])
     rel = np.abs(th.fall_time(omega_n, BETAS, L, G) / exact - 1.0)
     assert rel.max() < 1e-10, rel
 
@@ -59,9 +25,7 @@ def test_validate_fall_time_against_quadrature(omega_scale):
 def test_validate_fall_time_limit_against_quadrature():
     """T (eq 13) at the limit velocity of eq 9, over beta in (0, pi/2), to 1e-10."""
     betas = np.concatenate([BETAS, np.linspace(0.02, 1.56, 40)])
-    exact = np.array(
-        [_quadrature_fall_time(th.omega_limit(b, L, G), b, L, G) for b in betas], dtype=float
-    )
+    exact = np.array([ej_fall_time(th.omega_limit(b, L, G), b, L, G) for b in betas], dtype=float)
     rel = np.abs(th.fall_time_limit(betas, L, G) / exact - 1.0)
     assert rel.max() < 1e-10, rel.max()
 
@@ -86,7 +50,7 @@ def test_validate_iterated_collision_map_matches_eq8(beta, omega_1):
     iterated = [omega**2]
     for _ in range(199):
         omega_f = np.sqrt(omega**2 + 2 * g / l * (1 - np.cos(beta)))  # eq 5
-        omega, _ = _solve_collision(omega_f, beta)
+        omega, _ = ej_collision(omega_f, beta)
         iterated.append(omega**2)
     n = np.arange(1, 201)
     closed = th.omega_n_squared(n, omega_1, beta, l, g)
@@ -105,7 +69,7 @@ def test_validate_collision_map_converges_to_eq9(beta):
     for omega in (0.3 * limit, 2.0 * limit):
         for _ in range(200):
             omega_f = np.sqrt(omega**2 + 2 * g / l * (1 - np.cos(beta)))
-            omega, _ = _solve_collision(omega_f, beta)
+            omega, _ = ej_collision(omega_f, beta)
         assert omega == pytest.approx(limit, rel=1e-12)
 
 
@@ -186,33 +150,11 @@ def test_validate_eq14_literal_form_and_reference_values():
         assert th.mclachlan_G(d_over_l) == pytest.approx(value, rel=1e-7)
 
 
-def _simulate_rigid_chain(n_dominoes, omega_1, beta, l, g):
-    """Newton's law of each falling domino (theta'' = (g/l) sin theta) integrated until it
-    reaches beta, then the collision eq 2 solved numerically: the start time of each domino."""
-
-    def rhs(_t, y):
-        return [y[1], g / l * np.sin(y[0])]
-
-    def hit(_t, y):
-        return y[0] - beta
-
-    hit.terminal, hit.direction = True, 1
-    times, t, omega = [0.0], 0.0, omega_1
-    for _ in range(n_dominoes - 1):
-        sol = solve_ivp(
-            rhs, (0, 1e3), [0.0, omega], method="DOP853", rtol=1e-13, atol=1e-14, events=hit
-        )
-        t += sol.t_events[0][0]
-        omega, _ = _solve_collision(sol.y_events[0][0][1], beta)
-        times.append(t)
-    return np.array(times)
-
-
 @pytest.mark.parametrize("beta, omega_scale", [(0.6, 0.2), (1.1, 4.0)])
 def test_validate_arrival_times_against_integrated_chain(beta, omega_scale):
     """t_n (cumulative T_n of eq 12 with Omega_n of eq 8) equals the integrated chain."""
     omega_1 = omega_scale * np.sqrt(G / L)
-    simulated = _simulate_rigid_chain(15, omega_1, beta, L, G)
+    simulated = ej_chain_by_newton(15, omega_1, beta, L, G)
     np.testing.assert_allclose(th.arrival_times(15, omega_1, beta, L, G), simulated, rtol=1e-9)
 
 

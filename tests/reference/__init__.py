@@ -1,0 +1,60 @@
+"""Independent reference solutions for the physics validations (``test_validate_*``).
+
+Each reference solves one physical problem from first principles -- a closed form,
+a quadrature of an energy integral, or Newton's laws integrated by scipy -- and is the
+answer a validation compares the package against. None imports ``dominowave.theory``
+(the closed forms under test); a reference may read a dominowave object's inputs
+(``planar_chain.chain_collisions`` reads a chain's geometry), never its results.
+tests/reference/test_reference.py checks each reference against a closed form, a limit,
+a conservation law or a second method. Import as ``from reference.rigid_chain import
+ej_fall_time`` (pytest puts tests/ on sys.path through tests/conftest.py).
+
+Catalogue: problem -- method -- used by
+
+rigid_chain (EJ's rigid dominoes, point mass at the tip, eqs 2-14)
+  ej_fall_time: fall 0 -> beta with Omega (eq 11) -- quad after sinh substitution,
+      epsrel 1e-13 -- theory/test_theory_rigid (fall time, eq 13), via ej_transient_arrivals
+  fall_by_newton: fall theta0 -> beta, Newton's law -- solve_ivp DOP853 rtol 1e-13,
+      atol 1e-15, event -- via ej_chain_by_newton, compliant_collision.thick_chain_speed
+  ej_collision: collision eq 2 (energy + angular momentum) -- brentq rtol 1e-15 --
+      theory/test_theory_rigid (eq 8, eq 9 fixed point)
+  ej_chain_by_newton: start times of a rigid chain -- fall_by_newton + ej_collision --
+      theory/test_theory_rigid (arrival times)
+  ej_transient_arrivals: arrival times and limit speed (eqs 4-9, 14) -- recursion eq 6
+      + ej_fall_time -- chain/test_chain_wave (steady-speed fit)
+  hinged_fall_time_from_rest: any hinged body from rest at theta0 -- quad after
+      theta = theta0 + x^2, epsrel 1e-12 -- rods/test_rods_validate (fall, base reaction)
+compliant_collision (two hinged dominoes and a linear spring, eqs 15-31)
+  linear_contact: duration and outgoing velocities, any lever arms -- closed form
+      (half sine) -- rods/test_rods_validate (two-body collision)
+  head_on_contact: the paper's Fig 3 contact, frozen geometry -- solve_ivp DOP853
+      rtol 1e-12, atol 1e-16, event -- theory/test_theory_compliant (T_c, eqs 17, 29-32, 37)
+  thick_chain_speed: wave speed of thick compliant dominoes -- fall_by_newton +
+      head_on_contact per domino -- theory/test_theory_compliant (eq 34)
+contact_mechanics (one normal contact)
+  hertz_collision: Hertz impact duration and overlap -- closed form (Euler's beta
+      function), Johnson 1985 -- rods/test_rods_validate (Hertz law)
+  dashpot_restitution: restitution of the clipped spring-dashpot -- closed form,
+      Schwager & Poeschel 2007 eq 20 -- rods/test_rods_validate (dashpot)
+rolling_column (the DEM domino: spheres rolling without slip on their base sphere)
+  rolling_column_time: tilt theta0 -> theta_end -- quad of the energy integral,
+      epsrel 1e-12 -- chain/test_chain_build (clump mapping), chain/test_chain_dem (first
+      collision), dem/test_dem_rigid (pivot fall)
+  rolling_column_friction_ratio: friction needed to roll -- energy + Lagrange equation
+      on a grid -- dem/test_dem_rigid (pivot fall)
+  rolling_column_contact_angle: tilt of first touch with the next column -- brentq
+      xtol 1e-15 -- chain/test_chain_dem (first collision)
+  rolling_column_by_ode: the same fall, Lagrange equation -- solve_ivp RK45 rtol 1e-12,
+      atol 1e-14 -- test_reference (checks rolling_column_time)
+rigid_body (free rigid bodies)
+  free_rotation: Euler's torque-free equations -- solve_ivp RK45 rtol 1e-11, atol 1e-13
+      -- dem/test_dem_rigid (tennis racket)
+  quaternion_matrix: rotation of a unit quaternion -- closed form -- dem/test_dem_rigid
+planar_chain (planar rigid dominoes of spheres, linear springs, no friction)
+  PlanarBodies, planar_chain_collisions, chain_collisions: contact onset times --
+      solve_ivp DOP853 rtol 1e-11, atol 1e-14, events -- chain/test_chain_dem (collisions),
+      benchmarks/yade/converge_yade.py
+block_statics (a block pushed on its back face, section 2.4, eqs 38-42)
+  moment, block_moment_about_com, sign_change_force: regime boundaries as sign changes
+      of signed moments -- cross products + brentq xtol 1e-14 -- theory/test_theory_bounds
+"""
