@@ -1,4 +1,4 @@
-"""The Fig 6 sweep machinery (tiny preset), its plots and the CLI commands."""
+"""The Fig 6 study (tiny preset) on the sweep engine, its plots and the CLI commands."""
 
 from __future__ import annotations
 
@@ -8,20 +8,21 @@ import sys
 
 import pytest
 
-from dominowave.chain.paper_fig6 import Fig6Preset, read_rows, run_sweep, summarise
 from dominowave.plots.fig6 import plot_fig6
+from dominowave.sweep.fig6 import Fig6Preset, read_rows, run_fig6, summarise
 
 TINY = Fig6Preset("tiny", d_over_l=(0.5,), members=2, n_dominoes=6, configs=("2d", "mu0.6"))
 
 
 def test_sweep_writes_rows_resumes_and_summarises(tmp_path):
     seen = []
-    path = run_sweep(TINY, tmp_path, workers=1, progress=seen.append)
+    run_fig6(TINY, tmp_path, workers=1, progress=seen.append)
+    path = tmp_path / "runs.csv"
     rows = read_rows(path)
     assert len(rows) == len(seen) == 4
     # a re-run finds every row done and runs nothing (resumable, nothing lost)
     again = []
-    run_sweep(TINY, tmp_path, workers=1, progress=again.append)
+    run_fig6(TINY, tmp_path, workers=1, progress=again.append)
     assert again == [] and len(read_rows(path)) == 4
     summary = summarise(rows)
     assert {s["config"] for s in summary} == {"2d", "mu0.6"}

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import csv
 import math
+import sys
 import time
 from pathlib import Path
 from typing import Annotated
@@ -20,7 +21,6 @@ from rich.markup import escape
 from rich.table import Table
 
 from dominowave.chain.build import ChainParams
-from dominowave.chain.paper_fig6 import FULL, QUICK, read_rows, run_sweep, summarise, write_summary
 from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push
 from dominowave.chain.wave import fit_speed, local_speeds
 from dominowave.checks import check_in_range
@@ -273,12 +273,25 @@ def paper_fig6_command(
     out: Annotated[Path, typer.Option(help="output directory")] = Path("fig6"),
     quick: Annotated[bool, typer.Option(help="small preset for CI")] = False,
     workers: Annotated[int | None, typer.Option(help="processes (default min(2, cores))")] = None,
+    scheduler: Annotated[
+        str | None, typer.Option(help="address of an existing Dask scheduler (tcp://host:port)")
+    ] = None,
 ) -> None:
-    """Reproduce the paper's Fig 6 B-E (DEM sweeps; resumable): PNG + CSV in OUT."""
+    """Reproduce the paper's Fig 6 B-E (a resumable DEM sweep): PNG + CSV in OUT."""
+    from dominowave.cli.workflow import check_cluster_options
     from dominowave.plots.fig6 import plot_fig6
+    from dominowave.sweep.fig6 import (
+        FULL,
+        QUICK,
+        RUNS_CSV,
+        read_rows,
+        run_fig6,
+        summarise,
+        write_summary,
+    )
 
     ensure_writable_dir(out)
-
+    check_cluster_options(workers, scheduler)
     preset = QUICK if quick else FULL
     console = Console()
     start = time.perf_counter()
@@ -289,14 +302,30 @@ def paper_fig6_command(
             f"v={_fmt(row['speed'])} m/s ({row['wall_time']:.1f} s)"
         )
 
-    path = run_sweep(preset, out, workers=workers, progress=progress)
-    summary = summarise(read_rows(path))
-    write_summary(summary, out / "summary.csv")
-    written = plot_fig6(summary, out)
-    console.print(
-        f"paper-fig6 ({preset.name}): {len(summary)} ensembles in "
-        f"{time.perf_counter() - start:.1f} s; wrote {', '.join(p.name for p in written)}"
-    )
+    done = run_fig6(preset, out, workers=workers, scheduler=scheduler, progress=progress)
+    console.print(done.report.line())
+    rows = read_rows(out / RUNS_CSV)
+    if rows:
+        summary = summarise(rows)
+        write_summary(summary, out / "summary.csv")
+        written = plot_fig6(summary, out)
+        console.print(
+            f"paper-fig6 ({preset.name}): {len(summary)} ensembles in "
+            f"{time.perf_counter() - start:.1f} s; wrote {', '.join(p.name for p in written)}"
+        )
+    exit_if_incomplete(done)
+
+
+def exit_if_incomplete(done) -> None:
+    """Exit 130/143 after a signal (re-run to resume), 1 if points failed."""
+    if done.report.interrupted:
+        typer.echo("dominowave: interrupted; finished points are kept, re-run to resume", err=True)
+        sys.exit(done.report.interrupted)
+    if done.failed:
+        typer.echo(
+            f"{len(done.failed)} point(s) failed: see failure.json in their folders", err=True
+        )
+        sys.exit(1)
 
 
 def register(app: typer.Typer) -> None:
