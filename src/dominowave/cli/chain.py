@@ -58,32 +58,6 @@ def _fmt(x, digits=4) -> str:
     return str(x)
 
 
-def _plot(run: ChainRun, ens: ChainEnsemble | None, path: Path) -> None:
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(6.4, 6.4))
-    ax1, ax2 = fig.subplots(2, 1, sharex=True)
-    n = np.arange(run.arrival.size)
-    runs = ens.runs if ens is not None else [run]
-    for r in runs:
-        ax1.plot(n, r.arrival, ".", color="C0", alpha=0.6)
-        ax2.plot(n[1:], local_speeds(r.arrival, r.positions), "-", color="C0", alpha=0.4)
-    ax1.plot(n, run.theory_arrival, "k--", label="theory transient (eqs 8, 12, 19)")
-    ax1.set_ylabel("first-contact time [s]")
-    ax1.legend(fontsize=8)
-    v_th = local_speeds(run.theory_arrival, run.positions)
-    ax2.plot(n[1:], v_th, "k--", label="theory transient")
-    ax2.axhline(run.theory_speed, color="k", lw=0.8, label="eq 34 limit (clump mapping)")
-    if run.wave.settled:
-        ax2.axhline(run.wave.speed, color="C3", label="DEM steady fit")
-        ax2.axvspan(run.wave.first, run.wave.last, color="C3", alpha=0.1)
-    ax2.set_xlabel("domino n")
-    ax2.set_ylabel("local speed [m/s]")
-    ax2.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-
-
 def _print_unsettled(console: Console, run: ChainRun, scale: float) -> None:
     """Say that no steady speed exists in this chain, and what can be compared instead.
 
@@ -265,7 +239,9 @@ def chain_command(
                     for i, r in enumerate(ens.runs)
                 ],
             )
-        _plot(run, ens, out / "chain.png")
+        from dominowave.plots.chain import plot_chain_run
+
+        plot_chain_run(run, ens, out / "chain.png")
         console.print(f"wrote {out}/chain_dominoes.csv, chain.png")
 
 

@@ -234,7 +234,7 @@ def plot_cmd(
     out: Annotated[Path | None, typer.Option(help="Figure folder (default: DIR/figures).")] = None,
 ) -> None:
     """Speed vs d/l with the theory curves, arrival-time diagram, local speed profile."""
-    from dominowave.sweep.figures import plot_folder
+    from dominowave.plots.folder import plot_folder
 
     for path in plot_folder(folder, out):
         typer.echo(f"wrote {path}")
