@@ -1,4 +1,4 @@
-"""The Fig 6 sweep machinery (tiny preset), its plots and the CLI commands."""
+"""The Fig 6 study (tiny preset) on the sweep engine, its plots and the CLI commands."""
 
 from __future__ import annotations
 
@@ -8,20 +8,21 @@ import sys
 
 import pytest
 
-from dominowave.chain.paper_fig6 import Fig6Preset, read_rows, run_sweep, summarise
 from dominowave.plots.fig6 import plot_fig6
+from dominowave.sweep.fig6 import Fig6Preset, read_rows, run_fig6, summarise
 
 TINY = Fig6Preset("tiny", d_over_l=(0.5,), members=2, n_dominoes=6, configs=("2d", "mu0.6"))
 
 
 def test_sweep_writes_rows_resumes_and_summarises(tmp_path):
     seen = []
-    path = run_sweep(TINY, tmp_path, workers=1, progress=seen.append)
+    run_fig6(TINY, tmp_path, workers=1, progress=seen.append)
+    path = tmp_path / "runs.csv"
     rows = read_rows(path)
     assert len(rows) == len(seen) == 4
     # a re-run finds every row done and runs nothing (resumable, nothing lost)
     again = []
-    run_sweep(TINY, tmp_path, workers=1, progress=again.append)
+    run_fig6(TINY, tmp_path, workers=1, progress=again.append)
     assert again == [] and len(read_rows(path)) == 4
     summary = summarise(rows)
     assert {s["config"] for s in summary} == {"2d", "mu0.6"}
@@ -31,6 +32,21 @@ def test_sweep_writes_rows_resumes_and_summarises(tmp_path):
     assert {"fig6C.png", "fig6D.csv", "fig6E.png"} <= names
     with (tmp_path / "fig" / "fig6D.csv").open() as fh:
         assert len(list(csv.DictReader(fh))) == 2
+
+
+def test_a_study_member_is_the_ensemble_member_of_the_same_seed():
+    """Member i of the Fig 6 study pushes and runs exactly as member i of
+    ``DominoChain.ensemble`` (push scaled by 1 + jitter N(0,1) from default_rng([seed, i]))."""
+    from dominowave.chain import DominoChain
+    from dominowave.chain.paper_fig6 import fig6_params, run_member
+
+    ens = DominoChain(fig6_params("2d", 0.5, 6)).ensemble(None, members=2, seed=3, jitter=0.01)
+    for i, run in enumerate(ens.runs):
+        row = run_member("2d", 0.5, i, 6, seed=3, jitter=0.01)
+        assert row["push_omega"] == run.omega_1
+        assert row["n_steps"] == run.n_steps
+        assert row["reached"] == run.wave.reached
+    assert ens.runs[0].omega_1 != ens.runs[1].omega_1
 
 
 def test_summary_does_not_depend_on_completion_order():
@@ -103,3 +119,36 @@ def test_paper_fig6_quick_preset(tmp_path):
     for panel in "BCDE":
         assert (tmp_path / f"fig6{panel}.png").stat().st_size > 0
     assert len(read_rows(tmp_path / "runs.csv")) == 2 * 2 * 8
+
+
+@pytest.mark.slow
+def test_paper_fig6_stops_on_sigterm_keeps_its_members_and_resumes(tmp_path):
+    """``kill`` (SIGTERM) stops the preset's sweep with exit code 143, every finished member
+    stored and in runs.csv; the same command again runs only the missing members."""
+    import signal
+    import time
+
+    out = tmp_path / "fig6"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "dominowave", "paper-fig6", "--quick", "--out", str(out)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    points = out / "points"
+    end = time.monotonic() + 600
+    while time.monotonic() < end and proc.poll() is None:
+        if points.is_dir() and any(not p.name.startswith(".") for p in points.iterdir()):
+            break
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGTERM)
+    stdout, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 143, stderr
+    assert "Traceback" not in stderr and "sweep interrupted: 32 points" in stdout
+    stored = [p for p in points.iterdir() if not p.name.startswith(".")]
+    assert 1 <= len(stored) < 32
+    assert len(read_rows(out / "runs.csv")) == len(stored)
+    again = _cli("paper-fig6", "--quick", "--out", str(out))
+    assert again.returncode == 0, again.stderr
+    assert f"{len(stored)} already stored, {32 - len(stored)} run now" in again.stdout
+    assert len(read_rows(out / "runs.csv")) == 32

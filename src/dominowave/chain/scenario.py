@@ -46,7 +46,16 @@ from dominowave.chain.wave import (
 )
 from dominowave.checks import check_in_range, check_memory, check_nonnegative, check_positive
 
-__all__ = ["ChainEnsemble", "ChainRun", "DominoChain", "Push"]
+__all__ = ["ChainEnsemble", "ChainRun", "DominoChain", "Push", "member_push_factor"]
+
+
+def member_push_factor(seed: int, member: int, jitter: float) -> float:
+    """The push scale of ensemble member ``member``: ``1 + jitter N(0, 1)`` [-].
+
+    The normal draw comes from ``numpy.random.default_rng([seed, member])``, so each
+    member is reproducible on its own, whichever process runs it and in which order.
+    """
+    return 1.0 + jitter * np.random.default_rng([seed, member]).standard_normal()
 
 
 @dataclass(frozen=True)
@@ -395,8 +404,9 @@ class DominoChain:
     ) -> ChainEnsemble:
         """``members`` runs with pushes scaled by ``1 + jitter * N(0, 1)`` (seeded).
 
-        Member ``i`` draws from ``numpy.random.default_rng([seed, i])``, so a member
-        is reproducible on its own and the ensemble is bit-identical for a seed.
+        Member ``i`` draws from ``numpy.random.default_rng([seed, i])``
+        (:func:`member_push_factor`), so a member is reproducible on its own and the
+        ensemble is bit-identical for a seed.
         """
         check_in_range("members", members, 1, math.inf, lo_inclusive=True)
         check_in_range("seed", seed, 0, math.inf, lo_inclusive=True)  # NumPy's seeds are >= 0
@@ -404,7 +414,7 @@ class DominoChain:
         push = self.resolve(push)
         runs = []
         for i in range(members):
-            factor = 1.0 + jitter * np.random.default_rng([seed, i]).standard_normal()
+            factor = member_push_factor(seed, i, jitter)
             runs.append(self.run(push.scaled(factor), keep_record=keep_records))
         arrivals = np.array([r.arrival for r in runs])
         mean, std, se = ensemble_arrival_stats(arrivals)

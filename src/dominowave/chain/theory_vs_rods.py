@@ -2,8 +2,9 @@
 
 The rod model (:mod:`dominowave.rods`) obeys Newton's laws only; the theory
 (:mod:`dominowave.theory`) is the paper's closed forms. This module builds the rod
-model of a paper parameter point, runs it, and puts the measurements beside the
-formulas:
+model of ONE paper parameter point, runs it, and puts the measurements beside the
+formulas (the grid over many points is a study, :mod:`dominowave.sweep.compare_rods`;
+its figures are drawn by :mod:`dominowave.plots.compare_rods`):
 
 * collision duration of the first collision vs ``T_c`` (eq 31), peak force vs ``F_m`` (eq 37);
 * collision map ``Omega_{n+1}/Omega_fn`` vs ``f_+`` and ``Omega_bn/Omega_fn`` vs ``f_+/f_-`` (eq 3);
@@ -20,10 +21,8 @@ Units: SI; the defaults ``l = m = 1`` and ``g = 9.81`` make ``k* = m g / l = 9.8
 
 from __future__ import annotations
 
-import csv
 import math
-from dataclasses import asdict, dataclass, fields
-from pathlib import Path
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -35,19 +34,7 @@ from dominowave.rods import kernel as rods_kernel
 from dominowave.rods import thin_rod as thin_rod_mass
 from dominowave.units import G_STANDARD, beta_from_spacing, k_star, speed_scale
 
-__all__ = [
-    "Comparison",
-    "OmegaProfile",
-    "compare_grid",
-    "compare_point",
-    "omega_profile",
-    "paper_chain",
-    "plot_comparisons",
-    "plot_omega_profiles",
-    "read_csv",
-    "write_csv",
-    "write_profiles_csv",
-]
+__all__ = ["Comparison", "OmegaProfile", "compare_point", "omega_profile", "paper_chain"]
 
 MASS_MODELS = ("point", "rod", "block")
 
@@ -265,26 +252,6 @@ def _secondary(run, merge_lag):
     return secondary_wave(first, second, run.positions[1:], merge_lag=lag)
 
 
-def compare_grid(
-    d_over_l_values,
-    k_over_kstar_values,
-    normals=("geometric", "head-on"),
-    *,
-    progress=None,
-    **kwargs,
-) -> list[Comparison]:
-    """:func:`compare_point` over a grid; ``progress(comparison)`` is called after each."""
-    out = []
-    for normal in normals:
-        for k_ratio in k_over_kstar_values:
-            for d_over_l in d_over_l_values:
-                c = compare_point(float(d_over_l), float(k_ratio), normal=normal, **kwargs)
-                out.append(c)
-                if progress is not None:
-                    progress(c)
-    return out
-
-
 @dataclass(frozen=True)
 class OmegaProfile:
     """``Omega_n`` measured (rods) and from eq 8, shape ``(N,)`` each [rad/s]."""
@@ -316,192 +283,3 @@ def omega_profile(
     index = np.arange(1, n + 1)
     predicted = np.sqrt(theory.omega_n_squared(index, push, beta, chain.l, chain.g))
     return OmegaProfile(push, omega_lim, struck_omega(run), np.asarray(predicted, dtype=float))
-
-
-def write_profiles_csv(profiles, labels, path) -> Path:
-    """Write Omega_n profiles as CSV: ``label, n, omega_measured, omega_eq8`` [rad/s]."""
-    path = Path(path)
-    with path.open("w", newline="") as fh:
-        writer = csv.writer(fh)
-        writer.writerow(["label", "n", "omega_measured", "omega_eq8", "omega_limit"])
-        for profile, label in zip(profiles, labels, strict=True):
-            for i, (meas, pred) in enumerate(zip(profile.measured, profile.theory, strict=True)):
-                writer.writerow([label, i + 1, meas, pred, profile.omega_limit])
-    return path
-
-
-def read_csv(path) -> list[Comparison]:
-    """Read comparisons written by :func:`write_csv` (e.g. to re-plot a grid)."""
-    types = {f.name: f.type for f in fields(Comparison)}
-    convert = {"str": str, "int": int, "float": float, "bool": lambda v: v == "True"}
-    with Path(path).open(newline="") as fh:
-        return [
-            Comparison(**{k: convert[types[k]](v) for k, v in row.items()})
-            for row in csv.DictReader(fh)
-        ]
-
-
-def write_csv(comparisons, path) -> Path:
-    """Write comparisons as CSV (one row each, columns = :class:`Comparison` fields)."""
-    path = Path(path)
-    rows = [asdict(c) for c in comparisons]
-    if not rows:
-        raise ValueError("no comparisons to write")
-    with path.open("w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
-    return path
-
-
-def _grouped(comparisons):
-    """``{(normal, k/k*): sorted list of comparisons over d/l}``."""
-    groups: dict[tuple[str, float], list[Comparison]] = {}
-    for c in comparisons:
-        groups.setdefault((c.normal, c.k_over_kstar), []).append(c)
-    return {key: sorted(v, key=lambda c: c.d_over_l) for key, v in sorted(groups.items())}
-
-
-def plot_comparisons(comparisons, out_dir) -> list[Path]:
-    """Write the comparison figures (PNG) into ``out_dir``; returns their paths.
-
-    ``collision.png``: T_c and F_m measured/theory; ``collision_map.png``: transfer and
-    rebound ratios with f_+ and f_+/f_-; ``speed.png``: speed measured, eq 20/34, the
-    rigid EJ speed and the P-wave bound, all vs d/l.
-    """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    groups = _grouped(comparisons)
-    styles = {"geometric": "-", "head-on": "--"}
-    paths = []
-
-    def values(group, name):
-        return np.array([getattr(c, name) for c in group], dtype=float)
-
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
-    for (normal, k_ratio), group in groups.items():
-        x = values(group, "d_over_l")
-        label = f"{normal}, k/k*={k_ratio:g}"
-        axes[0].plot(
-            x,
-            values(group, "tc_first") / values(group, "tc_theory"),
-            styles[normal],
-            marker="o",
-            label=label,
-        )
-        axes[1].plot(
-            x,
-            values(group, "f_first") / values(group, "fm_theory"),
-            styles[normal],
-            marker="o",
-            label=label,
-        )
-    axes[0].set_ylim(0.0, 2.5)  # k/k* <= 100 at extreme d/l goes beyond (see the CSV)
-    axes[1].set_ylim(0.0, 1.5)
-    axes[0].set_ylabel("measured duration / T_c (eq 31)")
-    axes[1].set_ylabel("measured peak force / F_m (eq 37)")
-    for ax in axes:
-        ax.axhline(1.0, color="k", lw=0.5)
-        ax.set_xlabel("d/l")
-    axes[0].legend(fontsize=6)
-    fig.tight_layout()
-    paths.append(out_dir / "collision.png")
-    fig.savefig(paths[-1], dpi=120)
-    plt.close(fig)
-
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
-    grid = np.linspace(0.02, 0.98, 200)
-    beta = np.arcsin(grid)
-    f_p = theory.f_plus(beta)
-    axes[0].plot(grid, f_p, "k", lw=2, label="f_+ (eq 4)")
-    axes[1].plot(grid, f_p / theory.f_minus(beta), "k", lw=2, label="f_+/f_- (eq 3)")
-    for (normal, k_ratio), group in groups.items():
-        x = values(group, "d_over_l")
-        label = f"{normal}, k/k*={k_ratio:g}"
-        axes[0].plot(x, values(group, "transfer_first"), styles[normal], marker="o", label=label)
-        axes[1].plot(x, values(group, "rebound_first"), styles[normal], marker="o", label=label)
-    axes[0].set_ylim(-0.05, 1.3)  # k/k* = 1 (no collisions in any useful sense) goes beyond
-    axes[0].set_ylabel("Omega_{n+1} / Omega_fn")
-    axes[1].set_ylabel("Omega_bn / Omega_fn")
-    for ax in axes:
-        ax.set_xlabel("d/l")
-    axes[0].legend(fontsize=6)
-    fig.tight_layout()
-    paths.append(out_dir / "collision_map.png")
-    fig.savefig(paths[-1], dpi=120)
-    plt.close(fig)
-
-    fig, ax = plt.subplots(figsize=(7, 5))
-    for (normal, k_ratio), group in groups.items():
-        x = values(group, "d_over_l")
-        scale = values(group, "speed_scale")
-        (line,) = ax.plot(
-            x,
-            values(group, "speed") / scale,
-            styles[normal],
-            marker="o",
-            label=f"rods {normal}, k/k*={k_ratio:g}",
-        )
-        ax.plot(
-            x,
-            values(group, "speed_end") / scale,
-            styles[normal],
-            marker="x",
-            color=line.get_color(),
-            alpha=0.5,
-        )
-        if normal == "geometric":
-            ax.plot(
-                x,
-                values(group, "speed_theory") / scale,
-                ":",
-                color=line.get_color(),
-                label=f"eq 20/34, k/k*={k_ratio:g}",
-            )
-    ax.plot(grid, theory.mclachlan_G(grid), "k", label="rigid EJ (eq 14)")
-    for k_ratio in sorted({c.k_over_kstar for c in comparisons}):
-        group = [c for c in groups.get(("geometric", k_ratio), groups.get(("head-on", k_ratio)))]
-        ax.plot(
-            values(group, "d_over_l"),
-            values(group, "speed_p_wave") / values(group, "speed_scale"),
-            color="grey",
-            lw=0.8,
-            alpha=0.6,
-        )
-    ax.plot([], [], color="grey", lw=0.8, label="P-wave bound (eq 33/35)")
-    ax.set_yscale("log")
-    ax.set_xlabel("d/l")
-    ax.set_ylabel("v / sqrt(g l)  (o settled fit, x last 10 %)")
-    ax.legend(fontsize=6)
-    fig.tight_layout()
-    paths.append(out_dir / "speed.png")
-    fig.savefig(paths[-1], dpi=120)
-    plt.close(fig)
-    return paths
-
-
-def plot_omega_profiles(profiles, labels, path) -> Path:
-    """Plot ``Omega_n / Omega`` measured (markers) and eq 8 (lines) for several runs."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    for profile, label in zip(profiles, labels, strict=True):
-        n = np.arange(1, profile.measured.size + 1)
-        (line,) = ax.plot(n, profile.measured / profile.omega_limit, "o", ms=3, label=label)
-        ax.plot(n, profile.theory / profile.omega_limit, "-", color=line.get_color())
-    ax.set_xlabel("domino n")
-    ax.set_ylabel("Omega_n / Omega (markers: rods, lines: eq 8)")
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path

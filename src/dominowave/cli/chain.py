@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import csv
 import math
+import sys
 import time
 from pathlib import Path
 from typing import Annotated
@@ -20,7 +21,6 @@ from rich.markup import escape
 from rich.table import Table
 
 from dominowave.chain.build import ChainParams
-from dominowave.chain.paper_fig6 import FULL, QUICK, read_rows, run_sweep, summarise, write_summary
 from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push
 from dominowave.chain.wave import fit_speed, local_speeds
 from dominowave.checks import check_in_range
@@ -56,32 +56,6 @@ def _fmt(x, digits=4) -> str:
     if isinstance(x, float | np.floating):
         return "nan" if not math.isfinite(x) else f"{x:.{digits}g}"
     return str(x)
-
-
-def _plot(run: ChainRun, ens: ChainEnsemble | None, path: Path) -> None:
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(6.4, 6.4))
-    ax1, ax2 = fig.subplots(2, 1, sharex=True)
-    n = np.arange(run.arrival.size)
-    runs = ens.runs if ens is not None else [run]
-    for r in runs:
-        ax1.plot(n, r.arrival, ".", color="C0", alpha=0.6)
-        ax2.plot(n[1:], local_speeds(r.arrival, r.positions), "-", color="C0", alpha=0.4)
-    ax1.plot(n, run.theory_arrival, "k--", label="theory transient (eqs 8, 12, 19)")
-    ax1.set_ylabel("first-contact time [s]")
-    ax1.legend(fontsize=8)
-    v_th = local_speeds(run.theory_arrival, run.positions)
-    ax2.plot(n[1:], v_th, "k--", label="theory transient")
-    ax2.axhline(run.theory_speed, color="k", lw=0.8, label="eq 34 limit (clump mapping)")
-    if run.wave.settled:
-        ax2.axhline(run.wave.speed, color="C3", label="DEM steady fit")
-        ax2.axvspan(run.wave.first, run.wave.last, color="C3", alpha=0.1)
-    ax2.set_xlabel("domino n")
-    ax2.set_ylabel("local speed [m/s]")
-    ax2.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
 
 
 def _print_unsettled(console: Console, run: ChainRun, scale: float) -> None:
@@ -265,7 +239,9 @@ def chain_command(
                     for i, r in enumerate(ens.runs)
                 ],
             )
-        _plot(run, ens, out / "chain.png")
+        from dominowave.plots.chain import plot_chain_run
+
+        plot_chain_run(run, ens, out / "chain.png")
         console.print(f"wrote {out}/chain_dominoes.csv, chain.png")
 
 
@@ -273,12 +249,25 @@ def paper_fig6_command(
     out: Annotated[Path, typer.Option(help="output directory")] = Path("fig6"),
     quick: Annotated[bool, typer.Option(help="small preset for CI")] = False,
     workers: Annotated[int | None, typer.Option(help="processes (default min(2, cores))")] = None,
+    scheduler: Annotated[
+        str | None, typer.Option(help="address of an existing Dask scheduler (tcp://host:port)")
+    ] = None,
 ) -> None:
-    """Reproduce the paper's Fig 6 B-E (DEM sweeps; resumable): PNG + CSV in OUT."""
+    """Reproduce the paper's Fig 6 B-E (a resumable DEM sweep): PNG + CSV in OUT."""
+    from dominowave.cli.workflow import check_cluster_options
     from dominowave.plots.fig6 import plot_fig6
+    from dominowave.sweep.fig6 import (
+        FULL,
+        QUICK,
+        RUNS_CSV,
+        read_rows,
+        run_fig6,
+        summarise,
+        write_summary,
+    )
 
     ensure_writable_dir(out)
-
+    check_cluster_options(workers, scheduler)
     preset = QUICK if quick else FULL
     console = Console()
     start = time.perf_counter()
@@ -289,14 +278,30 @@ def paper_fig6_command(
             f"v={_fmt(row['speed'])} m/s ({row['wall_time']:.1f} s)"
         )
 
-    path = run_sweep(preset, out, workers=workers, progress=progress)
-    summary = summarise(read_rows(path))
-    write_summary(summary, out / "summary.csv")
-    written = plot_fig6(summary, out)
-    console.print(
-        f"paper-fig6 ({preset.name}): {len(summary)} ensembles in "
-        f"{time.perf_counter() - start:.1f} s; wrote {', '.join(p.name for p in written)}"
-    )
+    done = run_fig6(preset, out, workers=workers, scheduler=scheduler, progress=progress)
+    console.print(done.report.line())
+    rows = read_rows(out / RUNS_CSV)
+    if rows:
+        summary = summarise(rows)
+        write_summary(summary, out / "summary.csv")
+        written = plot_fig6(summary, out)
+        console.print(
+            f"paper-fig6 ({preset.name}): {len(summary)} ensembles in "
+            f"{time.perf_counter() - start:.1f} s; wrote {', '.join(p.name for p in written)}"
+        )
+    exit_if_incomplete(done)
+
+
+def exit_if_incomplete(done) -> None:
+    """Exit 130/143 after a signal (re-run to resume), 1 if points failed."""
+    if done.report.interrupted:
+        typer.echo("dominowave: interrupted; finished points are kept, re-run to resume", err=True)
+        sys.exit(done.report.interrupted)
+    if done.failed:
+        typer.echo(
+            f"{len(done.failed)} point(s) failed: see failure.json in their folders", err=True
+        )
+        sys.exit(1)
 
 
 def register(app: typer.Typer) -> None:

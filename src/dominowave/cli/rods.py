@@ -148,14 +148,34 @@ def compare_rods_command(
     gravity_in_contact: Annotated[
         bool, typer.Option(help="gravity acts during contacts (off = theory's assumption)")
     ] = True,
+    workers: Annotated[int | None, typer.Option(help="processes (default: all cores)")] = None,
+    scheduler: Annotated[
+        str | None, typer.Option(help="address of an existing Dask scheduler (tcp://host:port)")
+    ] = None,
 ) -> None:
-    """Rod model vs theory over a (d/l, k/k*) grid: table, CSV and figures."""
+    """Rod model vs theory over a (d/l, k/k*) grid (a resumable sweep): table, CSV, figures."""
+    from dominowave.cli.chain import exit_if_incomplete
+    from dominowave.cli.workflow import check_cluster_options
+    from dominowave.plots.compare_rods import plot_comparisons, plot_omega_profiles
+    from dominowave.sweep import compare_rods as study
+
     ensure_writable_dir(out)  # before the runs, not after them
+    check_cluster_options(workers, scheduler)
     if quick:
         d_over_l, k_ratio, n = QUICK_D_OVER_L, QUICK_K_RATIO, 30
     d_values = parse_values(d_over_l, "d_over_l")
     k_values = parse_values(k_ratio, "k_ratio", geometric=True)
     normals = tuple(x.strip() for x in normal.split(","))
+    common = {"g": 1.0, "gravity_in_contact": gravity_in_contact}
+    grid = study.comparison_points(d_values, k_values, normals, n=n, **common)
+    # Fig 1D: Omega_n from pushes below and above the limit, both contact normals
+    spacings = (0.6,) if quick else (0.3, 0.6)
+    profiles = study.profile_points(
+        normals, spacings, (0.5, 1.5), 1e6, 15 if quick else 40, **common
+    )
+    done = study.run_compare_rods(
+        grid, profiles, out, workers=workers, scheduler=scheduler, quiet=False
+    )
     header = (
         "normal",
         "k/k*",
@@ -176,63 +196,42 @@ def compare_rods_command(
         "regime(th)",
         "status",
     )
-    rows = []
+    _print_table(header, [_table_row(c) for c in done.comparisons])
+    typer.echo(done.run.report.line())
+    if done.comparisons:
+        csv_path = study.write_csv(done.comparisons, out / "compare_rods.csv")
+        pngs = plot_comparisons(done.comparisons, out)
+        written = [str(csv_path)]
+        if done.profiles:
+            pngs.append(plot_omega_profiles(done.profiles, done.labels, out / "omega_n.png"))
+            profile_csv = out / "omega_n.csv"
+            written.append(str(study.write_profiles_csv(done.profiles, done.labels, profile_csv)))
+        typer.echo(f"wrote {', '.join(written)} and {', '.join(str(p) for p in pngs)}")
+    exit_if_incomplete(done.run)
 
-    def row(c):
-        return (
-            c.normal,
-            c.k_over_kstar,
-            c.d_over_l,
-            c.tc_first / c.tc_theory,
-            c.f_first / c.fm_theory,
-            c.transfer_first,
-            c.f_plus,
-            c.rebound_first,
-            c.rebound_theory,
-            c.speed,
-            c.speed_end,
-            c.speed_theory,
-            c.speed_p_wave,
-            c.pair_regime_theory,
-            c.overlap_fraction,
-            c.slip_fraction,
-            c.regime_theory,
-            c.status,
-        )
 
-    comparisons = tvr.compare_grid(
-        d_values,
-        k_values,
-        normals,
-        n=n,
-        g=1.0,
-        gravity_in_contact=gravity_in_contact,
-        progress=lambda c: rows.append(row(c)),
+def _table_row(c) -> tuple:
+    """One row of the compare-rods table: the comparison's ratios and regimes."""
+    return (
+        c.normal,
+        c.k_over_kstar,
+        c.d_over_l,
+        c.tc_first / c.tc_theory,
+        c.f_first / c.fm_theory,
+        c.transfer_first,
+        c.f_plus,
+        c.rebound_first,
+        c.rebound_theory,
+        c.speed,
+        c.speed_end,
+        c.speed_theory,
+        c.speed_p_wave,
+        c.pair_regime_theory,
+        c.overlap_fraction,
+        c.slip_fraction,
+        c.regime_theory,
+        c.status,
     )
-    _print_table(header, rows)
-    out.mkdir(parents=True, exist_ok=True)
-    csv_path = tvr.write_csv(comparisons, out / "compare_rods.csv")
-    pngs = tvr.plot_comparisons(comparisons, out)
-    # Fig 1D: Omega_n from pushes below and above the limit, both contact normals
-    profiles, labels = [], []
-    for normal_name in normals:
-        for d in (0.6,) if quick else (0.3, 0.6):
-            for factor in (0.5, 1.5):
-                profiles.append(
-                    tvr.omega_profile(
-                        d,
-                        1e6,
-                        factor,
-                        n=15 if quick else 40,
-                        normal=normal_name,
-                        g=1.0,
-                        gravity_in_contact=gravity_in_contact,
-                    )
-                )
-                labels.append(f"{normal_name}, d/l={d}, Omega_1={factor} Omega")
-    pngs.append(tvr.plot_omega_profiles(profiles, labels, out / "omega_n.png"))
-    profile_csv = tvr.write_profiles_csv(profiles, labels, out / "omega_n.csv")
-    typer.echo(f"wrote {csv_path}, {profile_csv} and {', '.join(str(p) for p in pngs)}")
 
 
 def register(app: typer.Typer) -> None:

@@ -183,9 +183,8 @@ def sweep_cmd(
     )
 
 
-def _sweep(loaded, folder, scheduler, workers, retry_failed, quiet, force=False) -> None:
-    from dominowave.sweep.runner import run_sweep
-
+def check_cluster_options(workers: int | None, scheduler: str | None) -> None:
+    """One-line errors for ``--workers`` below 1 and a ``--scheduler`` that is no address."""
     if workers is not None and workers < 1:
         raise ValueError(f"--workers = {workers} is outside the valid range [1, inf)")
     if scheduler is not None and not _ADDRESS.fullmatch(scheduler):
@@ -193,6 +192,11 @@ def _sweep(loaded, folder, scheduler, workers, retry_failed, quiet, force=False)
             f"--scheduler {scheduler!r} is not a scheduler address (e.g. tcp://10.0.0.5:8786)"
         )
 
+
+def _sweep(loaded, folder, scheduler, workers, retry_failed, quiet, force=False) -> None:
+    from dominowave.sweep.runner import run_sweep
+
+    check_cluster_options(workers, scheduler)
     report = run_sweep(
         loaded,
         folder,
@@ -230,7 +234,7 @@ def plot_cmd(
     out: Annotated[Path | None, typer.Option(help="Figure folder (default: DIR/figures).")] = None,
 ) -> None:
     """Speed vs d/l with the theory curves, arrival-time diagram, local speed profile."""
-    from dominowave.sweep.figures import plot_folder
+    from dominowave.plots.folder import plot_folder
 
     for path in plot_folder(folder, out):
         typer.echo(f"wrote {path}")

@@ -1,4 +1,4 @@
-"""The paper's Fig 6 (B-E) from a DEM sweep (``dominowave.chain.paper_fig6``).
+"""The paper's Fig 6 (B-E) from a DEM sweep (the study :mod:`dominowave.sweep.fig6`).
 
 Speeds are shown as ``v / sqrt(g l)`` against ``d/l``: DEM ensemble means with their
 standard errors (members whose wave did not settle are left out and counted), the
@@ -89,7 +89,7 @@ def _speed_axes(ax, summary, configs, scale, grid, theory_configs):
 def plot_fig6(summary: list[dict], out) -> list[Path]:
     """Write ``fig6B..E.png`` and ``fig6B..E.csv`` (the plotted ensemble data) to ``out``.
 
-    ``summary`` is ``paper_fig6.summarise`` output. Returns the written paths.
+    ``summary`` is :func:`dominowave.sweep.fig6.summarise` output. Returns the written paths.
     """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)

@@ -16,6 +16,7 @@ import os
 import shutil
 import time
 import traceback
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -222,6 +223,7 @@ def run_sweep(
     quiet: bool = False,
     retry_failed: bool = False,
     force: bool = False,
+    on_point: Callable[[object, PointOutcome], None] | None = None,
 ) -> SweepReport:
     """Run every point of ``study`` not yet stored in ``out``; return the counts.
 
@@ -231,6 +233,7 @@ def run_sweep(
     refused (``ValueError``) unless ``force``, which adds this study's points to it.
     One sweep at a time writes a folder: a second one started on it is refused.
     Give ``client`` to reuse a connected dask Client (tests, notebooks).
+    ``on_point(config, outcome)`` is called after each point run now is stored.
     Ctrl-C cancels the running points and returns with ``interrupted`` set:
     everything finished so far is on disk, and re-running resumes.
     """
@@ -239,7 +242,9 @@ def run_sweep(
     with store.lock():
         _check_same_study(store.root / "study.toml", text, force)
         write_text(store.root / "study.toml", text)
-        return _run_points(study, store, client, scheduler, n_workers, quiet, retry_failed)
+        return _run_points(
+            study, store, client, scheduler, n_workers, quiet, retry_failed, on_point
+        )
 
 
 def _check_same_study(path: Path, text: str, force: bool) -> None:
@@ -252,7 +257,9 @@ def _check_same_study(path: Path, text: str, force: bool) -> None:
     )
 
 
-def _run_points(study, store, client, scheduler, n_workers, quiet, retry_failed) -> SweepReport:
+def _run_points(
+    study, store, client, scheduler, n_workers, quiet, retry_failed, on_point
+) -> SweepReport:
     """The body of :func:`run_sweep`, run while the folder's lock is held."""
     configs = {}
     swept = {}
@@ -277,12 +284,16 @@ def _run_points(study, store, client, scheduler, n_workers, quiet, retry_failed)
         if client is None:
             client = stack.enter_context(dask_client(scheduler, n_workers))
         progress = stack.enter_context(SweepProgress(len(configs), report.skipped, quiet))
-        report = _gather(client, store, configs, todo, swept, keep, progress, report, flag)
+        report = _gather(
+            client, store, configs, todo, swept, keep, progress, report, flag, on_point
+        )
     store.write_index(swept)
     return report
 
 
-def _gather(client, store, configs, todo, swept, keep, progress, report, flag) -> SweepReport:
+def _gather(
+    client, store, configs, todo, swept, keep, progress, report, flag, on_point
+) -> SweepReport:
     """Submit the points ``todo``, store each outcome as it arrives; stop on a signal
     noted in ``flag`` (see :func:`dominowave.signals.defer`) within ``POLL_S``."""
     from distributed import as_completed
@@ -315,6 +326,8 @@ def _gather(client, store, configs, todo, swept, keep, progress, report, flag) -
             report.ran += 1
             report.failed += outcome.status == "failed"
             progress.advance(outcome.status)
+            if on_point is not None:
+                on_point(configs[key], outcome)
             future.release()
         if time.monotonic() - last_index > INDEX_INTERVAL_S:
             store.write_index(swept)
