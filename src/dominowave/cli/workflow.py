@@ -149,6 +149,23 @@ def _run(loaded, folder: Path, force: bool, policy: dict | None, vtk_every: int,
         n = len(list((folder / "vtk").glob("dominoes_*.vtu")))
         typer.echo(f"VTK: {n} frames in {folder / 'vtk'} (open the .pvd files in ParaView)")
     typer.echo(f"{status}: {folder}")
+    if (folder / "summary.json").is_file():
+        typer.echo(_speed_line(folder))
+
+
+def _speed_line(folder: Path) -> str:
+    """The run's wave speed in one line, or "not settled" with the reason."""
+    import math
+
+    from dominowave.io.results import read_summary
+
+    summary = read_summary(folder)
+    speed = summary.get("speed", math.nan)
+    if math.isfinite(speed):
+        err = summary.get("speed_err", math.nan)
+        spread = f" ± {err:.2g}" if math.isfinite(err) else ""
+        return f"speed: {speed:.4g}{spread} m/s"
+    return f"speed: not settled ({summary.get('speed_note') or 'no reason recorded'})"
 
 
 def sweep_cmd(
