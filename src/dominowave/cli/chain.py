@@ -24,6 +24,7 @@ from dominowave.chain.paper_fig6 import FULL, QUICK, read_rows, run_sweep, summa
 from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push
 from dominowave.chain.wave import fit_speed, local_speeds
 from dominowave.checks import check_in_range
+from dominowave.cli.compiling import notice_if_compiling
 from dominowave.io.atomic import ensure_writable_dir
 from dominowave.units import speed_scale
 
@@ -198,6 +199,7 @@ def chain_command(
     else:
         push = Push(omega=push_omega * math.sqrt(p.g / p.height))
     chain = DominoChain(p)
+    notice_if_compiling("dem")
     start = time.perf_counter()
     ens = chain.ensemble(push, members=members, seed=seed, jitter=jitter) if members > 1 else None
     run = ens.runs[0] if ens is not None else chain.run(push)
@@ -278,6 +280,7 @@ def paper_fig6_command(
     from dominowave.plots.fig6 import plot_fig6
 
     ensure_writable_dir(out)
+    notice_if_compiling("dem")  # each worker process loads (or compiles) them
 
     preset = QUICK if quick else FULL
     console = Console()

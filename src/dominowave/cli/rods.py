@@ -19,6 +19,7 @@ from dominowave import theory
 from dominowave.chain import theory_vs_rods as tvr
 from dominowave.chain.wave import steady_speed, unsettled_reason
 from dominowave.checks import check_in_range
+from dominowave.cli.compiling import notice_if_compiling
 from dominowave.cli.theory import parse_values
 from dominowave.io.atomic import ensure_writable_dir
 from dominowave.rods import first_collisions, simulate
@@ -92,6 +93,7 @@ def rods_command(
     )
     beta = math.asin(d_over_l)
     omega_lim = float(theory.omega_limit(beta, 1.0, 1.0))
+    notice_if_compiling("rods")
     run = simulate(chain, push=push * omega_lim)
     col = first_collisions(run)
     header = (
@@ -168,6 +170,7 @@ def compare_rods_command(
 ) -> None:
     """Rod model vs theory over a (d/l, k/k*) grid: table, CSV and figures."""
     ensure_writable_dir(out)  # before the runs, not after them
+    notice_if_compiling("rods")
     if quick:
         d_over_l, k_ratio, n = QUICK_D_OVER_L, QUICK_K_RATIO, 30
     d_values = parse_values(d_over_l, "d_over_l")

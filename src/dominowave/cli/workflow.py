@@ -18,6 +18,7 @@ from typing import Annotated
 import typer
 
 from dominowave import signals
+from dominowave.cli.compiling import SCENARIO_KERNELS, notice_if_compiling
 from dominowave.io.atomic import os_error_line
 
 __all__ = ["register"]
@@ -133,6 +134,7 @@ def _run(loaded, folder: Path, force: bool, policy: dict | None, vtk_every: int,
 
     if vtk_every and not getattr(type(loaded.scenario), "RECORDS_FRAMES", False):
         raise ValueError(f"--vtk: scenario {loaded.scenario.kind!r} records no frames to draw")
+    notice_if_compiling(*SCENARIO_KERNELS.get(loaded.scenario.kind, ()))
     with RunProgress(quiet) as progress:
         ctx = RunContext(progress=progress if progress.enabled else None, vtk_every=vtk_every)
         if policy is not None:
@@ -209,6 +211,8 @@ def _sweep(loaded, folder, scheduler, workers, retry_failed, quiet, force=False)
         raise ValueError(
             f"--scheduler {scheduler!r} is not a scheduler address (e.g. tcp://10.0.0.5:8786)"
         )
+    if scheduler is None:  # the local workers share this machine's kernel cache
+        notice_if_compiling(*SCENARIO_KERNELS.get(loaded.scenario.kind, ()))
 
     report = run_sweep(
         loaded,
