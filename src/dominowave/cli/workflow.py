@@ -277,12 +277,25 @@ def animate_cmd(
         check_in_range("--slowdown", slowdown, 0.0, float("inf"))
 
     folder = Path(folder)
+    if point is None and (folder / "points").is_dir():
+        raise ValueError(_which_point(folder))
     if point is not None:
         folder = folder / "points" / point
         if not folder.is_dir():
             raise ValueError(f"--point {point}: no such point in {folder.parent.parent}")
     n = animate(read_trajectory(folder), out, fps=fps, slowdown=slowdown)
     typer.echo(f"wrote {n} frames to {out}")
+
+
+def _which_point(sweep: Path) -> str:
+    """The message for a sweep folder given to ``animate`` without ``--point``."""
+    keys = sorted(p.name for p in (sweep / "points").iterdir() if p.is_dir())
+    shown = ", ".join(keys[:4]) + (f" ... ({len(keys)} points)" if len(keys) > 4 else "")
+    return (
+        f"{sweep} is a sweep folder: name the point to draw with --point KEY "
+        f"(stored points: {shown or 'none yet'}; `dominowave config STUDY` lists each "
+        "point with its key and values)"
+    )
 
 
 def resume_cmd(
