@@ -22,7 +22,7 @@ from rich.table import Table
 from dominowave.chain.build import ChainParams
 from dominowave.chain.paper_fig6 import FULL, QUICK, read_rows, run_sweep, summarise, write_summary
 from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push
-from dominowave.chain.wave import fit_speed, local_speeds
+from dominowave.chain.wave import fit_speed, local_speeds, unsettled_reason
 from dominowave.checks import check_in_range
 from dominowave.cli.compiling import notice_if_compiling
 from dominowave.io.atomic import ensure_writable_dir
@@ -57,6 +57,18 @@ def _fmt(x, digits=4) -> str:
     if isinstance(x, float | np.floating):
         return "nan" if not math.isfinite(x) else f"{x:.{digits}g}"
     return str(x)
+
+
+def _cell(x) -> str:
+    """A table cell: "-" where the quantity is not defined (NaN), never "nan"."""
+    if isinstance(x, float | np.floating) and not math.isfinite(x):
+        return "-"
+    return _fmt(x)
+
+
+def _speed_cell(speed: float) -> str:
+    """``v=... m/s``, or "not settled" for a member whose wave found no steady speed."""
+    return f"v={_fmt(speed)} m/s" if math.isfinite(speed) else "v not settled"
 
 
 def _plot(run: ChainRun, ens: ChainEnsemble | None, path: Path) -> None:
@@ -97,8 +109,8 @@ def _print_unsettled(console: Console, run: ChainRun, scale: float) -> None:
     last = reached - 1
     first = max(1, last - max(reached // 3, 2))
     console.print(
-        f"steady speed: not settled within the {reached} dominoes reached (the local speed "
-        "is still changing); compare the arrival times with the theory's transient (t_theory)"
+        f"steady speed: not settled: {unsettled_reason(run.arrival, run.positions)}; "
+        "compare the arrival times with the theory's transient (t_theory)"
     )
     if last - first >= 2:
         sim = fit_speed(run.arrival, run.positions, first, last)
@@ -206,7 +218,11 @@ def chain_command(
     wall = time.perf_counter() - start
     console = Console(width=140)
     scale = float(speed_scale(p.height, p.g))
-    table = Table(title=f"domino chain: N={n}, d/l={d_over_l}, k/k*={p.stiffness_over_kstar:.3g}")
+    table = Table(
+        title=f"domino chain: N={n}, d/l={d_over_l}, k/k*={p.stiffness_over_kstar:.3g}",
+        caption="-: not defined (domino 0 has no local speed, the last domino no rebound)"
+        " or not reached by the wave",
+    )
     cols = {
         "domino": "n",
         "arrival": "t_arr [s]",
@@ -223,7 +239,7 @@ def chain_command(
         table.add_column(escape(header), justify="right")
     rows = _domino_rows(run)
     for r in rows:
-        cells = [_fmt(r[c]) for c in cols]
+        cells = [_cell(r[c]) for c in cols]
         cells[-1] = REGIME_SHORT[int(r["mechanism"])]
         table.add_row(*cells)
     console.print(table)
@@ -237,6 +253,10 @@ def chain_command(
         _print_unsettled(console, run, scale)
     if ens is not None:
         console.print(f"ensemble ({members} members): {ens.speed} m/s{_unsettled(ens)}")
+        for i, r in enumerate(ens.runs):
+            if not r.wave.settled:
+                reason = unsettled_reason(r.arrival, r.positions)
+                console.print(f"  member {i} not settled: {reason}")
     window = (
         f"; transient theory on the same dominoes: {_fmt(run.theory_window_speed)} m/s"
         if w.settled
@@ -289,7 +309,7 @@ def paper_fig6_command(
     def progress(row):
         console.print(
             f"  {row['config']:>10} d/l={row['d_over_l']:.2f} member {row['member']}: "
-            f"v={_fmt(row['speed'])} m/s ({row['wall_time']:.1f} s)"
+            f"{_speed_cell(row['speed'])} ({row['wall_time']:.1f} s)"
         )
 
     path = run_sweep(preset, out, workers=workers, progress=progress)
