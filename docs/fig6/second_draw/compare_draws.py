@@ -1,9 +1,10 @@
-"""Compare two draws of the full Fig 6 sweep: docs/fig6/summary.csv (engine of e28b52c) and
-docs/fig6/session3/summary.csv (session-3 engine, whose floating-point results differ at
-round-off, so every chaotic member is a new draw).  Prints the statistics of the
-differences and the comparisons that docs/fig6.md draws conclusions from.
+"""Compare two draws of the full Fig 6 sweep: docs/fig6/summary.csv (engine of commit
+e28b52c) and docs/fig6/second_draw/summary.csv (the engine since commit 3448782, whose
+floating-point results differ at round-off, so every chaotic member is a new draw).
+Prints the statistics of the differences and the comparisons that docs/fig6.md draws
+conclusions from.
 
-Run from the repository root:  python docs/fig6/session3/compare_draws.py
+Run from the repository root:  python docs/fig6/second_draw/compare_draws.py
 """
 
 import csv
@@ -50,13 +51,13 @@ for name, a, b in [
     ("2D vs damping 0.1", "2d", "damp_large"),
     ("2D vs phi_f = 0.6", "2d", "mu0.6"),
 ]:
-    print(name + " (session 3 draw):")
+    print(name + " (second draw):")
     for d in SPACINGS:
         (ma, sa, na), (mb, sb, nb) = speed(new, a, d), speed(new, b, d)
         print(
             f"  d/l {d}: {ma:.2f} +- {sa:.2f} ({na}) vs {mb:.2f} +- {sb:.2f} ({nb}): "
             f"{100 * (mb / ma - 1):+.0f} %, {(mb - ma) / math.hypot(sa, sb):+.1f} s.e."
         )
-print("stiffness k/k* = 1e3 / 1e4 / 1e5 (session 3 draw):")
+print("stiffness k/k* = 1e3 / 1e4 / 1e5 (second draw):")
 for d in SPACINGS:
     print(f"  d/l {d}: " + " / ".join(f"{speed(new, c, d)[0]:.2f}" for c in ("k1e3", "2d", "k1e5")))
