@@ -31,14 +31,19 @@ study = parse_study(
 )
 out = Path(tempfile.mkdtemp()) / "sweep"
 
+
 # %%
 # One client for both runs; leaving the ``with`` block shuts the cluster down.
+def counts(report) -> str:
+    return f"{report.total} points: {report.skipped} already stored, {report.ran} run now"
+
+
 with dask_client(n_workers=1) as client:
-    print(run_sweep(study, out, client=client, quiet=True).line())
+    print(counts(run_sweep(study, out, client=client, quiet=True)))
     # a crash that lost one point: remove its folder, run the same study again
     lost = sorted((out / "points").iterdir())[0]
     shutil.rmtree(lost)
-    print(run_sweep(study, out, client=client, quiet=True).line())
+    print(counts(run_sweep(study, out, client=client, quiet=True)))
 
 # %%
 # The stored points as one dataset: every summary value (SI units) on the
