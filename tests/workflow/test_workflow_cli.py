@@ -30,6 +30,8 @@ def test_example_study_sweep_collect_plot_animate(dask_client, tmp_path, cli):
     assert all((out / "figures" / f).stat().st_size > 10_000 for f in figures)
     key = next((out / "points").iterdir()).name
     movie = tmp_path / "chain.gif"
+    code, _, err = cli("animate", out, "--out", movie)  # a sweep folder, no --point
+    assert code == 2 and "--point KEY" in err and "trajectory" not in err
     code, stdout, err = cli(
         "animate",
         out,

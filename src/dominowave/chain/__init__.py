@@ -29,6 +29,7 @@ from dominowave.chain.wave import (
     local_speeds,
     secondary_wave,
     steady_speed,
+    unsettled_reason,
 )
 
 __all__ = [
@@ -57,4 +58,5 @@ __all__ = [
     "theory_collision_time",
     "theory_first_contacts",
     "theory_speed",
+    "unsettled_reason",
 ]

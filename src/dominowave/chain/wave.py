@@ -47,6 +47,7 @@ __all__ = [
     "secondary_wave",
     "settled_start",
     "steady_speed",
+    "unsettled_reason",
 ]
 
 # Noise scale of i.i.d. samples from their second differences: var(x[i+1] - 2x[i] + x[i-1])
@@ -484,4 +485,45 @@ def secondary_wave(
         catching_up=bool(catching_up),
         merged_pair=merged,
         predicted_pair=predicted,
+    )
+
+
+def unsettled_reason(arrival_times, positions, min_points: int = 5) -> str:
+    """Why ``steady_speed`` found no settled part, in one phrase ("" if it did).
+
+    Read from the data as ``settled_start`` reads it: too few dominoes reached for a
+    tail of ``min_points`` local speeds; or, over the last third of the local speeds
+    (at least ``min_points``), a drift -- the wave still accelerates or slows, by the
+    fitted change per domino in percent of the mean -- or a scatter larger than the
+    settling tolerance. ``arrival_times`` [s] and ``positions`` [m] have shape (N,).
+    """
+    if steady_speed(arrival_times, positions, min_points=min_points).settled:
+        return ""
+    t, x = _as_times_positions(arrival_times, positions)
+    n, reached = t.size, reached_count(t)
+    start = 1 if not np.isfinite(t[0]) else 0
+    v = local_speeds(t[start:reached], x[start:reached]) if reached - start > 1 else np.empty(0)
+    finite = np.isfinite(v)
+    v = v[: int(np.argmin(finite))] if not finite.all() else v
+    if v.size < min_points:
+        where = "stopped there" if reached < n else f"the chain has {n}"
+        return (
+            f"the wave reached only {reached} dominoes ({where}); a speed needs a settled "
+            f"stretch of at least {min_points} local speeds"
+        )
+    tail = v[-max(min_points, v.size // 3) :]
+    mean = float(tail.mean())
+    drift, _ = _linear_drift(tail)
+    per_domino = 100.0 * drift / (tail.size - 1) / abs(mean)
+    if abs(drift) > 0.01 * abs(mean):
+        trend = "accelerating" if drift > 0 else "slowing down"
+        return (
+            f"the wave is still {trend}: over the last {tail.size} dominoes its local speed "
+            f"changes by {per_domino:+.2g} % per domino; a longer chain, or damping, "
+            "may let it settle"
+        )
+    spread = 100.0 * float(tail.std()) / abs(mean)
+    return (
+        f"the local speed scatters by {spread:.2g} % (standard deviation) over the last "
+        f"{tail.size} dominoes with no settled stretch"
     )

@@ -22,8 +22,9 @@ from rich.table import Table
 
 from dominowave.chain.build import ChainParams
 from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push
-from dominowave.chain.wave import fit_speed, local_speeds
+from dominowave.chain.wave import fit_speed, local_speeds, unsettled_reason
 from dominowave.checks import check_in_range
+from dominowave.cli.compiling import notice_if_compiling
 from dominowave.io.atomic import ensure_writable_dir
 from dominowave.units import speed_scale
 
@@ -58,6 +59,18 @@ def _fmt(x, digits=4) -> str:
     return str(x)
 
 
+def _cell(x) -> str:
+    """A table cell: "-" where the quantity is not defined (NaN), never "nan"."""
+    if isinstance(x, float | np.floating) and not math.isfinite(x):
+        return "-"
+    return _fmt(x)
+
+
+def _speed_cell(speed: float) -> str:
+    """``v=... m/s``, or "not settled" for a member whose wave found no steady speed."""
+    return f"v={_fmt(speed)} m/s" if math.isfinite(speed) else "v not settled"
+
+
 def _print_unsettled(console: Console, run: ChainRun, scale: float) -> None:
     """Say that no steady speed exists in this chain, and what can be compared instead.
 
@@ -70,8 +83,8 @@ def _print_unsettled(console: Console, run: ChainRun, scale: float) -> None:
     last = reached - 1
     first = max(1, last - max(reached // 3, 2))
     console.print(
-        f"steady speed: not settled within the {reached} dominoes reached (the local speed "
-        "is still changing); compare the arrival times with the theory's transient (t_theory)"
+        f"steady speed: not settled: {unsettled_reason(run.arrival, run.positions)}; "
+        "compare the arrival times with the theory's transient (t_theory)"
     )
     if last - first >= 2:
         sim = fit_speed(run.arrival, run.positions, first, last)
@@ -172,13 +185,18 @@ def chain_command(
     else:
         push = Push(omega=push_omega * math.sqrt(p.g / p.height))
     chain = DominoChain(p)
+    notice_if_compiling("dem")
     start = time.perf_counter()
     ens = chain.ensemble(push, members=members, seed=seed, jitter=jitter) if members > 1 else None
     run = ens.runs[0] if ens is not None else chain.run(push)
     wall = time.perf_counter() - start
     console = Console(width=140)
     scale = float(speed_scale(p.height, p.g))
-    table = Table(title=f"domino chain: N={n}, d/l={d_over_l}, k/k*={p.stiffness_over_kstar:.3g}")
+    table = Table(
+        title=f"domino chain: N={n}, d/l={d_over_l}, k/k*={p.stiffness_over_kstar:.3g}",
+        caption="-: not defined (domino 0 has no local speed, the last domino no rebound)"
+        " or not reached by the wave",
+    )
     cols = {
         "domino": "n",
         "arrival": "t_arr [s]",
@@ -195,7 +213,7 @@ def chain_command(
         table.add_column(escape(header), justify="right")
     rows = _domino_rows(run)
     for r in rows:
-        cells = [_fmt(r[c]) for c in cols]
+        cells = [_cell(r[c]) for c in cols]
         cells[-1] = REGIME_SHORT[int(r["mechanism"])]
         table.add_row(*cells)
     console.print(table)
@@ -209,6 +227,10 @@ def chain_command(
         _print_unsettled(console, run, scale)
     if ens is not None:
         console.print(f"ensemble ({members} members): {ens.speed} m/s{_unsettled(ens)}")
+        for i, r in enumerate(ens.runs):
+            if not r.wave.settled:
+                reason = unsettled_reason(r.arrival, r.positions)
+                console.print(f"  member {i} not settled: {reason}")
     window = (
         f"; transient theory on the same dominoes: {_fmt(run.theory_window_speed)} m/s"
         if w.settled
@@ -268,6 +290,8 @@ def paper_fig6_command(
 
     ensure_writable_dir(out)
     check_cluster_options(workers, scheduler)
+    notice_if_compiling("dem")  # each worker process loads (or compiles) them
+
     preset = QUICK if quick else FULL
     console = Console()
     start = time.perf_counter()
@@ -275,7 +299,7 @@ def paper_fig6_command(
     def progress(row):
         console.print(
             f"  {row['config']:>10} d/l={row['d_over_l']:.2f} member {row['member']}: "
-            f"v={_fmt(row['speed'])} m/s ({row['wall_time']:.1f} s)"
+            f"{_speed_cell(row['speed'])} ({row['wall_time']:.1f} s)"
         )
 
     done = run_fig6(preset, out, workers=workers, scheduler=scheduler, progress=progress)

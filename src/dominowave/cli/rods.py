@@ -17,8 +17,9 @@ import typer
 
 from dominowave import theory
 from dominowave.chain import theory_vs_rods as tvr
-from dominowave.chain.wave import steady_speed
+from dominowave.chain.wave import steady_speed, unsettled_reason
 from dominowave.checks import check_in_range
+from dominowave.cli.compiling import notice_if_compiling
 from dominowave.cli.theory import parse_values
 from dominowave.io.atomic import ensure_writable_dir
 from dominowave.rods import first_collisions, simulate
@@ -92,6 +93,7 @@ def rods_command(
     )
     beta = math.asin(d_over_l)
     omega_lim = float(theory.omega_limit(beta, 1.0, 1.0))
+    notice_if_compiling("rods")
     run = simulate(chain, push=push * omega_lim)
     col = first_collisions(run)
     header = (
@@ -128,9 +130,26 @@ def rods_command(
     fit = steady_speed(run.arrival, run.positions)
     typer.echo(
         f"status: {run.status}; steps {run.n_steps} (dt = {run.dt:.3g}); "
-        f"Omega (eq 9) = {omega_lim:.4g}; steady speed = {_fmt(fit.speed)} +- "
-        f"{_fmt(fit.speed_err)} (settled from domino {fit.first + 1 if fit.settled else '-'})"
+        f"Omega (eq 9) = {omega_lim:.4g}"
     )
+    if fit.settled:
+        typer.echo(
+            f"steady speed: {_fmt(fit.speed)} ± {fit.speed_err:.2g} sqrt(gl) "
+            f"(settled from domino {fit.first + 1})"
+        )
+        return
+    typer.echo(f"steady speed: not settled: {unsettled_reason(run.arrival, run.positions)}")
+    if normal == "geometric" and damping == 0 and mu == 0:
+        typer.echo(NO_LIMIT_HINT)
+
+
+NO_LIMIT_HINT = (
+    "with the face-normal (geometric) contact and neither damping nor friction, each "
+    "collision passes on the whole push (f+ -> 1), so the wave has no limit speed "
+    "(docs/theory_vs_rods.md); --normal head-on is the theory's collision rule, "
+    "--damping or --mu let the wave settle"
+)
+"""Why the default rods run cannot settle, said beside its 'not settled'."""
 
 
 def compare_rods_command(
@@ -161,6 +180,7 @@ def compare_rods_command(
 
     ensure_writable_dir(out)  # before the runs, not after them
     check_cluster_options(workers, scheduler)
+    notice_if_compiling("rods")
     if quick:
         d_over_l, k_ratio, n = QUICK_D_OVER_L, QUICK_K_RATIO, 30
     d_values = parse_values(d_over_l, "d_over_l")

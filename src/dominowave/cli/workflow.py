@@ -18,6 +18,7 @@ from typing import Annotated
 import typer
 
 from dominowave import signals
+from dominowave.cli.compiling import SCENARIO_KERNELS, notice_if_compiling
 from dominowave.io.atomic import os_error_line
 
 __all__ = ["register"]
@@ -133,6 +134,7 @@ def _run(loaded, folder: Path, force: bool, policy: dict | None, vtk_every: int,
 
     if vtk_every and not getattr(type(loaded.scenario), "RECORDS_FRAMES", False):
         raise ValueError(f"--vtk: scenario {loaded.scenario.kind!r} records no frames to draw")
+    notice_if_compiling(*SCENARIO_KERNELS.get(loaded.scenario.kind, ()))
     with RunProgress(quiet) as progress:
         ctx = RunContext(progress=progress if progress.enabled else None, vtk_every=vtk_every)
         if policy is not None:
@@ -149,6 +151,23 @@ def _run(loaded, folder: Path, force: bool, policy: dict | None, vtk_every: int,
         n = len(list((folder / "vtk").glob("dominoes_*.vtu")))
         typer.echo(f"VTK: {n} frames in {folder / 'vtk'} (open the .pvd files in ParaView)")
     typer.echo(f"{status}: {folder}")
+    if (folder / "summary.json").is_file():
+        typer.echo(_speed_line(folder))
+
+
+def _speed_line(folder: Path) -> str:
+    """The run's wave speed in one line, or "not settled" with the reason."""
+    import math
+
+    from dominowave.io.results import read_summary
+
+    summary = read_summary(folder)
+    speed = summary.get("speed", math.nan)
+    if math.isfinite(speed):
+        err = summary.get("speed_err", math.nan)
+        spread = f" ± {err:.2g}" if math.isfinite(err) else ""
+        return f"speed: {speed:.4g}{spread} m/s"
+    return f"speed: not settled ({summary.get('speed_note') or 'no reason recorded'})"
 
 
 def sweep_cmd(
@@ -197,6 +216,8 @@ def _sweep(loaded, folder, scheduler, workers, retry_failed, quiet, force=False)
     from dominowave.sweep.runner import run_sweep
 
     check_cluster_options(workers, scheduler)
+    if scheduler is None:  # the local workers share this machine's kernel cache
+        notice_if_compiling(*SCENARIO_KERNELS.get(loaded.scenario.kind, ()))
     report = run_sweep(
         loaded,
         folder,
@@ -260,12 +281,25 @@ def animate_cmd(
         check_in_range("--slowdown", slowdown, 0.0, float("inf"))
 
     folder = Path(folder)
+    if point is None and (folder / "points").is_dir():
+        raise ValueError(_which_point(folder))
     if point is not None:
         folder = folder / "points" / point
         if not folder.is_dir():
             raise ValueError(f"--point {point}: no such point in {folder.parent.parent}")
     n = animate(read_trajectory(folder), out, fps=fps, slowdown=slowdown)
     typer.echo(f"wrote {n} frames to {out}")
+
+
+def _which_point(sweep: Path) -> str:
+    """The message for a sweep folder given to ``animate`` without ``--point``."""
+    keys = sorted(p.name for p in (sweep / "points").iterdir() if p.is_dir())
+    shown = ", ".join(keys[:4]) + (f" ... ({len(keys)} points)" if len(keys) > 4 else "")
+    return (
+        f"{sweep} is a sweep folder: name the point to draw with --point KEY "
+        f"(stored points: {shown or 'none yet'}; `dominowave config STUDY` lists each "
+        "point with its key and values)"
+    )
 
 
 def resume_cmd(

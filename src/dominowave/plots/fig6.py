@@ -4,7 +4,9 @@ Speeds are shown as ``v / sqrt(g l)`` against ``d/l``: DEM ensemble means with t
 standard errors (members whose wave did not settle are left out and counted), the
 limit theory eq 34 with the clump mapping (solid) and the paper's point-mass usage
 (dashed), and the theory's *transient* fitted over the same dominoes as the DEM
-(open squares) -- the like-for-like comparison for a 30-domino chain.
+(open squares) -- the like-for-like comparison for a 30-domino chain. An ensemble in
+which no member settled is an open circle on the bottom edge at its d/l; one in which
+only some did carries the count (e.g. "5/8") beside its point.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ from matplotlib.figure import Figure
 from dominowave.chain.build import ChainParams
 from dominowave.chain.compare import theory_speed
 from dominowave.chain.paper_fig6 import CONFIGS
+from dominowave.plots.unsettled import mark_unsettled
 from dominowave.units import speed_scale
 
 __all__ = ["PANELS", "plot_fig6"]
@@ -54,7 +57,22 @@ def _series(summary: list[dict], config: str) -> dict[str, np.ndarray]:
     return {k: np.array([r[k] for r in rows]) for k in keys if k != "config"}
 
 
+def _settled_counts(ax, x, y, settled, members, color) -> None:
+    """``settled/members`` beside each ensemble point that left members out."""
+    for xi, yi, k, m in zip(x, y, settled, members, strict=True):
+        if 0 < k < m and np.isfinite(yi):
+            ax.annotate(
+                f"{int(k)}/{int(m)}",
+                (xi, yi),
+                xytext=(4, 3),
+                textcoords="offset points",
+                fontsize=6,
+                color=color,
+            )
+
+
 def _speed_axes(ax, summary, configs, scale, grid, theory_configs):
+    unsettled_label = "no member settled: no speed (open, on the bottom edge)"
     for i, c in enumerate(configs):
         s = _series(summary, c)
         if not s:
@@ -68,6 +86,17 @@ def _speed_axes(ax, summary, configs, scale, grid, theory_configs):
             color=COLORS[c],
             capsize=3,
             label=f"DEM {LABELS[c]}",
+        )
+        none_settled = s["n_settled"] == 0
+        if mark_unsettled(ax, s["d_over_l"][none_settled] + shift, COLORS[c], unsettled_label):
+            unsettled_label = None  # one legend entry per panel
+        _settled_counts(
+            ax,
+            s["d_over_l"] + shift,
+            s["speed_mean"] / scale,
+            s["n_settled"],
+            s["members"],
+            COLORS[c],
         )
         ax.plot(
             s["d_over_l"] + shift,

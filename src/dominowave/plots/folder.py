@@ -1,7 +1,9 @@
 """Figures of a sweep or run folder (``dominowave plot DIR``).
 
 * ``speed_vs_spacing.png`` -- wave speed ``v / sqrt(g l)`` against ``d / l`` (McLachlan's
-  scaling, eq 1): one marker per point (error bar if the scenario measured one),
+  scaling, eq 1) on a logarithmic axis that holds every point and curve (nothing is cut
+  off): one marker per point (error bar if the scenario measured one; an open marker on
+  the bottom edge for a point whose wave did not settle),
   the theory curve ``v^s`` (eq 34) for each group of points that differ only in
   spacing (dotted where collisions overlap, ``T < T_c/2``, outside the theory's
   range), and the rigid EJ curve (eq 14, thin dominoes) for reference;
@@ -22,6 +24,7 @@ import numpy as np
 from dominowave.io.atomic import atomic_path, ensure_writable_dir
 from dominowave.io.config import scenario_from_dict
 from dominowave.io.results import read_events, read_summary, result_status
+from dominowave.plots.unsettled import UNSETTLED_LABEL, mark_unsettled
 
 __all__ = ["plot_folder"]
 
@@ -98,6 +101,7 @@ def _speed_figure(records: list[dict]):
     for r in records:
         groups.setdefault(_group_key(r["config"]), []).append(r)
     colours = iter(_palette(len(groups)))
+    unsettled_label = UNSETTLED_LABEL
     by_stiffness = sorted(
         groups.values(), key=lambda g: g[0]["summary"].get("stiffness_over_kstar", math.inf)
     )
@@ -118,6 +122,8 @@ def _speed_figure(records: list[dict]):
             color=colour,
             label=f"{first['config']['kind']} {label}",
         )
+        if mark_unsettled(ax, x[~np.isfinite(y)], colour, unsettled_label):
+            unsettled_label = None  # one legend entry for all groups
         curve = _model(first).theory_speed(grid) / scale
         valid = _model(first).theory_valid(grid)
         ax.plot(grid, np.where(valid, curve, np.nan), color=colour, lw=1)
@@ -126,7 +132,7 @@ def _speed_figure(records: list[dict]):
     ax.plot([], [], "k:", lw=1, label="theory where T < T_c/2 (outside its range)")
     ax.set_xlabel("spacing d / l")
     ax.set_ylabel("wave speed v / sqrt(g l)")
-    ax.set_ylim(0, min(8.0, ax.get_ylim()[1]))
+    ax.set_yscale("log")  # from slow wide gaps to fast narrow ones, none cut off
     ax.set_title("Wave speed: points = runs, lines = theory v^s (eq 34)", fontsize=10)
     ax.legend(fontsize=7)
     return fig

@@ -13,8 +13,10 @@ __all__ = ["RunContext"]
 class RunContext:
     """What the workflow offers a running scenario (all optional).
 
-    progress : called as ``progress(sim_time=, end_time=, steps=, toppled=)`` [s, s, -, -]
-        whenever the scenario likes (it throttles itself); None when quiet.
+    progress : called as ``progress(sim_time=, end_time=, steps=, toppled=, dominoes=)``
+        [s, s, -, -, -] whenever the scenario likes (it throttles itself); ``end_time``
+        is the latest the run can end, ``dominoes`` the chain's length (0: unknown);
+        None when quiet.
     vtk_every : VTK frames wanted every this many recorded frames (0: none); a scenario
         then also returns its spheres (``RunResult.spheres``) if it has any.
     checkpoint_dir : folder for checkpoints of long runs (None: no checkpoints).

@@ -5,6 +5,7 @@ A scenario that supports checkpoints provides a *stepper* (registered in
 
 * ``advance(n_steps) -> bool`` -- integrate up to ``n_steps`` time steps; True when done;
 * ``time`` [s], ``end_time`` [s], ``steps``, ``toppled`` -- where the run is;
+  ``dominoes`` (optional) -- the chain's length, for the progress bar's estimate;
 * ``get_state() -> dict[str, ndarray]`` -- everything the future depends on;
 * ``set_state(state)`` -- restore it exactly;
 * ``result() -> RunResult`` -- the results so far (also of an unfinished run).
@@ -61,6 +62,11 @@ class ScenarioStepper:
     @property
     def toppled(self) -> int:
         return self.stepper.toppled
+
+    @property
+    def dominoes(self) -> int:
+        """Dominoes in the chain (a subclass keeps its scenario config as ``self.cfg``)."""
+        return int(self.cfg.n_dominoes)
 
     def advance(self, n_steps: int) -> bool:
         return self.stepper.advance(n_steps)
@@ -132,6 +138,7 @@ def _loop(stepper, policy, progress, chunk, flag, last_wall, last_steps) -> None
                     end_time=stepper.end_time,
                     steps=stepper.steps,
                     toppled=stepper.toppled,
+                    dominoes=getattr(stepper, "dominoes", 0),
                 )
             if done:
                 break

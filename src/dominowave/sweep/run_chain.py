@@ -20,6 +20,7 @@ import numpy as np
 
 from dominowave.chain.events import forward_tilt, rotate_vectors
 from dominowave.chain.scenario import ChainRun, DominoChain, Push
+from dominowave.chain.wave import unsettled_reason
 from dominowave.io.models import ChainScenario
 from dominowave.io.results import RunResult
 from dominowave.io.trajectory import ChainTrajectory, SphereTrajectory
@@ -159,6 +160,7 @@ def chain_result(
         "speed": run.wave.speed,
         "speed_err": run.wave.speed_err,
         "speed_settled": bool(run.wave.settled),
+        "speed_note": unsettled_reason(run.arrival, run.positions),
         "dominoes_toppled": int(run.wave.reached),
         "speed_theory": run.theory_speed,
         "speed_theory_window": run.theory_window_speed,

@@ -29,7 +29,7 @@ import numpy as np
 
 from dominowave import theory
 from dominowave.chain.theory_vs_rods import paper_chain
-from dominowave.chain.wave import local_speeds, steady_speed
+from dominowave.chain.wave import local_speeds, steady_speed, unsettled_reason
 from dominowave.io.models import RodsScenario
 from dominowave.io.results import RunResult
 from dominowave.io.trajectory import ChainTrajectory
@@ -152,6 +152,23 @@ def rods_trajectory(run: RodRun) -> ChainTrajectory:
     )
 
 
+def speed_note(cfg: RodsScenario, run: RodRun) -> str:
+    """Why the run's wave did not settle ("" if it did), for ``summary.json``.
+
+    The face-normal contact without damping or friction passes the whole push on at
+    each collision (f+ -> 1): that wave has no limit speed at any chain length.
+    """
+    reason = unsettled_reason(run.arrival, run.positions)
+    elastic = cfg.damping_ratio == 0 and cfg.contact_friction == 0
+    if reason and cfg.normal == "geometric" and elastic:
+        reason += (
+            "; with normal = geometric and neither damping_ratio nor contact_friction, each"
+            " collision passes on the whole push (f+ -> 1) and the wave has no limit speed:"
+            ' normal = "head-on" is the theory\'s collision rule'
+        )
+    return reason
+
+
 def rods_result(cfg: RodsScenario, run: RodRun, warned: list[str]) -> RunResult:
     """Summary, per-domino events, energy/contact time series and trajectory of ``run``."""
     import xarray as xr
@@ -174,6 +191,7 @@ def rods_result(cfg: RodsScenario, run: RodRun, warned: list[str]) -> RunResult:
         "speed": fit.speed,
         "speed_err": fit.speed_err,
         "speed_settled": bool(fit.settled),
+        "speed_note": speed_note(cfg, run),
         "dominoes_toppled": int(fit.reached),
         "speed_theory": float(theory.wave_speed_thick(beta, l, m, k, s, g)),
         "pair_regime_theory": bool(theory.pair_regime_holds(beta, l, m, k, g)),

@@ -1,0 +1,59 @@
+"""Say so when a command is about to compile the numba kernels, instead of a silent wait.
+
+The kernels are compiled on their first call after installing or changing the package
+(tens of seconds on 2 cores; ``cache=True`` keeps the machine code on disk), and loaded
+from that cache in a fraction of a second afterwards. Whether a kernel's cache is fresh
+is read from numba's own index of it: an index that is missing, of another numba
+version, or older than the kernel's source file means a compilation.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+import typer
+
+__all__ = ["KERNELS", "SCENARIO_KERNELS", "kernels_cached", "notice_if_compiling"]
+
+KERNELS: dict[str, tuple[str, str]] = {
+    "dem": ("dominowave.dem.engine", "run_loop"),  # the DEM engine's compiled time loop
+    "rods": ("dominowave.rods.kernel", "advance"),  # the rod model's time loop
+}
+"""The compiled entry point of each instrument (module, function): compiling it
+compiles everything it calls."""
+
+SCENARIO_KERNELS: dict[str, tuple[str, ...]] = {"chain": ("dem",), "rods": ("rods",)}
+"""The kernels a study of each scenario kind runs (the theory runs none)."""
+
+
+def kernels_cached(dispatcher) -> bool:
+    """Whether ``dispatcher`` (a ``numba.njit(cache=True)`` function) has a fresh
+    on-disk cache, so its first call loads machine code instead of compiling."""
+    if dispatcher.signatures:  # compiled (or loaded) in this process already
+        return True
+    cache = getattr(dispatcher, "_cache", None)
+    index = getattr(getattr(cache, "_cache_file", None), "_load_index", None)
+    if index is None:  # not a cached dispatcher, or another numba's internals
+        return False
+    try:
+        return bool(index())
+    except Exception:  # an unreadable index: numba recompiles and rewrites it
+        return False
+
+
+def notice_if_compiling(*instruments: str) -> bool:
+    """Print one line on stderr if the kernels of ``instruments`` ("dem", "rods") will
+    be compiled by this command; return whether it did."""
+    missing = []
+    for name in instruments:
+        module, function = KERNELS[name]
+        if not kernels_cached(getattr(importlib.import_module(module), function)):
+            missing.append(name.upper() if name == "dem" else name)
+    if not missing:
+        return False
+    typer.echo(
+        f"compiling the {' and '.join(missing)} kernels (first run after installing or "
+        "changing the package; tens of seconds, once: later runs load them from the cache)",
+        err=True,
+    )
+    return True
