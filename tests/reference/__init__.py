@@ -57,4 +57,23 @@ planar_chain (planar rigid dominoes of spheres, linear springs, no friction)
 block_statics (a block pushed on its back face, section 2.4, eqs 38-42)
   moment, block_moment_about_com, sign_change_force: regime boundaries as sign changes
       of signed moments -- cross products + brentq xtol 1e-14 -- theory/test_theory_bounds
+cuboid (uniform and rounded cuboids: mass properties)
+  box_mass_properties, box_edge_inertia, parallel_axis: mass, principal moments, moment
+      about an edge -- closed form (Steiner) -- issue 13 (box body, validation 2)
+  rounded_box_mass_properties, rounded_rectangle_mass_properties: box or rectangle swept
+      by a sphere (disc), exact -- closed form piece by piece (core, slabs, quarter
+      cylinders, octants), checked by 2D quadrature to 4e-16 -- issue 13 (validation 7)
+incline (a block on an incline with Coulomb friction)
+  incline_regime, incline_acceleration, incline_motion, incline_corner_forces: rest,
+      slide a = g (sin t - mu cos t), tip at tan t > s / 2h; stopping; two-point statics
+      -- closed form -- issue 13 (validation 1)
+edge_tipping (a cuboid tipping over its bottom front edge, hinge fixed)
+  edge_fall_time: theta0 -> theta1 from (theta0, omega0) -- quad of the energy integral
+      after theta = theta0 + x^2, epsrel 1e-13 -- issue 13 (validation 2)
+  edge_fall_by_newton: the same, Newton's law -- solve_ivp DOP853 rtol 1e-12, atol
+      1e-14, event -- issue 13 (validation 2)
+  edge_reaction: floor force on the edge per unit mass (friction needed) -- closed form
+  first_contact_time: Push(omega) of domino 0 to its first touch of domino 1 at
+      sin(theta) = d / l (top front edge on the back face) -- edge_fall_time -- issue 13
+      (validation 2)
 """

@@ -1,0 +1,340 @@
+"""The cuboid references checked themselves: mass properties against quadrature and
+limits, motions against closed forms, limits and a second method."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import dblquad, solve_ivp
+from scipy.special import ellipkinc, ellipkm1
+
+from reference.cuboid import (
+    box_edge_inertia,
+    box_mass_properties,
+    rounded_box_mass_properties,
+    rounded_rectangle_mass_properties,
+)
+from reference.edge_tipping import (
+    edge_fall_by_newton,
+    edge_fall_time,
+    edge_reaction,
+    first_contact_time,
+)
+from reference.incline import (
+    incline_acceleration,
+    incline_corner_forces,
+    incline_motion,
+    incline_regime,
+)
+from reference.rigid_chain import ej_fall_time
+
+G = 9.81
+# a common domino: 48 x 24 x 7.5 mm, ABS-like density
+L_DOM, W_DOM, S_DOM, RHO = 0.048, 0.024, 0.0075, 1050.0
+
+
+# --- cuboid: mass properties ----------------------------------------------------------
+
+
+def test_validate_box_mass_properties_closed_form():
+    """The box moments are the textbook m (L_y^2 + L_z^2) / 12 with full extents, and
+    the edge moment of a domino is m (l^2 + s^2) / 3 (a rod of length l for s -> 0)."""
+    a, b, c = S_DOM / 2, W_DOM / 2, L_DOM / 2
+    m, inertia = box_mass_properties(a, b, c, RHO)
+    assert m == pytest.approx(RHO * L_DOM * W_DOM * S_DOM, rel=1e-15)
+    expected = m / 12 * np.array([W_DOM**2 + L_DOM**2, L_DOM**2 + S_DOM**2, S_DOM**2 + W_DOM**2])
+    np.testing.assert_allclose(inertia, expected, rtol=1e-14)
+    assert box_edge_inertia(a, b, c, RHO) == pytest.approx(m * (L_DOM**2 + S_DOM**2) / 3, 1e-14)
+
+
+def _rounded_box_by_quadrature(a, b, c, r):
+    """Volume and second moments (S_x, S_y, S_z) of the rounded box by 2D quadrature over
+    its footprint: at (x, y) it spans |z| <= c + sqrt(r^2 - dx^2 - dy^2) with dx, dy the
+    distances beyond the core's faces; the footprint splits into four smooth pieces."""
+
+    def half_height(y, x):
+        dx, dy = max(abs(x) - a, 0.0), max(abs(y) - b, 0.0)
+        return c + math.sqrt(max(r * r - dx * dx - dy * dy, 0.0))
+
+    def integral(weight):
+        total = 0.0
+        pieces = (  # x range, y upper limit as a function of x
+            ((0.0, a), lambda x: b),
+            ((0.0, a), lambda x: b + r),
+            ((a, a + r), lambda x: b),
+            ((a, a + r), lambda x: b + math.sqrt(max(r * r - (x - a) ** 2, 0.0))),
+        )
+        lower = (lambda x: 0.0, lambda x: b, lambda x: 0.0, lambda x: b)
+        for ((x0, x1), upper), low in zip(pieces, lower, strict=True):
+            value, _ = dblquad(
+                lambda y, x: weight(x, y, half_height(y, x)),
+                x0,
+                x1,
+                low,
+                upper,
+                epsabs=0.0,
+                epsrel=1e-12,
+            )
+            total += 4.0 * value  # four quadrants
+        return total
+
+    volume = integral(lambda x, y, h: 2.0 * h)
+    s_x = integral(lambda x, y, h: 2.0 * h * x * x)
+    s_y = integral(lambda x, y, h: 2.0 * h * y * y)
+    s_z = integral(lambda x, y, h: 2.0 * h**3 / 3.0)
+    return volume, np.array([s_x, s_y, s_z])
+
+
+@pytest.mark.parametrize(
+    ("a", "b", "c", "r"),
+    [(0.003, 0.011, 0.023, 0.00075), (0.2, 0.5, 0.9, 0.3), (0.0, 0.4, 0.7, 0.5)],
+)
+def test_validate_rounded_box_equals_quadrature(a, b, c, r):
+    """The piece-wise volume and moments of the rounded box against an independent 2D
+    quadrature of its height over its footprint (measured agreement <= 4e-16)."""
+    volume, mass, inertia = rounded_box_mass_properties(a, b, c, r, RHO)
+    v_quad, s = _rounded_box_by_quadrature(a, b, c, r)
+    assert volume == pytest.approx(v_quad, rel=1e-10)
+    assert mass == pytest.approx(RHO * v_quad, rel=1e-10)
+    expected = RHO * np.array([s[1] + s[2], s[2] + s[0], s[0] + s[1]])
+    np.testing.assert_allclose(inertia, expected, rtol=1e-10)
+
+
+def test_validate_rounded_box_limits():
+    """r = 0 is the box; a = b = c = 0 is the ball (2/5 m r^2); a = b = 0 a capsule
+    (cylinder 2c plus a ball); r -> 0 converges to the box linearly in r."""
+    a, b, c = 0.3, 0.5, 0.7
+    volume, m, inertia = rounded_box_mass_properties(a, b, c, 0.0, RHO)
+    m_box, i_box = box_mass_properties(a, b, c, RHO)
+    assert m == pytest.approx(m_box, rel=1e-15)
+    assert volume == pytest.approx(8 * a * b * c, rel=1e-15)
+    np.testing.assert_allclose(inertia, i_box, rtol=1e-14)
+    r = 0.2
+    _, m_ball, i_ball = rounded_box_mass_properties(0.0, 0.0, 0.0, r, RHO)
+    assert m_ball == pytest.approx(RHO * 4 / 3 * math.pi * r**3, rel=1e-15)
+    np.testing.assert_allclose(i_ball, 0.4 * m_ball * r * r, rtol=1e-14)
+    # capsule: cylinder (r, length 2c) + ball, the halves of the ball at +-c along z
+    _, m_cap, i_cap = rounded_box_mass_properties(0.0, 0.0, c, r, RHO)
+    m_cyl = RHO * math.pi * r * r * 2 * c
+    i_axis = m_cyl * r * r / 2 + 0.4 * m_ball * r * r
+    hemi = 0.4 * m_ball * r * r + m_ball * (c * c + 2 * c * 3 * r / 8)  # Steiner, both halves
+    i_across = m_cyl * (r * r / 4 + c * c / 3) + hemi
+    assert m_cap == pytest.approx(m_cyl + m_ball, rel=1e-15)
+    np.testing.assert_allclose(i_cap, [i_across, i_across, i_axis], rtol=1e-14)
+    errors = [
+        abs(rounded_box_mass_properties(a, b, c, r, RHO)[2][0] / i_box[0] - 1) for r in (1e-4, 1e-5)
+    ]
+    assert errors[0] / errors[1] == pytest.approx(10, rel=1e-3)
+
+
+def test_validate_rounded_rectangle_is_a_wide_rounded_box():
+    """Per unit width, a rounded box of huge width b (only its middle counts) is the
+    planar rounded rectangle: area and polar moment agree to O(r / b)."""
+    a, c, r, b = 0.003, 0.023, 0.001, 1e3
+    volume, m3, i3 = rounded_box_mass_properties(a, b, c, r, RHO)
+    area, m2, i2 = rounded_rectangle_mass_properties(a, c, r, RHO)
+    assert volume / (2 * b) == pytest.approx(area, rel=1e-5)
+    assert m3 / (2 * b) == pytest.approx(m2, rel=1e-5)
+    assert i3[1] / (2 * b) == pytest.approx(i2, rel=1e-5)
+    # r = 0: the rectangle's polar moment m (L_x^2 + L_z^2) / 12
+    _, m0, i0 = rounded_rectangle_mass_properties(a, c, 0.0, RHO)
+    assert i0 == pytest.approx(m0 * ((2 * a) ** 2 + (2 * c) ** 2) / 12, rel=1e-14)
+
+
+# --- incline --------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(("t", "mu", "v0"), [(0.5, 0.3, 0.0), (0.5, 0.3, 0.2), (0.3, 0.5, 0.4)])
+def test_validate_incline_motion_equals_newton(t, mu, v0):
+    """Sliding and stopping against Newton's law with Coulomb friction (kinetic while
+    v > 0, the stop located by an event, then sticking), solve_ivp DOP853."""
+    a = G * (math.sin(t) - mu * math.cos(t))
+
+    def stop(_t, y):
+        return y[1]
+
+    stop.terminal, stop.direction = True, -1
+    times = np.linspace(0.0, 1.0, 11)
+    sol = solve_ivp(
+        lambda _t, y: [y[1], a],
+        (0, 1.0),
+        [0.0, v0],
+        method="DOP853",
+        rtol=1e-13,
+        atol=1e-15,
+        events=stop,
+        dense_output=True,
+    )
+    t_end = sol.t[-1]
+    x_ode = np.where(times <= t_end, sol.sol(np.minimum(times, t_end))[0], sol.y[0][-1])
+    x, v = incline_motion(t, mu, v0, times, G)
+    np.testing.assert_allclose(x, x_ode, rtol=1e-11, atol=1e-15)
+    assert np.all(v >= 0)
+    if math.tan(t) > mu:
+        assert incline_acceleration(t, mu, G) == pytest.approx(a, rel=1e-15)
+    else:
+        assert incline_acceleration(t, mu, G) == 0.0
+        assert v[-1] == 0.0
+
+
+def test_validate_incline_regimes_from_corner_forces():
+    """The regime boundaries are where a corner force of the two-point statics vanishes
+    (tipping) or the friction needed reaches mu N (sliding); the forces balance the
+    block's weight and its moment about G (cross products)."""
+    s, h, m = S_DOM, L_DOM / 2, 0.009
+    lever = s / (2 * h)
+    for mu, t, regime in (
+        (0.5, 0.9 * math.atan(lever), "rest"),
+        (0.5, 1.01 * math.atan(lever), "tip"),
+        (0.1, 1.01 * math.atan(0.1), "slide"),
+        (0.1, 0.99 * math.atan(0.1), "rest"),
+        (0.1, 1.5, "slide"),
+    ):
+        assert incline_regime(t, mu, s, h) == regime
+        if regime == "tip":
+            with pytest.raises(ValueError, match="tips"):
+                incline_corner_forces(t, mu, s, h, m, G)
+            continue
+        down, up, friction = incline_corner_forces(t, mu, s, h, m, G)
+        # slope frame: x downhill, z normal; G at (0, h); weight (m g sin t, -m g cos t)
+        forces = np.array([[0.0, down], [0.0, up], [-friction, 0.0], [-friction, 0.0]])
+        forces[2:] *= 0.5  # the friction split between the corners: no moment difference
+        points = np.array([[s / 2, 0.0], [-s / 2, 0.0], [s / 2, 0.0], [-s / 2, 0.0]])
+        weight = m * G * np.array([math.sin(t), -math.cos(t)])
+        assert np.allclose(forces.sum(0) + weight, 0, atol=1e-15) == (regime == "rest")
+        arm = points - np.array([0.0, h])
+        torque = np.sum(arm[:, 0] * forces[:, 1] - arm[:, 1] * forces[:, 0])
+        assert torque == pytest.approx(0.0, abs=1e-16)
+    # the tipping boundary: the uphill corner unloads at tan t = s / 2h
+    _, up, _ = incline_corner_forces(math.atan(lever) * (1 - 1e-12), 0.5, s, h, m, G)
+    assert up == pytest.approx(0.0, abs=1e-12 * m * G)
+
+
+# --- edge_tipping ---------------------------------------------------------------------
+
+
+def _inverted_pendulum_time(kappa, phi0, phi1):
+    """Closed form: from rest at phi0 > 0, phi'' = kappa^2 sin(phi) reaches phi1 at
+    t = (F(pi/2, k) - F(u, k)) / kappa, k = cos(phi0 / 2), sin u = cos(phi1/2) / k (the
+    ordinary pendulum psi = pi - phi from its amplitude psi0 = pi - phi0)."""
+    m = math.cos(phi0 / 2) ** 2
+    u = math.asin(math.cos(phi1 / 2) / math.cos(phi0 / 2))
+    return (ellipkm1(math.sin(phi0 / 2) ** 2) - ellipkinc(u, m)) / kappa
+
+
+@pytest.mark.parametrize(("s", "dtheta0"), [(S_DOM, 0.05), (S_DOM, 0.3), (0.02, 0.1)])
+def test_validate_edge_fall_from_rest_three_methods(s, dtheta0):
+    """A box released at rest just beyond its balance tilt atan(s/l) lands flat: energy
+    quadrature, Newton's law (DOP853, rtol 1e-12) and the elliptic-integral closed form of
+    the inverted pendulum agree to 1e-10 (measured: quadrature 2e-16, DOP853 2e-13)."""
+    alpha = math.atan(s / L_DOM)
+    theta0 = alpha + dtheta0
+    t_quad = edge_fall_time(L_DOM, s, theta0, 0.0, math.pi / 2, G)
+    t_ode, omega_land = edge_fall_by_newton(L_DOM, s, theta0, 0.0, math.pi / 2, G)
+    rho = math.hypot(L_DOM, s) / 2
+    t_exact = _inverted_pendulum_time(math.sqrt(3 * G / (4 * rho)), dtheta0, math.pi / 2 - alpha)
+    assert t_quad == pytest.approx(t_exact, rel=1e-10)
+    assert t_ode == pytest.approx(t_exact, rel=1e-10)
+    # energy on landing: (1/2) I w^2 = m g (height lost by G)
+    drop = rho * (math.cos(dtheta0) - math.cos(math.pi / 2 - alpha))
+    assert 0.5 * (4 / 3) * rho**2 * omega_land**2 == pytest.approx(G * drop, rel=1e-10)
+
+
+def test_validate_edge_fall_small_tilt_limit():
+    """Released a hair beyond balance: phi'' = kappa^2 phi gives t = acosh(phi1/phi0) /
+    kappa, the correction O(phi1^2) (100-fold smaller for 10-fold smaller angles)."""
+    rho = math.hypot(L_DOM, S_DOM) / 2
+    kappa, alpha = math.sqrt(3 * G / (4 * rho)), math.atan(S_DOM / L_DOM)
+    errors = []
+    for phi0, phi1 in ((1e-4, 1e-2), (1e-5, 1e-3)):
+        t = edge_fall_time(L_DOM, S_DOM, alpha + phi0, 0.0, alpha + phi1, G)
+        errors.append(t * kappa / math.acosh(phi1 / phi0) - 1)
+    assert errors[0] / errors[1] == pytest.approx(100, rel=1e-3)
+
+
+def test_validate_edge_fall_thin_box_is_a_rod():
+    """s -> 0: a pushed uniform rod obeys the EJ law with l_eff = 2 l / 3 (theta'' =
+    (3 g / 2 l) sin theta), so the first contact time is EJ's fall time (eq 11)."""
+    omega, d = 5.0, 0.3 * L_DOM
+    t, tilt = first_contact_time(L_DOM, 0.0, d, omega, G)
+    assert tilt == pytest.approx(math.asin(0.3), rel=1e-15)
+    assert t == pytest.approx(ej_fall_time(omega, tilt, 2 * L_DOM / 3, G), rel=1e-11)
+
+
+def _first_touch_by_geometry(l, s, d, omega, g):
+    """Newton's law (T) with the contact found by geometry: the event is the largest
+    forward x of domino 0's four corners reaching domino 1's back face x = d."""
+    rho, alpha = math.hypot(l, s) / 2, math.atan2(s, l)
+    corners = np.array([[0.0, 0.0], [0.0, l], [-s, l], [-s, 0.0]])
+
+    def front(_t, y):
+        c, si = math.cos(y[0]), math.sin(y[0])
+        return max(corners[:, 0] * c + corners[:, 1] * si) - d
+
+    front.terminal, front.direction = True, 1
+    sol = solve_ivp(
+        lambda _t, y: [y[1], 3 * g / (4 * rho) * math.sin(y[0] - alpha)],
+        (0, 10.0),
+        [0.0, omega],
+        method="DOP853",
+        rtol=1e-12,
+        atol=1e-14,
+        events=front,
+    )
+    return sol.t_events[0][0], sol.y_events[0][0][0]
+
+
+@pytest.mark.parametrize(
+    ("s", "d", "omega_scale"),
+    [(S_DOM, 0.0094, 1.5), (S_DOM, 0.015, 3.0), (0.01, 0.03, 1.2), (0.002, 0.04, 10.0)],
+)
+def test_validate_first_contact_equals_newton_event(s, d, omega_scale):
+    """Domino 0 pushed upright with omega about its front bottom edge: the quadrature time
+    and the tilt asin(d/l) against Newton's law with a corner-geometry event (which finds
+    the touching corner itself), measured <= 2.3e-11 (the ODE's error); omega a multiple of
+    the push that just tips it over."""
+    rho, alpha = math.hypot(L_DOM, s) / 2, math.atan(s / L_DOM)
+    omega_min = math.sqrt(3 * G / (2 * rho) * (1 - math.cos(alpha)))
+    omega = omega_scale * omega_min
+    t, tilt = first_contact_time(L_DOM, s, d, omega, G)
+    t_ode, tilt_ode = _first_touch_by_geometry(L_DOM, s, d, omega, G)
+    assert tilt == pytest.approx(tilt_ode, rel=1e-10)
+    assert t == pytest.approx(t_ode, rel=1e-10)
+    assert t == pytest.approx(edge_fall_by_newton(L_DOM, s, 0.0, omega, tilt, G)[0], rel=1e-10)
+    with pytest.raises(ValueError, match="omega0"):
+        first_contact_time(L_DOM, s, d, 0.99 * omega_min, G)
+
+
+def test_validate_first_contact_without_gravity():
+    """g -> 0: uniform rotation, t = asin(d / l) / omega."""
+    t, tilt = first_contact_time(L_DOM, S_DOM, 0.01, 7.0, 1e-30)
+    assert tilt == math.asin(0.01 / L_DOM)
+    assert t == pytest.approx(tilt / 7.0, rel=1e-13)
+
+
+def test_validate_edge_reaction_balances_momentum():
+    """The hinge force is m times the centre's acceleration plus its weight: compared with
+    a finite-difference second derivative of the centre's path along a DOP853 solution;
+    at the balance tilt, at rest, it carries the full weight."""
+    s = S_DOM
+    rho, alpha = math.hypot(L_DOM, s) / 2, math.atan(s / L_DOM)
+    sol = solve_ivp(
+        lambda _t, y: [y[1], 3 * G / (4 * rho) * math.sin(y[0] - alpha)],
+        (0, 0.1),
+        [alpha + 0.2, 0.0],
+        method="DOP853",
+        rtol=1e-13,
+        atol=1e-15,
+        dense_output=True,
+    )
+    tm, h = 0.05, 1e-4
+
+    def centre(t):
+        phi = sol.sol(t)[0] - alpha
+        return rho * np.array([math.sin(phi), math.cos(phi)])
+
+    acc = (centre(tm + h) - 2 * centre(tm) + centre(tm - h)) / h**2
+    theta, omega = sol.sol(tm)
+    f_x, f_z = edge_reaction(L_DOM, s, theta, omega, G)
+    np.testing.assert_allclose([f_x, f_z], [acc[0], acc[1] + G], rtol=1e-6)
+    np.testing.assert_allclose(edge_reaction(L_DOM, s, alpha, 0.0, G), [0.0, G], atol=1e-15)
