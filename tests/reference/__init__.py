@@ -76,4 +76,14 @@ edge_tipping (a cuboid tipping over its bottom front edge, hinge fixed)
   first_contact_time: Push(omega) of domino 0 to its first touch of domino 1 at
       sin(theta) = d / l (top front edge on the back face) -- edge_fall_time -- issue 13
       (validation 2)
+rigid_impact (two rigid bodies colliding at a point, no friction)
+  effective_mass, impulse_collision, energy_loss: 1/m_eff with both lever arms and
+      inertias, Newton's restitution law, loss (1 - e^2) m_eff u^2 / 2 -- closed form --
+      issue 13 (validation 4, restitution of eccentric impacts)
+  dashpot_for_restitution, compliant_impact: the same impact through a spring-dashpot at
+      frozen geometry -- solve_ivp DOP853 rtol 1e-12, event -- checks the two above
+resting_box (a box resting flat on n corner springs)
+  resting_corner_load, resting_box_modes: m g / n per corner, overlap m g / (n k);
+      bounce, rocking (with sliding for k_t > 0, gravity's -m g h), yaw -- closed form,
+      checked against the exact potential's Hessian -- issue 13 (validations 3, 6)
 """

@@ -26,7 +26,17 @@ from reference.incline import (
     incline_motion,
     incline_regime,
 )
+from reference.resting_box import resting_box_modes, resting_corner_load
 from reference.rigid_chain import ej_fall_time
+from reference.rigid_impact import (
+    Body,
+    compliant_impact,
+    dashpot_for_restitution,
+    effective_mass,
+    energy_loss,
+    impulse_collision,
+    normal_velocity,
+)
 
 G = 9.81
 # a common domino: 48 x 24 x 7.5 mm, ABS-like density
@@ -338,3 +348,153 @@ def test_validate_edge_reaction_balances_momentum():
     f_x, f_z = edge_reaction(L_DOM, s, theta, omega, G)
     np.testing.assert_allclose([f_x, f_z], [acc[0], acc[1] + G], rtol=1e-6)
     np.testing.assert_allclose(edge_reaction(L_DOM, s, alpha, 0.0, G), [0.0, G], atol=1e-15)
+
+
+# --- rigid_impact ---------------------------------------------------------------------
+
+
+def _box_body(m, half, rotation, x, v, w):
+    """A uniform box of mass m and half-extents ``half`` (3,), its principal axes turned by
+    ``rotation`` (3, 3), as a reference Body."""
+    principal = m / 3.0 * np.array([half[1] ** 2 + half[2] ** 2, half[2] ** 2 + half[0] ** 2, 0])
+    principal[2] = m / 3.0 * (half[0] ** 2 + half[1] ** 2)
+    inertia = rotation @ np.diag(principal) @ rotation.T
+    return Body(m, inertia, np.asarray(x, float), np.asarray(v, float), np.asarray(w, float))
+
+
+def _eccentric_pair():
+    """Two tilted, spinning dominoes meeting off their centres (a generic 3D impact)."""
+    rng = np.random.default_rng(7)
+    q_i, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    q_j, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    half = np.array([S_DOM, W_DOM, L_DOM]) / 2
+    body_i = _box_body(0.009, half, q_i, [0, 0, 0.02], [0.3, 0.05, -0.1], [2.0, -5.0, 1.0])
+    body_j = _box_body(0.012, half, q_j, [0.03, 0.004, 0.01], [-0.2, 0.0, 0.1], [0.0, 3.0, -1])
+    p = np.array([0.012, 0.006, 0.031])
+    n = np.array([1.0, 0.2, -0.3])
+    return body_i, body_j, p, n / np.linalg.norm(n)
+
+
+@pytest.mark.parametrize("e", [1.0, 0.7, 0.3])
+def test_validate_impulse_collision_conservation(e):
+    """Newton's law at an eccentric point: momentum and angular momentum (about the
+    origin and about another point) conserved to round-off, u' = -e u, and the energy lost
+    is (1 - e^2) m_eff u^2 / 2."""
+    body_i, body_j, p, n = _eccentric_pair()
+    u = normal_velocity(body_i, body_j, p, n)
+    after_i, after_j, _, m_eff = impulse_collision(body_i, body_j, p, n, e)
+    momentum = body_i.m * body_i.v + body_j.m * body_j.v
+    np.testing.assert_allclose(after_i.m * after_i.v + after_j.m * after_j.v, momentum, 1e-14)
+    for about in (np.zeros(3), np.array([0.1, -0.2, 0.3])):
+        before = body_i.angular_momentum(about) + body_j.angular_momentum(about)
+        after = after_i.angular_momentum(about) + after_j.angular_momentum(about)
+        np.testing.assert_allclose(after, before, rtol=1e-13, atol=1e-18)
+    assert normal_velocity(after_i, after_j, p, n) == pytest.approx(-e * u, rel=1e-13, abs=1e-17)
+    total = body_i.kinetic_energy() + body_j.kinetic_energy()
+    lost = total - after_i.kinetic_energy() - after_j.kinetic_energy()
+    assert lost == pytest.approx(energy_loss(m_eff, u, e), rel=1e-10, abs=1e-14 * total)
+
+
+def test_validate_effective_mass_closed_forms():
+    """Central impact of equal balls: m/2, and e = 1 swaps the velocities. A ball hitting
+    the end of a free rod (length L, mass M) at right angles: 1/m_eff = 1/m + 4/M."""
+    ball = np.eye(3) * 0.4 * 1.0 * 0.01**2
+    a = Body(1.0, ball, np.zeros(3), np.array([1.0, 0, 0]), np.zeros(3))
+    b = Body(1.0, ball, np.array([0.02, 0, 0]), np.zeros(3), np.zeros(3))
+    p, n = np.array([0.01, 0, 0]), np.array([1.0, 0, 0])
+    after_a, after_b, _, m_eff = impulse_collision(a, b, p, n, 1.0)
+    assert m_eff == pytest.approx(0.5, rel=1e-15)
+    np.testing.assert_allclose([after_a.v[0], after_b.v[0]], [0.0, 1.0], atol=1e-15)
+    rod_l, rod_m = 0.5, 3.0
+    rod = Body(rod_m, np.diag([rod_m * rod_l**2 / 12] * 3), np.zeros(3), np.zeros(3), np.zeros(3))
+    point = Body(0.2, np.eye(3) * 1e-9, np.array([-0.1, rod_l / 2, 0]), np.zeros(3), np.zeros(3))
+    m_eff = effective_mass(point, rod, np.array([0, rod_l / 2, 0]), np.array([1.0, 0, 0]))
+    assert 1 / m_eff == pytest.approx(1 / 0.2 + 4 / rod_m, rel=1e-12)
+
+
+@pytest.mark.parametrize("e", [1.0, 0.7, 0.3])
+def test_validate_compliant_impact_equals_impulse(e):
+    """The 12 velocities integrated through the spring-dashpot with c from m_eff (frozen
+    geometry) end where Newton's restitution law puts them (measured ~1e-12 relative): m_eff is the
+    mass the contact point feels, and the dashpot gives the restitution it is set for."""
+    body_i, body_j, p, n = _eccentric_pair()
+    m_eff = effective_mass(body_i, body_j, p, n)
+    k = 1e4
+    c = dashpot_for_restitution(e, k, m_eff)
+    ode_i, ode_j, duration = compliant_impact(body_i, body_j, p, n, k, c)
+    imp_i, imp_j, _, _ = impulse_collision(body_i, body_j, p, n, e)
+    scale = np.linalg.norm(body_i.v) + np.linalg.norm(body_j.v)
+    for ode, imp in ((ode_i, imp_i), (ode_j, imp_j)):
+        np.testing.assert_allclose(ode.v, imp.v, atol=1e-11 * scale)
+        np.testing.assert_allclose(ode.w, imp.w, atol=1e-11 * scale / L_DOM)
+    zeta = c / (2 * math.sqrt(k * m_eff))
+    assert duration == pytest.approx(math.pi / math.sqrt(k / m_eff * (1 - zeta**2)), rel=1e-10)
+
+
+# --- resting_box ----------------------------------------------------------------------
+
+
+def _hessian_modes(m, inertia, corners, h, k, kt, g):
+    """Small-oscillation frequencies from the exact potential of the box on its corner
+    springs (rotation by scipy's rotation vector, springs on the exact corner positions):
+    Hessian by central differences at rest, then the generalized eigenproblem K v = w^2 M v."""
+    from scipy.linalg import eigh
+    from scipy.spatial.transform import Rotation
+
+    corners = np.asarray(corners, float)
+    body = np.column_stack((corners, np.full(len(corners), -h)))
+    delta0 = m * g / (len(corners) * k)
+    rest = body + np.array([0.0, 0.0, h - delta0])
+
+    def potential(q):
+        world = Rotation.from_rotvec(q[3:]).apply(body) + q[:3] + np.array([0, 0, h - delta0])
+        overlap = np.maximum(-world[:, 2], 0.0)
+        slide = world[:, :2] - rest[:, :2]
+        return m * g * q[2] + 0.5 * k * overlap @ overlap + 0.5 * kt * np.sum(slide**2)
+
+    eps = 1e-2 * delta0 / max(np.abs(corners).max(), h)  # the corners stay in contact
+    stiffness = np.zeros((6, 6))
+    for a in range(6):
+        for b in range(6):
+            ea, eb = np.eye(6)[a] * eps, np.eye(6)[b] * eps
+            stiffness[a, b] = (
+                potential(ea + eb) - potential(ea - eb) - potential(eb - ea) + potential(-ea - eb)
+            ) / (4 * eps * eps)
+    mass = np.diag([m, m, m, *inertia])
+    return np.sqrt(np.maximum(eigh(stiffness, mass, eigvals_only=True), 0.0))
+
+
+@pytest.mark.parametrize("kt", [0.0, 300.0])
+def test_validate_resting_box_modes_equal_hessian(kt):
+    """A 3D domino on its four base corners: the closed-form frequencies against the
+    eigenfrequencies of the exact potential's Hessian (central differences; measured
+    agreement <= 2e-8); corner load m g / 4."""
+    m, k, h = 0.009, 1e3, L_DOM / 2
+    _, inertia = box_mass_properties(S_DOM / 2, W_DOM / 2, L_DOM / 2, m / (L_DOM * W_DOM * S_DOM))
+    corners = [[sx * S_DOM / 2, sy * W_DOM / 2] for sx in (-1, 1) for sy in (-1, 1)]
+    force, overlap = resting_corner_load(m, 4, k, G)
+    assert force == pytest.approx(m * G / 4, rel=1e-15)
+    assert overlap * k == pytest.approx(force, rel=1e-15)
+    modes = resting_box_modes(m, inertia, corners, h, k, kt, G)
+    closed = sorted([modes["bounce"], *modes["rock_y"], *modes["rock_x"], modes["yaw"]])
+    numeric = np.sort(_hessian_modes(m, inertia, corners, h, k, kt, G))
+    np.testing.assert_allclose(numeric, closed, rtol=1e-6, atol=1e-3)
+    if kt == 0.0:
+        rock = math.sqrt((k * 4 * (S_DOM / 2) ** 2 - m * G * h) / inertia[1])
+        assert modes["rock_y"] == (0.0, pytest.approx(rock, rel=1e-14))
+        assert modes["bounce"] == pytest.approx(math.sqrt(4 * k / m), rel=1e-15)
+
+
+def test_validate_resting_box_planar_limit_and_soft_springs():
+    """Planar box on two corners: the rocking of a stiff contact tends to the brief's
+    sqrt(k sum x^2 / I) (the -m g h correction ~ delta_0 h / (s/2)^2); a top-heavy box on
+    soft springs is refused."""
+    m, h, inertia = 0.009, L_DOM / 2, np.array([1.0, 1.7e-6, 1.0])
+    corners = [[-S_DOM / 2, 0.0], [S_DOM / 2, 0.0]]
+    for k in (1e6, 1e8):
+        _, rock = resting_box_modes(m, inertia, corners, h, k)["rock_y"]
+        stiff = math.sqrt(k * 2 * (S_DOM / 2) ** 2 / inertia[1])
+        correction = -0.5 * m * G * h / (k * 2 * (S_DOM / 2) ** 2)
+        assert rock / stiff - 1 == pytest.approx(correction, rel=1e-4)
+    with pytest.raises(ValueError, match="too soft"):
+        resting_box_modes(m, inertia, corners, h, 1.0)
