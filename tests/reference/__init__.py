@@ -86,4 +86,11 @@ resting_box (a box resting flat on n corner springs)
   resting_corner_load, resting_box_modes: m g / n per corner, overlap m g / (n k);
       bounce, rocking (with sliding for k_t > 0, gravity's -m g h), yaw -- closed form,
       checked against the exact potential's Hessian -- issue 13 (validations 3, 6)
+rounded_tipping (a rounded cuboid rolling over its rounded front bottom edge, no slip)
+  rounded_fall_time: theta0 -> theta1 -- quad of the energy integral with the rolling
+      inertia j(theta), epsrel 1e-13 -- issue 13 (validations 2, 7 at finite r)
+  rounded_fall_by_lagrange: the same, Lagrange's equation -- solve_ivp DOP853 rtol
+      1e-12, atol 1e-14, event
+  rounded_first_contact_time: (l - 2r) sin(theta) + r theta = d -- brentq xtol 1e-15 and
+      rounded_fall_time; checked against a polygon-distance event -- issue 13 (validation 2)
 """
