@@ -93,4 +93,10 @@ rounded_tipping (a rounded cuboid rolling over its rounded front bottom edge, no
       1e-12, atol 1e-14, event
   rounded_first_contact_time: (l - 2r) sin(theta) + r theta = d -- brentq xtol 1e-15 and
       rounded_fall_time; checked against a polygon-distance event -- issue 13 (validation 2)
+box_distance (distances of cuboid cores: the overlap of rounded cuboids)
+  box_box_distance: closest points of two boxes -- bounded least squares (lsq_linear,
+      BVLS), checked by closed forms and a separating-plane certificate -- issue 13
+      (validation 5, box-box contact geometry)
+  box_point_distance, box_wall_distance: box-sphere and box-wall -- closed form (clamp,
+      lowest corner) -- issue 13 (box-sphere, box-wall contacts)
 """

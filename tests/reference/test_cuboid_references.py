@@ -8,6 +8,7 @@ import pytest
 from scipy.integrate import dblquad, solve_ivp
 from scipy.special import ellipkinc, ellipkm1
 
+from reference.box_distance import box_box_distance, box_point_distance, box_wall_distance
 from reference.cuboid import (
     box_edge_inertia,
     box_mass_properties,
@@ -623,3 +624,90 @@ def test_validate_rounded_roll_conserves_energy_by_kinematics():
         energies.append(0.5 * v @ v + 0.5 * k2 * omega**2 + G * centre(t)[1])
     np.testing.assert_allclose(energies, energies[0], rtol=1e-7)
     assert rounded_fall_by_lagrange(L_DOM, S_DOM, r, 0.0, 6.0, 1.0, G)[1] > 6.0
+
+
+# --- box_distance ---------------------------------------------------------------------
+
+
+def _turn(axis, angle):
+    """Rotation matrix about a coordinate axis (0, 1, 2) by ``angle`` [rad]."""
+    from scipy.spatial.transform import Rotation
+
+    return Rotation.from_rotvec(np.eye(3)[axis] * angle).as_matrix()
+
+
+def _corners(centre, rotation, half):
+    signs = np.array([[i, j, k] for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)])
+    return centre + (signs * half) @ rotation.T
+
+
+def test_validate_box_distance_closed_forms():
+    """Face-face (parallel, gap 0.1), edge-face (B turned 45 deg about y: its lowest
+    edge (a + c)/sqrt 2 below its centre) and crossed edges (A turned about x, B about
+    y: D = z_B - z_A - (b_A + c_A)/sqrt 2 - (a_B + c_B)/sqrt 2)."""
+    half_a, half_b = np.array([0.3, 0.5, 0.7]), np.array([0.2, 0.4, 0.6])
+    eye = np.eye(3)
+    d, _, _ = box_box_distance([0, 0, 0], eye, half_a, [0.6, 0.1, -0.2], eye, half_b)
+    assert d == pytest.approx(0.1, rel=1e-13)
+    z_b = 2.0
+    d, _, p_b = box_box_distance([0, 0, 0], eye, half_a, [0, 0, z_b], _turn(1, math.pi / 4), half_b)
+    assert d == pytest.approx(z_b - 0.7 - (0.2 + 0.6) / math.sqrt(2), rel=1e-13)
+    assert p_b[2] == pytest.approx(z_b - 0.8 / math.sqrt(2), rel=1e-13)
+    d, p_a, p_b = box_box_distance(
+        [0, 0, 0], _turn(0, math.pi / 4), half_a, [0.01, -0.02, z_b], _turn(1, math.pi / 4), half_b
+    )
+    assert d == pytest.approx(z_b - (0.5 + 0.7) / math.sqrt(2) - 0.8 / math.sqrt(2), rel=1e-13)
+    np.testing.assert_allclose(p_b - p_a, [0, 0, d], atol=1e-13)
+
+
+def test_validate_box_distance_separating_plane_certificate():
+    """Random poses: the closest points lie in their boxes, and the plane normal to
+    p_b - p_a through them separates all corners (the optimality certificate of a
+    convex distance); the point and wall distances agree with a degenerate box."""
+    rng = np.random.default_rng(3)
+    from scipy.spatial.transform import Rotation
+
+    for _ in range(20):
+        rot_a, rot_b = Rotation.random(2, random_state=rng).as_matrix()
+        half_a, half_b = rng.uniform(0.1, 1.0, 3), rng.uniform(0.1, 1.0, 3)
+        c_a, c_b = np.zeros(3), rng.normal(size=3) * 3
+        d, p_a, p_b = box_box_distance(c_a, rot_a, half_a, c_b, rot_b, half_b)
+        for c, rot, half, p in ((c_a, rot_a, half_a, p_a), (c_b, rot_b, half_b, p_b)):
+            assert np.all(np.abs(rot.T @ (p - c)) <= half * (1 + 1e-12))
+        if d > 0:
+            n = (p_b - p_a) / d
+            assert np.max((_corners(c_a, rot_a, half_a) - p_a) @ n) < 1e-12
+            assert np.min((_corners(c_b, rot_b, half_b) - p_b) @ n) > -1e-12
+            # as a wall, the separating plane sees box b's lowest corner at distance D
+            wall = box_wall_distance(c_b, rot_b, half_b, p_a, n)
+            assert wall == pytest.approx(d, rel=1e-11)
+        point = rng.normal(size=3) * 2
+        d_point, _ = box_point_distance(c_b, rot_b, half_b, point)
+        d_degenerate, _, _ = box_box_distance(c_b, rot_b, half_b, point, np.eye(3), np.zeros(3))
+        assert d_point == pytest.approx(d_degenerate, rel=1e-12, abs=1e-14)
+
+
+def test_validate_box_distance_continuous_over_a_corner():
+    """An edge of box B (turned 45 deg) sliding 0.05 above a face of box A and over its
+    corner (validation 5's path): the nearest features go edge-face, edge-edge, face-edge,
+    and the distance follows the closed form of each (0.05; the distance of the two edges,
+    hypot(x - 0.5, 0.05); the corner to B's lower face, (x - 0.5 + 0.05) / sqrt 2), without
+    a jump (steps bounded by the path step: D is 1-Lipschitz)."""
+    half_a, half_b = np.array([0.5, 0.5, 0.5]), np.array([0.2, 0.3, 0.2])
+    rot_b = _turn(1, math.pi / 4)  # the lowest edge of B runs along y
+    height = 0.5 + 0.2 * math.sqrt(2) + 0.05  # B's edge 0.05 above A's top face
+    xs = np.linspace(0.0, 0.7, 141)
+    distances = np.array(
+        [
+            box_box_distance([0, 0, 0], np.eye(3), half_a, [x, 0, height], rot_b, half_b)[0]
+            for x in xs
+        ]
+    )
+    assert np.max(np.abs(np.diff(distances))) <= (xs[1] - xs[0]) * (1 + 1e-9)
+    beyond = xs - 0.5
+    expected = np.where(
+        beyond <= 0.0,
+        0.05,
+        np.where(beyond <= 0.05, np.hypot(beyond, 0.05), (beyond + 0.05) / math.sqrt(2)),
+    )
+    np.testing.assert_allclose(distances, expected, rtol=1e-12)
