@@ -86,6 +86,9 @@ resting_box (a box resting flat on n corner springs)
   resting_corner_load, resting_box_modes: m g / n per corner, overlap m g / (n k);
       bounce, rocking (with sliding for k_t > 0, gravity's -m g h), yaw -- closed form,
       checked against the exact potential's Hessian -- issue 13 (validations 3, 6)
+  stack_loads, stack_bounce_frequencies: a stack of N boxes, loads (N - i) m g / n and
+      the fixed-free chain's vertical modes -- closed form, checked against the spring
+      chain's static solution and eigenvalues -- issue 13 (validation 6)
 rounded_tipping (a rounded cuboid rolling over its rounded front bottom edge, no slip)
   rounded_fall_time: theta0 -> theta1 -- quad of the energy integral with the rolling
       inertia j(theta), epsrel 1e-13 -- issue 13 (validations 2, 7 at finite r)

@@ -30,7 +30,9 @@ the -m g h from the preloaded springs' lever arm shrinking as the box tilts. The
     yaw          omega^2 = k_t sum (x_i^2 + y_i^2) / I_zz.
 
 A planar box (2D, the xz plane) on n = 2 corners at x = +-s/2 has the bounce and the
-rocking about y. No import of dominowave. Units: SI.
+rocking about y. A stack of N such boxes is a chain of masses and springs n k: each
+interface carries the weight above it, and its vertical modes are the fixed-free chain's.
+No import of dominowave. Units: SI.
 """
 
 from __future__ import annotations
@@ -84,3 +86,23 @@ def resting_box_modes(m, inertia, corners, h, k, kt=0.0, g=G):
             modes[name] = _pair_frequencies(m, i_axis, moment2, h, k, kt, n, g)
     modes["yaw"] = math.sqrt(kt * (x @ x + y @ y) / inertia[2])
     return modes
+
+
+def stack_loads(m, n_boxes, n_corners, k, g=G):
+    """A stack of ``n_boxes`` equal boxes (mass ``m`` [kg]) on the floor, each interface
+    (box on box, or the lowest box on the floor) on ``n_corners`` springs ``k`` [N/m]:
+    (force per corner [N] (n_boxes,), overlap [m] (n_boxes,)), interface 0 the floor. The
+    interface under box i carries the weight of the n_boxes - i boxes above it:
+    F_i = (n_boxes - i) m g / n_corners, delta_i = F_i / k."""
+    above = np.arange(n_boxes, 0, -1, dtype=float)
+    force = above * m * g / n_corners
+    return force, force / k
+
+
+def stack_bounce_frequencies(m, n_boxes, n_corners, k):
+    """Angular frequencies [rad/s] (n_boxes,) of the vertical modes of the stack: a chain
+    of equal masses m and interface springs K = n_corners k, fixed at the floor and free
+    at the top, omega_j = 2 sqrt(K / m) sin((2j - 1) pi / (2 (2 N + 1))), j = 1..N
+    (the fixed-free chain's standing waves)."""
+    j = np.arange(1, n_boxes + 1)
+    return 2.0 * np.sqrt(n_corners * k / m) * np.sin((2 * j - 1) * np.pi / (2 * (2 * n_boxes + 1)))

@@ -27,7 +27,12 @@ from reference.incline import (
     incline_motion,
     incline_regime,
 )
-from reference.resting_box import resting_box_modes, resting_corner_load
+from reference.resting_box import (
+    resting_box_modes,
+    resting_corner_load,
+    stack_bounce_frequencies,
+    stack_loads,
+)
 from reference.rigid_chain import ej_fall_time
 from reference.rigid_impact import (
     Body,
@@ -711,3 +716,26 @@ def test_validate_box_distance_continuous_over_a_corner():
         np.where(beyond <= 0.05, np.hypot(beyond, 0.05), (beyond + 0.05) / math.sqrt(2)),
     )
     np.testing.assert_allclose(distances, expected, rtol=1e-12)
+
+
+def test_validate_stack_against_the_spring_chain():
+    """A stack of five boxes on four corner springs per interface: the loads and overlaps
+    against the static solution of the spring chain K u = -m g (u the boxes' vertical
+    displacements), and the vertical-mode frequencies against its eigenvalues."""
+    from scipy.linalg import eigh
+
+    m, n_boxes, k = 0.009, 5, 2e5
+    stiffness = np.zeros((n_boxes, n_boxes))
+    for i in range(n_boxes):  # spring i sits under box i
+        stiffness[i, i] += 4 * k
+        if i > 0:
+            stiffness[i - 1, i - 1] += 4 * k
+            stiffness[i - 1, i] -= 4 * k
+            stiffness[i, i - 1] -= 4 * k
+    u = np.linalg.solve(stiffness, np.full(n_boxes, -m * G))
+    overlaps = -np.diff(np.concatenate(([0.0], u)))  # spring i compressed by u_{i-1} - u_i
+    force, overlap = stack_loads(m, n_boxes, 4, k, G)
+    np.testing.assert_allclose(overlap, overlaps, rtol=1e-12)
+    np.testing.assert_allclose(force, 4 * k * overlaps / 4, rtol=1e-12)
+    omega = np.sqrt(eigh(stiffness, np.eye(n_boxes) * m, eigvals_only=True))
+    np.testing.assert_allclose(stack_bounce_frequencies(m, n_boxes, 4, k), omega, rtol=1e-12)
