@@ -79,6 +79,13 @@ def edge_fall_time(l, s, theta0, omega0, theta1, g=G):
             return 2.0 / math.sqrt(k * math.sin(phi0))  # speed2 ~ k sin(phi0) x^2
         return 2.0 * x / math.sqrt(speed2(x))
 
+    return tilt_quadrature(integrand, theta0, theta1, alpha)
+
+
+def tilt_quadrature(integrand, theta0, theta1, alpha):
+    """int_0^sqrt(theta1 - theta0) integrand(x) dx [s], x^2 = theta - theta0: a fall time
+    after the substitution, the balance tilt ``alpha`` (where the speed is least) a
+    breakpoint. quad, epsrel 1e-13."""
     points = [math.sqrt(alpha - theta0)] if theta0 < alpha < theta1 else None
     value, _ = quad(
         integrand,
@@ -92,11 +99,11 @@ def edge_fall_time(l, s, theta0, omega0, theta1, g=G):
     return value
 
 
-def edge_fall_by_newton(l, s, theta0, omega0, theta1, g=G):
-    """The same fall by Newton's law (T): (time [s], angular velocity there [rad/s]) when
-    the tilt reaches ``theta1`` (pi/2: landing flat; or an obstacle's tilt). scipy DOP853,
-    rtol 1e-12, atol 1e-14, the arrival located by an event."""
-    _, alpha, rate2 = edge_geometry(l, s)
+def tilt_arrival(acceleration, theta0, omega0, theta1):
+    """Integrate theta'' = acceleration(theta, theta') from (``theta0``, ``omega0``) until
+    the tilt reaches ``theta1``: (time [s], angular velocity there [rad/s]). scipy DOP853,
+    rtol 1e-12, atol 1e-14, the arrival located by an event; ValueError if the body falls
+    back instead."""
 
     def arrive(_t, y):
         return y[0] - theta1
@@ -107,7 +114,7 @@ def edge_fall_by_newton(l, s, theta0, omega0, theta1, g=G):
     arrive.terminal, arrive.direction = True, 1
     fall_back.terminal = True
     sol = solve_ivp(
-        lambda _t, y: [y[1], rate2 * g * math.sin(y[0] - alpha)],
+        lambda _t, y: [y[1], acceleration(y[0], y[1])],
         (0.0, 1e3),
         [theta0, omega0],
         method="DOP853",
@@ -116,8 +123,16 @@ def edge_fall_by_newton(l, s, theta0, omega0, theta1, g=G):
         events=(arrive, fall_back),
     )
     if not len(sol.t_events[0]):
-        raise ValueError(f"the box does not reach theta1 = {theta1} from theta0 = {theta0}")
+        raise ValueError(f"the body does not reach theta1 = {theta1} from theta0 = {theta0}")
     return sol.t_events[0][0], sol.y_events[0][0][1]
+
+
+def edge_fall_by_newton(l, s, theta0, omega0, theta1, g=G):
+    """The same fall by Newton's law (T): (time [s], angular velocity there [rad/s]) when
+    the tilt reaches ``theta1`` (pi/2: landing flat; or an obstacle's tilt). scipy DOP853,
+    rtol 1e-12, atol 1e-14, the arrival located by an event."""
+    _, alpha, rate2 = edge_geometry(l, s)
+    return tilt_arrival(lambda th, _w: rate2 * g * math.sin(th - alpha), theta0, omega0, theta1)
 
 
 def edge_reaction(l, s, theta, omega, g=G):

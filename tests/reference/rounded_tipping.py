@@ -40,8 +40,9 @@ from __future__ import annotations
 
 import math
 
-from scipy.integrate import quad, solve_ivp
 from scipy.optimize import brentq
+
+from reference.edge_tipping import tilt_arrival, tilt_quadrature
 
 G = 9.81  # standard gravity [m/s^2]
 
@@ -91,17 +92,7 @@ def rounded_fall_time(l, s, r, theta0, omega0, theta1, g=G, gyration2=None):
         drop = 2.0 * math.sin(phi0 + half) * math.sin(half)  # cos(phi0) - cos(phi)
         return 2.0 * x * math.sqrt(j(phi0 + x * x) / (energy0 + 2.0 * g * rho * drop))
 
-    points = [math.sqrt(alpha - theta0)] if theta0 < alpha < theta1 else None
-    value, _ = quad(
-        integrand,
-        0.0,
-        math.sqrt(theta1 - theta0),
-        epsabs=0.0,
-        epsrel=1e-13,
-        limit=400,
-        points=points,
-    )
-    return value
+    return tilt_quadrature(integrand, theta0, theta1, alpha)
 
 
 def rounded_fall_by_lagrange(l, s, r, theta0, omega0, theta1, g=G, gyration2=None):
@@ -110,31 +101,12 @@ def rounded_fall_by_lagrange(l, s, r, theta0, omega0, theta1, g=G, gyration2=Non
     _, _, rho, alpha = rounded_geometry(l, s, r)
     k2 = _gyration2(l, s, gyration2)
 
-    def rhs(_t, y):
-        phi = y[0] - alpha
+    def acceleration(theta, omega):
+        phi = theta - alpha
         j = k2 + rho * rho + r * r + 2.0 * r * rho * math.cos(phi)
-        return [y[1], rho * math.sin(phi) * (g + r * y[1] ** 2) / j]
+        return rho * math.sin(phi) * (g + r * omega**2) / j
 
-    def arrive(_t, y):
-        return y[0] - theta1
-
-    def fall_back(_t, y):
-        return y[0] - theta0 + 1.0
-
-    arrive.terminal, arrive.direction = True, 1
-    fall_back.terminal = True
-    sol = solve_ivp(
-        rhs,
-        (0.0, 1e3),
-        [theta0, omega0],
-        method="DOP853",
-        rtol=1e-12,
-        atol=1e-14,
-        events=(arrive, fall_back),
-    )
-    if not len(sol.t_events[0]):
-        raise ValueError(f"the domino does not reach theta1 = {theta1} from theta0 = {theta0}")
-    return sol.t_events[0][0], sol.y_events[0][0][1]
+    return tilt_arrival(acceleration, theta0, omega0, theta1)
 
 
 def rounded_contact_tilt(l, s, r, d):
