@@ -72,7 +72,9 @@ edge_tipping (a cuboid tipping over its bottom front edge, hinge fixed)
       after theta = theta0 + x^2, epsrel 1e-13 -- issue 13 (validation 2)
   edge_fall_by_newton: the same, Newton's law -- solve_ivp DOP853 rtol 1e-12, atol
       1e-14, event -- issue 13 (validation 2)
-  edge_reaction: floor force on the edge per unit mass (friction needed) -- closed form
+  edge_reaction, edge_slip_tilt: floor force on the edge per unit mass; the first tilt
+      needing more friction than mu -- closed form, scan + brentq xtol 1e-14 (from rest
+      every box slips near theta = alpha + acos(1/3), before it lands)
   first_contact_time: Push(omega) of domino 0 to its first touch of domino 1 at
       sin(theta) = d / l (top front edge on the back face) -- edge_fall_time -- issue 13
       (validation 2)

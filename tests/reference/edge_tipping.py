@@ -34,7 +34,9 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from scipy.integrate import quad, solve_ivp
+from scipy.optimize import brentq
 
 G = 9.81  # standard gravity [m/s^2]
 
@@ -146,6 +148,35 @@ def edge_reaction(l, s, theta, omega, g=G):
     a_x = rho * (acc * math.cos(phi) - omega**2 * math.sin(phi))
     a_z = -rho * (acc * math.sin(phi) + omega**2 * math.cos(phi))
     return a_x, a_z + g
+
+
+def edge_slip_tilt(l, s, theta0, omega0, mu, theta_end, g=G):
+    """First tilt [rad] in [theta0, theta_end] at which the hinge edge needs more friction
+    than ``mu`` (|horizontal| > mu vertical, or the vertical force vanishes), or None when
+    the no-slip fall holds up to ``theta_end``. The angular velocity from the energy
+    integral (E); a scan of 20000 tilts, the crossing refined by brentq (xtol 1e-14).
+
+    From rest near the balance tilt the floor force is, per unit weight,
+    vertical (1 - 3 cos phi)^2 / 4 (phi0 -> 0) -- it vanishes at cos phi = 1/3 while the
+    horizontal (3/4) sin phi (3 cos phi - 2) does not: every box slips (or hops) there,
+    at theta = alpha + acos(1/3) (79.4 deg for 48 x 7.5 mm), before it lands flat."""
+    _, alpha, rate2 = edge_geometry(l, s)
+    k = 2.0 * rate2 * g
+
+    def excess(theta):
+        omega2 = omega0**2 + k * (math.cos(theta0 - alpha) - math.cos(theta - alpha))
+        f_x, f_z = edge_reaction(l, s, theta, math.sqrt(max(omega2, 0.0)), g)
+        return abs(f_x) - mu * f_z
+
+    tilts = np.linspace(theta0, theta_end, 20001)
+    values = np.array([excess(th) for th in tilts])
+    if values[0] > 0.0:
+        return theta0
+    over = np.nonzero(values >= 0.0)[0]
+    if not len(over):
+        return None
+    i = over[0]
+    return brentq(excess, tilts[i - 1], tilts[i], xtol=1e-14)
 
 
 def first_contact_tilt(l, d):

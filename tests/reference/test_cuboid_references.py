@@ -19,6 +19,7 @@ from reference.edge_tipping import (
     edge_fall_by_newton,
     edge_fall_time,
     edge_reaction,
+    edge_slip_tilt,
     first_contact_time,
 )
 from reference.incline import (
@@ -739,3 +740,38 @@ def test_validate_stack_against_the_spring_chain():
     np.testing.assert_allclose(force, 4 * k * overlaps / 4, rtol=1e-12)
     omega = np.sqrt(eigh(stiffness, np.eye(n_boxes) * m, eigvals_only=True))
     np.testing.assert_allclose(stack_bounce_frequencies(m, n_boxes, 4, k), omega, rtol=1e-12)
+
+
+def test_validate_edge_reaction_closed_form_and_slip():
+    """From rest at phi0 beyond balance the floor force per unit weight is vertical
+    1 - (3/4)(sin^2 phi + 2 (cos phi0 - cos phi) cos phi), horizontal (3/4) sin phi
+    (3 cos phi - 2 cos phi0); the vertical one vanishes near cos phi = 1/3 (phi0 -> 0),
+    so the edge slips there whatever mu: edge_slip_tilt finds it before
+    alpha + acos(1/3) (79.4 deg for the 48 x 7.5 mm domino) even at mu = 100 (76.3 deg)."""
+    alpha = math.atan(S_DOM / L_DOM)
+    rho = math.hypot(L_DOM, S_DOM) / 2
+    phi0 = 1e-3
+    for phi in (0.2, 0.9, 1.3):
+        omega = math.sqrt(3 * G / (2 * rho) * (math.cos(phi0) - math.cos(phi)))
+        f_x, f_z = edge_reaction(L_DOM, S_DOM, alpha + phi, omega, G)
+        vertical = 1 - 0.75 * (
+            math.sin(phi) ** 2 + 2 * (math.cos(phi0) - math.cos(phi)) * math.cos(phi)
+        )
+        horizontal = 0.75 * math.sin(phi) * (3 * math.cos(phi) - 2 * math.cos(phi0))
+        assert f_z / G == pytest.approx(vertical, rel=1e-12)
+        assert f_x / G == pytest.approx(horizontal, rel=1e-12)
+    slip = edge_slip_tilt(L_DOM, S_DOM, alpha + phi0, 0.0, 100.0, math.pi / 2, G)
+    assert math.degrees(alpha + math.acos(1 / 3)) == pytest.approx(79.41, abs=0.01)
+    # |F_x| / F_z > 100 once |1 - 3 cos phi| < 2 sqrt(0.707 / 100): cos phi < 0.389
+    assert alpha + math.acos(0.39) < slip < alpha + math.acos(1 / 3)
+    # mu = 0.3: the slip tilt is where |F_x| = mu F_z (closed forms above)
+    slip = edge_slip_tilt(L_DOM, S_DOM, alpha + phi0, 0.0, 0.3, math.pi / 2, G)
+    phi = slip - alpha
+    ratio = (
+        0.75
+        * math.sin(phi)
+        * (3 * math.cos(phi) - 2 * math.cos(phi0))
+        / (1 - 0.75 * (math.sin(phi) ** 2 + 2 * (math.cos(phi0) - math.cos(phi)) * math.cos(phi)))
+    )
+    assert abs(ratio) == pytest.approx(0.3, rel=1e-10)
+    assert edge_slip_tilt(L_DOM, S_DOM, alpha + phi0, 0.0, 100.0, 1.0, G) is None
