@@ -65,10 +65,11 @@ def edge_fall_time(l, s, theta0, omega0, theta1, g=G):
     phi0 = theta0 - alpha
     if omega0 == 0.0 and phi0 <= 0.0:
         raise ValueError(f"theta0 = {theta0} must exceed the balance tilt atan(s/l) = {alpha}")
-    over_top = omega0**2 - k * (1.0 - math.cos(phi0)) if phi0 < 0.0 else 1.0
-    if phi0 < 0.0 and theta1 > alpha and over_top <= 0.0:
-        needed = math.sqrt(k * (1.0 - math.cos(phi0)))
-        raise ValueError(f"omega0 = {omega0} cannot tip the box over: it needs > {needed}")
+    if phi0 < 0.0:  # rising: the slowest point is the balance tilt, or theta1 before it
+        phi_top = min(theta1 - alpha, 0.0)
+        needed = math.sqrt(k * (math.cos(phi_top) - math.cos(phi0)))
+        if omega0 <= needed:
+            raise ValueError(f"omega0 = {omega0} does not get the box there: it needs > {needed}")
 
     def speed2(x):
         half = 0.5 * x * x

@@ -77,10 +77,13 @@ def rounded_fall_time(l, s, r, theta0, omega0, theta1, g=G, gyration2=None):
 
     if omega0 == 0.0 and phi0 <= 0.0:
         raise ValueError(f"theta0 = {theta0} must exceed the balance tilt {alpha}")
-    if phi0 < 0.0 < theta1 - alpha:
-        needed = math.sqrt(2.0 * g * rho * (1.0 - math.cos(phi0)) / j(phi0))
+    if phi0 < 0.0:  # rising: the slowest point is the balance tilt, or theta1 before it
+        phi_top = min(theta1 - alpha, 0.0)
+        needed = math.sqrt(2.0 * g * rho * (math.cos(phi_top) - math.cos(phi0)) / j(phi0))
         if omega0 <= needed:
-            raise ValueError(f"omega0 = {omega0} cannot tip the domino over: it needs > {needed}")
+            raise ValueError(
+                f"omega0 = {omega0} does not get the domino there: it needs > {needed}"
+            )
     energy0 = j(phi0) * omega0**2
 
     def integrand(x):

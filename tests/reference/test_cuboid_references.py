@@ -326,6 +326,16 @@ def test_validate_first_contact_equals_newton_event(s, d, omega_scale):
     assert t == pytest.approx(edge_fall_by_newton(L_DOM, s, 0.0, omega, tilt, G)[0], rel=1e-10)
     with pytest.raises(ValueError, match="omega0"):
         first_contact_time(L_DOM, s, d, 0.99 * omega_min, G)
+    # a contact before the balance tilt needs only the push that gets it there
+    d_near = 0.5 * L_DOM * math.sin(alpha)
+    tilt_near = math.asin(d_near / L_DOM)
+    omega_near = math.sqrt(3 * G / (2 * rho) * (math.cos(tilt_near - alpha) - math.cos(alpha)))
+    t_near, _ = first_contact_time(L_DOM, s, d_near, 1.01 * omega_near, G)
+    assert t_near == pytest.approx(
+        edge_fall_by_newton(L_DOM, s, 0.0, 1.01 * omega_near, tilt_near, G)[0], rel=1e-9
+    )
+    with pytest.raises(ValueError, match="omega0"):
+        first_contact_time(L_DOM, s, d_near, 0.99 * omega_near, G)
 
 
 def test_validate_first_contact_without_gravity():
