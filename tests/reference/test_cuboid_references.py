@@ -379,8 +379,8 @@ def test_validate_edge_reaction_balances_momentum():
 def _box_body(m, half, rotation, x, v, w):
     """A uniform box of mass m and half-extents ``half`` (3,), its principal axes turned by
     ``rotation`` (3, 3), as a reference Body."""
-    principal = m / 3.0 * np.array([half[1] ** 2 + half[2] ** 2, half[2] ** 2 + half[0] ** 2, 0])
-    principal[2] = m / 3.0 * (half[0] ** 2 + half[1] ** 2)
+    a, b, c = half
+    principal = m / 3.0 * np.array([b * b + c * c, c * c + a * a, a * a + b * b])
     inertia = rotation @ np.diag(principal) @ rotation.T
     return Body(m, inertia, np.asarray(x, float), np.asarray(v, float), np.asarray(w, float))
 
@@ -544,8 +544,8 @@ def test_validate_rounded_fall_quadrature_equals_lagrange(theta0, omega0):
     """Energy quadrature (E) against Lagrange's equation (L) by DOP853 for r = s/4 (the
     rounded body's own inertia), to 1e-10."""
     r = S_DOM / 4
-    _, _, inertia = rounded_box_mass_properties(S_DOM / 2 - r, W_DOM / 2 - r, L_DOM / 2 - r, r, RHO)
-    _, mass, _ = rounded_box_mass_properties(S_DOM / 2 - r, W_DOM / 2 - r, L_DOM / 2 - r, r, RHO)
+    core = (S_DOM / 2 - r, W_DOM / 2 - r, L_DOM / 2 - r)
+    _, mass, inertia = rounded_box_mass_properties(*core, r, RHO)
     k2 = inertia[1] / mass
     t_quad = rounded_fall_time(L_DOM, S_DOM, r, theta0, omega0, 1.4, G, k2)
     t_ode, _ = rounded_fall_by_lagrange(L_DOM, S_DOM, r, theta0, omega0, 1.4, G, k2)
