@@ -332,6 +332,10 @@ def _gather(
         if time.monotonic() - last_index > INDEX_INTERVAL_S:
             store.write_index(swept)
             last_index = time.monotonic()
+    if flag["signum"] is not None and not report.interrupted:
+        # the signal came while the last points were being stored: all is kept, and
+        # the exit code still says that the user stopped the command
+        report.interrupted = signals.Interrupted(flag["signum"]).exit_code
     return report
 
 
