@@ -48,6 +48,7 @@ def test_cli_rods_default_says_not_settled_and_why():
     assert "nan" not in result.output.split("status:")[1]
     assert "steady speed: not settled: the wave is still" in result.output
     assert "no limit speed" in result.output and "--normal head-on" in result.output
+    assert "dimensionless, l = g = m = 1: times in sqrt(l/g)" in result.output
 
 
 def test_cli_rods_head_on_settles():

@@ -35,6 +35,12 @@ MIN_D_OVER_L = 1e-3
 FULL_D_OVER_L = "0.05,0.1,0.2,0.3,0.4,0.5,0.6,0.7,0.8,0.9,0.95"
 FULL_K_RATIO = "1,1e2,1e4,1e6,1e8"
 
+UNITS = (
+    "dimensionless, l = g = m = 1: times in sqrt(l/g), angular velocities in sqrt(g/l), "
+    "forces in m g, speeds in sqrt(g l), angles in rad"
+)
+"""The units of the tables of ``rods`` and ``compare-rods``, printed above them."""
+
 Normal = Annotated[str, typer.Option(help="contact normal: geometric or head-on")]
 Mass = Annotated[str, typer.Option(help="mass distribution: point, rod or block")]
 
@@ -109,6 +115,7 @@ def rods_command(
         "|H|/V",
     )
     shown = range(min(rows, n - 1))
+    typer.echo(UNITS)
     _print_table(
         header,
         [
@@ -229,6 +236,7 @@ def compare_rods_command(
         gravity_in_contact=gravity_in_contact,
         progress=lambda c: rows.append(row(c)),
     )
+    typer.echo(UNITS)
     _print_table(header, rows)
     out.mkdir(parents=True, exist_ok=True)
     csv_path = tvr.write_csv(comparisons, out / "compare_rods.csv")
