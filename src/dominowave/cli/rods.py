@@ -37,7 +37,7 @@ FULL_K_RATIO = "1,1e2,1e4,1e6,1e8"
 
 UNITS = (
     "dimensionless, l = g = m = 1: times in sqrt(l/g), angular velocities in sqrt(g/l), "
-    "forces in m g, speeds in sqrt(g l), angles in rad"
+    "forces in m g, speeds in sqrt(g l), angles in rad; -: not defined"
 )
 """The units of the tables of ``rods`` and ``compare-rods``, printed above them."""
 
@@ -52,7 +52,7 @@ def _fmt(x) -> str:
         return str(int(x))
     if isinstance(x, str):
         return x
-    return "nan" if not math.isfinite(x) else f"{x:.4g}"
+    return "-" if not math.isfinite(x) else f"{x:.4g}"  # "-": not defined (NaN)
 
 
 def _print_table(header, rows) -> None:
@@ -216,7 +216,7 @@ def compare_rods_command(
             c.f_plus,
             c.rebound_first,
             c.rebound_theory,
-            c.speed,
+            c.speed if math.isfinite(c.speed) else "not settled",
             c.speed_end,
             c.speed_theory,
             c.speed_p_wave,
@@ -238,6 +238,12 @@ def compare_rods_command(
     )
     typer.echo(UNITS)
     _print_table(header, rows)
+    if any(r[9] == "not settled" for r in rows):
+        typer.echo(
+            "v not settled: the local speed has no settled stretch within the "
+            f"{n} dominoes (still accelerating or slowing); v_end is the median local speed "
+            "over the last 10 % of the chain"
+        )
     out.mkdir(parents=True, exist_ok=True)
     csv_path = tvr.write_csv(comparisons, out / "compare_rods.csv")
     pngs = tvr.plot_comparisons(comparisons, out)
