@@ -17,7 +17,7 @@ are compiled (the first run of a fresh install compiles them, tens of seconds).
 import matplotlib.pyplot as plt
 import numpy as np
 
-from dominowave.chain import ChainParams, DominoChain, Push
+from dominowave.chain import ChainParams, DominoChain, Push, unsettled_reason
 
 params = ChainParams(n_dominoes=12, height=0.05, thickness=0.005, d_over_l=0.4)
 chain = DominoChain(params)
@@ -42,8 +42,8 @@ for k in range(params.n_dominoes):
 # the speed is NaN: compare the arrival times with the theory's transient instead.
 if run.wave.settled:
     print(f"steady speed: {run.wave.speed:.3f} ± {run.wave.speed_err:.2g} m/s")
-else:
-    print("steady speed: not settled within 12 dominoes (the local speed still changes)")
+else:  # the reason, read from the same arrival times
+    print(f"steady speed: not settled: {unsettled_reason(run.arrival, run.positions)}")
 print(f"theory, limit speed (eq 34): {run.theory_speed:.3f} m/s")
 
 # %%

@@ -31,6 +31,7 @@ def test_chain_says_it_is_compiling_when_the_cache_is_missing(monkeypatch):
     result = CliRunner().invoke(app, ["chain", "--n", "4"])
     assert result.exit_code == 0, result.output
     assert result.output.startswith("compiling the DEM kernels (first run")
+    assert "s (including compiling the kernels)" in result.output
 
 
 def test_no_notice_when_the_kernels_are_cached(monkeypatch):

@@ -48,6 +48,7 @@ def test_cli_rods_default_says_not_settled_and_why():
     assert "nan" not in result.output.split("status:")[1]
     assert "steady speed: not settled: the wave is still" in result.output
     assert "no limit speed" in result.output and "--normal head-on" in result.output
+    assert "dimensionless, l = g = m = 1: times in sqrt(l/g)" in result.output
 
 
 def test_cli_rods_head_on_settles():
@@ -70,3 +71,18 @@ def test_cli_chain_names_each_unsettled_member_with_its_reason():
     left_out = int(ensemble.split("(")[-1].split(" of ")[0]) if "did not settle" in ensemble else 0
     assert len(failed) == left_out
     assert all(line.startswith("  member ") for line in failed)
+
+
+def test_cli_compare_rods_says_not_settled_instead_of_nan(tmp_path):
+    """The quick grid has points whose wave does not settle in 30 dominoes: their v cell
+    reads "not settled", explained under the table, and no cell reads "nan"."""
+    import csv
+    import math
+
+    result = CliRunner().invoke(app, ["compare-rods", "--quick", "--out", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    with (tmp_path / "compare_rods.csv").open() as fh:
+        unsettled = sum(math.isnan(float(r["speed"])) for r in csv.DictReader(fh))
+    table = result.output.split("wrote ")[0]
+    assert table.count("not settled") == unsettled + (1 if unsettled else 0)
+    assert " nan " not in table

@@ -185,7 +185,7 @@ def chain_command(
     else:
         push = Push(omega=push_omega * math.sqrt(p.g / p.height))
     chain = DominoChain(p)
-    notice_if_compiling("dem")
+    compiling = notice_if_compiling("dem")
     start = time.perf_counter()
     ens = chain.ensemble(push, members=members, seed=seed, jitter=jitter) if members > 1 else None
     run = ens.runs[0] if ens is not None else chain.run(push)
@@ -243,7 +243,8 @@ def chain_command(
     if run.secondary is not None and run.secondary.catching_up:
         console.print(f"secondary wave catching up; merged at pair {run.secondary.merged_pair}")
     console.print(_what_to_quote(run, ens))
-    console.print(f"dt = {run.dt:.3g} s, {run.n_steps} steps, wall {wall:.2f} s")
+    note = " (including compiling the kernels)" if compiling else ""
+    console.print(f"dt = {run.dt:.3g} s, {run.n_steps} steps, wall {wall:.2f} s{note}")
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
         _write_csv(out / "chain_dominoes.csv", rows)

@@ -35,6 +35,12 @@ MIN_D_OVER_L = 1e-3
 FULL_D_OVER_L = "0.05,0.1,0.2,0.3,0.4,0.5,0.6,0.7,0.8,0.9,0.95"
 FULL_K_RATIO = "1,1e2,1e4,1e6,1e8"
 
+UNITS = (
+    "dimensionless, l = g = m = 1: times in sqrt(l/g), angular velocities in sqrt(g/l), "
+    "forces in m g, speeds in sqrt(g l), angles in rad; -: not defined"
+)
+"""The units of the tables of ``rods`` and ``compare-rods``, printed above them."""
+
 Normal = Annotated[str, typer.Option(help="contact normal: geometric or head-on")]
 Mass = Annotated[str, typer.Option(help="mass distribution: point, rod or block")]
 
@@ -46,7 +52,7 @@ def _fmt(x) -> str:
         return str(int(x))
     if isinstance(x, str):
         return x
-    return "nan" if not math.isfinite(x) else f"{x:.4g}"
+    return "-" if not math.isfinite(x) else f"{x:.4g}"  # "-": not defined (NaN)
 
 
 def _print_table(header, rows) -> None:
@@ -109,6 +115,7 @@ def rods_command(
         "|H|/V",
     )
     shown = range(min(rows, n - 1))
+    typer.echo(UNITS)
     _print_table(
         header,
         [
@@ -216,7 +223,15 @@ def compare_rods_command(
         "regime(th)",
         "status",
     )
-    _print_table(header, [_table_row(c) for c in done.comparisons])
+    rows = [_table_row(c) for c in done.comparisons]
+    typer.echo(UNITS)
+    _print_table(header, rows)
+    if any(r[9] == "not settled" for r in rows):
+        typer.echo(
+            "v not settled: the local speed has no settled stretch within the "
+            f"{n} dominoes (still accelerating or slowing); v_end is the median local speed "
+            "over the last 10 % of the chain"
+        )
     typer.echo(done.run.report.line())
     if done.comparisons:
         csv_path = study.write_csv(done.comparisons, out / "compare_rods.csv")
@@ -242,7 +257,7 @@ def _table_row(c) -> tuple:
         c.f_plus,
         c.rebound_first,
         c.rebound_theory,
-        c.speed,
+        c.speed if math.isfinite(c.speed) else "not settled",
         c.speed_end,
         c.speed_theory,
         c.speed_p_wave,
