@@ -83,3 +83,26 @@ def test_cli_compare_rods_resumes_from_its_stored_points(tmp_path):
     assert "sweep done: 5 points, 5 already stored, 0 run now" in again.output
     for name, data in before.items():
         assert (tmp_path / name).read_bytes() == data
+
+
+def test_speed_figure_marks_points_that_did_not_settle(tmp_path, monkeypatch):
+    """A comparison without a settled speed is an open marker in speed.png, not a gap."""
+    import dataclasses
+    import math
+
+    from matplotlib.figure import Figure
+
+    from dominowave.plots.compare_rods import plot_comparisons
+    from dominowave.plots.unsettled import UNSETTLED_LABEL
+
+    measured = tvr.compare_point(0.4, 1e4, n=20)
+    settled = dataclasses.replace(measured, speed=measured.speed_theory)
+    unsettled = dataclasses.replace(measured, d_over_l=0.6, speed=math.nan)
+    drawn = {}
+    monkeypatch.setattr(Figure, "savefig", lambda fig, path, **kw: drawn.update({path.name: fig}))
+    plot_comparisons([settled, unsettled], tmp_path)
+    ax = drawn["speed.png"].axes[0]
+    marks = [line for line in ax.get_lines() if line.get_label() == UNSETTLED_LABEL]
+    assert len(marks) == 1
+    np.testing.assert_array_equal(marks[0].get_xdata(), [0.6])
+    assert marks[0].get_markerfacecolor() == "none"

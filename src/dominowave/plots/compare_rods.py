@@ -14,6 +14,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from dominowave import theory
+from dominowave.plots.unsettled import UNSETTLED_LABEL, mark_unsettled
 
 __all__ = ["plot_comparisons", "plot_omega_profiles"]
 
@@ -97,16 +98,20 @@ def plot_comparisons(comparisons, out_dir) -> list[Path]:
 
     fig = Figure(figsize=(7, 5))
     ax = fig.subplots()
+    unsettled_label = UNSETTLED_LABEL
     for (normal, k_ratio), group in groups.items():
         x = values(group, "d_over_l")
         scale = values(group, "speed_scale")
+        speed = values(group, "speed") / scale
         (line,) = ax.plot(
             x,
-            values(group, "speed") / scale,
+            speed,
             styles[normal],
             marker="o",
             label=f"rods {normal}, k/k*={k_ratio:g}",
         )
+        if mark_unsettled(ax, x[~np.isfinite(speed)], line.get_color(), unsettled_label):
+            unsettled_label = None  # one legend entry for all groups
         ax.plot(
             x,
             values(group, "speed_end") / scale,
