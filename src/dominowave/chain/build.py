@@ -70,6 +70,7 @@ __all__ = [
 Model = Literal["2d", "3d"]
 Base = Literal["one", "two"]
 YoungRule = Literal["paper", "yade"]
+ShearKinematics = Literal["contact_point", "yade"]
 
 
 @dataclass(frozen=True)
@@ -79,7 +80,10 @@ class ChainParams:
     Give the contact stiffness in exactly one way: ``stiffness_ratio`` (the paper's
     k/k*, default 1e4 when nothing else is given; ``k_n = k/2``), ``kn`` [N/m] (the
     contact spring), or ``young`` [Pa] with ``young_rule``. ``kt_ratio`` is the
-    tangential/normal stiffness ratio.
+    tangential/normal stiffness ratio; ``shear_kinematics`` what drives the tangential
+    spring (``dem.Scene``): ``"contact_point"``, the relative velocity of the material
+    points at the contact, or ``"yade"``, YADE's ratcheting-free rate (for comparisons with
+    YADE).
     ``damping`` is the engine's local (non-viscous, YADE-style) damping
     coefficient in [0, 1); ``restitution`` (None = elastic) adds a normal dashpot.
     """
@@ -95,6 +99,7 @@ class ChainParams:
     young: float | None = None
     young_rule: YoungRule = "paper"
     kt_ratio: float = 1.0
+    shear_kinematics: ShearKinematics = "contact_point"
     friction_dominoes: float = 0.0
     friction_floor: float = 0.3
     damping: float = 0.0
@@ -126,6 +131,11 @@ class ChainParams:
         if self.young_rule not in ("paper", "yade"):
             raise ValueError(f"young_rule = {self.young_rule!r} is not one of 'paper', 'yade'")
         check_positive("kt_ratio", self.kt_ratio)
+        if self.shear_kinematics not in ("contact_point", "yade"):
+            raise ValueError(
+                f"shear_kinematics = {self.shear_kinematics!r} is not one of "
+                "'contact_point', 'yade'"
+            )
         check_nonnegative("friction_dominoes", self.friction_dominoes)
         check_nonnegative("friction_floor", self.friction_floor)
         check_in_range("damping", self.damping, 0.0, 1.0, lo_inclusive=True)

@@ -206,6 +206,9 @@ class ChainScenario(ScenarioModel):
         "paper", "", "k_n from young: paper pi R E / 2 (eq 24) or yade E R"
     )
     kt_ratio: float = quantity(1.0, "", "tangential / normal contact stiffness", gt=0)
+    shear_kinematics: Literal["contact_point", "yade"] = quantity(
+        "contact_point", "", "shear rate: contact_point (material points) or yade (YADE's)"
+    )
     friction_dominoes: float = quantity(0.0, "", "friction between dominoes phi_d", ge=0)
     friction_floor: float = quantity(0.3, "", "friction with the floor phi_f", ge=0)
     damping: float = quantity(0.0, "", "local (YADE-style) damping", ge=0, lt=1)
