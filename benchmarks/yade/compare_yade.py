@@ -15,8 +15,13 @@ dominowave runs with each of the ``--shear-kinematics`` given (its default
 ``contact_point``, and ``yade``: YADE's ratcheting-free shear rate, which YADE 2023.02a
 uses by default), against the same YADE runs; one JSON line per spacing and kinematics.
 
+``--chain issue17`` runs instead the chain of issue 17 (l = 0.1 m, s/l = 0.1, density
+2000 kg/m^3, k_n = E R with E = 1.308e6 Pa, k_t/k_n = 0.25, one-sphere base, dominoes held
+until touched, floor friction 0.3, none between dominoes).
+
 Usage: ``python benchmarks/yade/compare_yade.py [--members 8] [--d-over-l 0.2 0.4 0.6]
-[--shear-kinematics contact_point yade] [--out results.json]``.
+[--shear-kinematics contact_point yade] [--chain default|issue17] [--seed 0]
+[--out results.json]``.
 Skips (exit 0 with a message) if ``yade`` is not installed.
 """
 
@@ -42,8 +47,23 @@ from dominowave.chain.wave import ensemble_stats, steady_speed
 HERE = Path(__file__).resolve().parent
 
 
-def params(d_over_l: float, n: int = 30, **changes) -> ChainParams:
-    return ChainParams(n_dominoes=n, d_over_l=d_over_l, base="two", held=False, **changes)
+CHAINS = {
+    "default": {"base": "two", "held": False},
+    "issue17": {
+        "height": 0.1,
+        "thickness": 0.01,
+        "density": 2000.0,
+        "young": 1.308e6,
+        "young_rule": "yade",
+        "kt_ratio": 0.25,
+        "base": "one",
+        "held": True,
+    },
+}
+
+
+def params(d_over_l: float, n: int = 30, chain: str = "default", **changes) -> ChainParams:
+    return ChainParams(n_dominoes=n, d_over_l=d_over_l, **CHAINS[chain], **changes)
 
 
 def scene_dict(chain: DominoChain, push: Push, mode: str, steps: int) -> dict:
@@ -75,6 +95,7 @@ def scene_dict(chain: DominoChain, push: Push, mode: str, steps: int) -> dict:
         "friction_floor": p.friction_floor,
         "friction_dominoes": p.friction_dominoes,
         "blocked": "yXZ" if p.model == "2d" else "",
+        "held": p.held,
         "bodies": bodies,
         "max_steps": steps,
         "n_steps": steps,
@@ -111,9 +132,12 @@ def compare(
     seed: int = 0,
     jitter: float = 1e-3,
     kinematics: tuple[str, ...] = ("contact_point",),
+    chain_name: str = "default",
 ) -> list[dict]:
     """One result per shear kinematics of dominowave, against the same YADE runs."""
-    chains = {k: DominoChain(params(d_over_l, shear_kinematics=k)) for k in kinematics}
+    chains = {
+        k: DominoChain(params(d_over_l, chain=chain_name, shear_kinematics=k)) for k in kinematics
+    }
     chain = chains[kinematics[0]]
     base = chain.resolve(None)
     max_steps = math.ceil(chain.max_time / chain.dt)
@@ -146,8 +170,10 @@ def _summary(chain, kinematics, ours, theirs, theirs_steps, yade_steps, walls_ou
     # YADE's step times (first step that sees the overlap) vs ours rounded up to that grid
     ours_on_grid = np.ceil(ours[0][1:4] / chain.dt - 1e-9) * chain.dt
     first3_grid = np.abs(yade_steps / ours_on_grid - 1.0)
-    v_ours = ensemble_stats([steady_speed(a, chain.positions).speed for a in ours])
-    v_yade = ensemble_stats([steady_speed(a, chain.positions).speed for a in theirs])
+    speeds_ours = [steady_speed(a, chain.positions).speed for a in ours]
+    speeds_yade = [steady_speed(a, chain.positions).speed for a in theirs]
+    v_ours = ensemble_stats(speeds_ours)
+    v_yade = ensemble_stats(speeds_yade)
     v_steps = ensemble_stats([steady_speed(a, chain.positions).speed for a in theirs_steps])
     combined = math.hypot(v_ours.stderr, v_yade.stderr)
     return {
@@ -164,6 +190,8 @@ def _summary(chain, kinematics, ours, theirs, theirs_steps, yade_steps, walls_ou
         "speed_yade": [v_yade.mean, v_yade.stderr, v_yade.n],
         "speed_diff_over_combined_stderr": abs(v_ours.mean - v_yade.mean) / combined,
         "speed_yade_from_step_times": [v_steps.mean, v_steps.stderr, v_steps.n],
+        "member_speeds_ours": speeds_ours,  # (nan: not settled)
+        "member_speeds_yade": speeds_yade,
         "wall_ours_mean": float(np.mean(walls_ours)),
         "wall_yade_record_mean": float(np.mean(walls_yade)),
     }
@@ -172,6 +200,7 @@ def _summary(chain, kinematics, ours, theirs, theirs_steps, yade_steps, walls_ou
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--members", type=int, default=8)
+    ap.add_argument("--seed", type=int, default=0, help="seed of the push perturbations")
     ap.add_argument("--d-over-l", type=float, nargs="*", default=[0.2, 0.4, 0.6])
     ap.add_argument(
         "--shear-kinematics",
@@ -180,6 +209,7 @@ def main(argv=None) -> int:
         default=["contact_point"],
         help="dominowave's shear kinematics (YADE always runs with its own)",
     )
+    ap.add_argument("--chain", choices=sorted(CHAINS), default="default")
     ap.add_argument("--out", type=Path, default=None)
     args = ap.parse_args(argv)
     if shutil.which("yade") is None:
@@ -187,7 +217,14 @@ def main(argv=None) -> int:
         return 0
     results = []
     for d in args.d_over_l:
-        for r in compare(d, args.members, kinematics=tuple(args.shear_kinematics)):
+        runs = compare(
+            d,
+            args.members,
+            args.seed,
+            kinematics=tuple(args.shear_kinematics),
+            chain_name=args.chain,
+        )
+        for r in runs:
             results.append(r)
             print(json.dumps(r))
             sys.stdout.flush()
