@@ -32,7 +32,12 @@ import numpy as np
 from numba import njit
 
 from dominowave.dem import Material, Scene
-from dominowave.dem.contact import build_verlet_list, compute_forces, needs_rebuild
+from dominowave.dem.contact import (
+    SHEAR_CONTACT_POINT,
+    build_verlet_list,
+    compute_forces,
+    needs_rebuild,
+)
 from dominowave.dem.integrate import (
     drift,
     kick,
@@ -128,11 +133,14 @@ def _loop_rebuild(spheres, walls, bodies, mats, contacts, skin, n, planar):
 
 @njit(cache=True, _nrt=False)
 def _loop_forces(bodies, spheres, walls, contacts, dt, ledger, changes, n, planar):
+    kinematics = SHEAR_CONTACT_POINT
     for _ in range(n):
         if planar:  # (the kernel the engine runs on a planar scene, dem/planar.py)
-            compute_forces_planar(bodies, spheres, walls, contacts, dt, ledger, changes, False)
+            compute_forces_planar(
+                bodies, spheres, walls, contacts, dt, ledger, changes, False, kinematics
+            )
         else:
-            compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, False)
+            compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, False, kinematics)
 
 
 @njit(cache=True, _nrt=False)

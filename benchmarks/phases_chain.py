@@ -41,11 +41,27 @@ def _steps(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, force
         if forces:
             if settings.planar:
                 planar.compute_forces_planar(
-                    bodies, spheres, walls, contacts, settings.dt, rec.ledger, rec.changes, False
+                    bodies,
+                    spheres,
+                    walls,
+                    contacts,
+                    settings.dt,
+                    rec.ledger,
+                    rec.changes,
+                    False,
+                    mats.shear_kinematics[0],
                 )
             else:
                 contact.compute_forces(
-                    bodies, spheres, walls, contacts, settings.dt, rec.ledger, rec.changes, False
+                    bodies,
+                    spheres,
+                    walls,
+                    contacts,
+                    settings.dt,
+                    rec.ledger,
+                    rec.changes,
+                    False,
+                    mats.shear_kinematics[0],
                 )
         rebuild_due = engine._advance_bodies(bodies, still)
         integrate.update_listed_sphere_positions(bodies, spheres, settings.planar)

@@ -284,6 +284,10 @@ def test_read_only_output_folder(tmp_path, cli):
         (["resume", "{tmp}"], ["nothing to resume"]),
         (["chain", "--n", "4", "--seed", "-1"], ["seed = -1", "[0, inf)"]),
         (["chain", "--n", "4", "--members", "-3"], ["members = -3", "[1, inf)"]),
+        (
+            ["chain", "--n", "4", "--shear-kinematics", "exact"],
+            ["shear_kinematics = 'exact' is not one of 'contact_point', 'yade'"],
+        ),
         (["chain", "--n", "4", "--stiffness-ratio", "1e-6"], ["k/k* = 1e-06) is too soft"]),
         (["chain", "--n", "4", "--stiffness-ratio", "1e308"], ["steps", "1e+10 allowed"]),
         (["rods", "--push", "1e9"], ["push = 1e+09", "(0, 100]"]),

@@ -4,7 +4,11 @@
 Run as ``yade -n -j1 -x chain_yade.py`` with ``CHAIN_SCENE=<in.json> CHAIN_OUT=<out.json>``
 (``compare_yade.py`` does this). The JSON is written by dominowave's ``DominoChain`` so
 both codes get identical spheres, masses, stiffnesses, friction, damping, push, time
-step and standing rule (a two-sphere base: YADE has no "held until touched" flag).
+step and standing rule: a two-sphere base, or ``"held": true`` (record mode only): every
+domino but the first is fixed (all DOFs blocked) until a domino that moves touches it, as
+dominowave's held flag -- the PyRunner releases it in the step of the first real
+interaction, before the NewtonIntegrator (dominowave starts a released body with a half
+kick, YADE with a whole one: an O(dt) difference of its first velocity).
 
 Contact law: YADE's Ip2_FrictMat_FrictMat_FrictPhys gives k_n = 2 E1 R1 E2 R2 /
 (E1 R1 + E2 R2) and a wall takes the sphere's radius. With E = k_n / R for spheres of
@@ -95,7 +99,8 @@ for body in scene["bodies"]:
     ]
     cid, ids = O.bodies.appendClumped(spheres)
     b = O.bodies[cid]
-    b.state.blockedDOFs = scene["blocked"]
+    held = scene.get("held", False) and len(clumps) > 0
+    b.state.blockedDOFs = "xyzXYZ" if held else scene["blocked"]
     b.state.vel = Vector3(*body["velocity"])
     w = Vector3(*body["angular_velocity"])
     b.state.angVel = w
@@ -122,6 +127,7 @@ for k, ids in enumerate(members):
     for i in ids:
         owner[i] = k
 n = len(clumps)
+held = [scene.get("held", False) and k > 0 for k in range(n)]
 arrival = [float("nan")] * n
 arrival[0] = 0.0
 onset = [float("nan")] * n  # interpolated inside the step, as dominowave's event log
@@ -152,9 +158,32 @@ def onset_time(it, t, dt):
     return t - depth / speed
 
 
+def release():
+    # free every held domino that has a real interaction with a free one (transitively)
+    changed = True
+    while changed:
+        changed = False
+        for m in range(n):
+            if held[m] and touches_free(m):
+                held[m] = False
+                O.bodies[clumps[m]].state.blockedDOFs = scene["blocked"]
+                changed = True
+
+
+def touches_free(m):
+    for i in members[m]:
+        for it in O.bodies[i].intrs():
+            other = owner.get(it.id1 if it.id2 == i else it.id2)
+            if it.isReal and other is not None and not held[other]:
+                return True
+    return False
+
+
 def record():
     # first real interaction of domino `next` with a lower-numbered domino: the step time
     # t_n (arrival) and the onset interpolated inside the step (onset)
+    if any(held):
+        release()
     if scene.get("trace_every") and O.iter % scene["trace_every"] == 0:
         trace.append(
             [O.time]

@@ -12,10 +12,12 @@ from dominowave.dem.integrate import drift, kick
 from dominowave.dem.planar import planar_violation
 
 
-def _planar_scene(y=0.0, sphere_blocked="y rx rz", damping=0.0, **build):
+def _planar_scene(
+    y=0.0, sphere_blocked="y rx rz", damping=0.0, shear_kinematics="contact_point", **build
+):
     """Four frictional columns in the plane ``y``, two tilted and spinning so that they
     topple onto their neighbours, and a sphere rolling with spin on a frictional floor."""
-    scene = Scene()
+    scene = Scene(shear_kinematics=shear_kinematics)
     floor = scene.add_material(Material(density=RHO, kn=1e4, friction=0.4))
     face = scene.add_material(Material(density=RHO, kn=1e4, friction=0.3, restitution=0.8))
     scene.add_wall((0, 0, 0), (0, 0, 1), floor)
@@ -119,18 +121,33 @@ def _assert_same_physics(a, b):
     np.testing.assert_array_equal(a.contacts.shear[:n, ::2], b.contacts.shear[:n, ::2])
 
 
-@pytest.mark.parametrize(("y", "track_energy"), [(0.0, True), (0.0, False), (0.0123, False)])
-def test_validate_planar_kernels_are_the_general_ones_to_the_bit(y, track_energy):
+@pytest.mark.parametrize(
+    ("y", "track_energy", "shear_kinematics"),
+    [
+        (0.0, True, "contact_point"),
+        (0.0, False, "contact_point"),
+        (0.0123, False, "contact_point"),
+        (0.0, True, "yade"),
+        (0.0123, False, "yade"),
+    ],
+)
+def test_validate_planar_kernels_are_the_general_ones_to_the_bit(y, track_energy, shear_kinematics):
     """The planar kernels are the general ones with the y components dropped (they are
     zero, or round-off of ~1e-17 m in the general kernels' sphere positions, which no
     in-plane result feels): a run with colliding, sliding and rolling frictional bodies,
     dashpots and local damping (body-body onsets, sliding bases, frictional pairs) has the
     general kernels' trajectory bit for bit -- with the energy ledger (planar contact
     power, separate kick and drift) and without it (the fused planar body pass), in the
-    plane y = 0 and off it."""
+    plane y = 0 and off it; with either shear kinematics."""
     runs = []
     for planar in (True, False):
-        sim = _planar_scene(y=y, damping=0.05, record_pairs=True, track_energy=track_energy)
+        sim = _planar_scene(
+            y=y,
+            damping=0.05,
+            shear_kinematics=shear_kinematics,
+            record_pairs=True,
+            track_energy=track_energy,
+        )
         sim.planar_kernels = planar
         res = sim.run(until=0.2)
         runs.append(sim)

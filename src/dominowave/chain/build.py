@@ -67,6 +67,7 @@ __all__ = [
 Model = Literal["2d", "3d"]
 Base = Literal["one", "two"]
 YoungRule = Literal["paper", "yade"]
+ShearKinematics = Literal["contact_point", "yade"]
 
 
 @dataclass(frozen=True)
@@ -76,7 +77,10 @@ class ChainParams:
     Give the contact stiffness in exactly one way: ``stiffness_ratio`` (the paper's
     k/k*, default 1e4 when nothing else is given; ``k_n = k/2``), ``kn`` [N/m] (the
     contact spring), or ``young`` [Pa] with ``young_rule``. ``kt_ratio`` is the
-    tangential/normal stiffness ratio.
+    tangential/normal stiffness ratio; ``shear_kinematics`` what drives the tangential
+    spring (``dem.Scene``): ``"contact_point"``, the relative velocity of the material
+    points at the contact, or ``"yade"``, YADE's ratcheting-free rate (for comparisons with
+    YADE).
     ``damping`` is the engine's local (non-viscous, YADE-style) damping
     coefficient in [0, 1); ``restitution`` (None = elastic) adds a normal dashpot.
     """
@@ -109,6 +113,12 @@ class ChainParams:
     )
     kt_ratio: float = parameter(
         1.0, "", "tangential / normal contact stiffness", gt=0, allow_inf=True
+    )
+    shear_kinematics: ShearKinematics = parameter(
+        "contact_point",
+        "",
+        "tangential spring rate: contact_point (material points, the default) or yade",
+        choices=("contact_point", "yade"),
     )
     friction_dominoes: float = parameter(0.0, "", "friction between dominoes phi_d", ge=0)
     friction_floor: float = parameter(0.3, "", "friction with the floor phi_f", ge=0)

@@ -275,7 +275,9 @@ class DominoChain:
         timing, as YADE's default).
         """
         p = self.params
-        scene = dem.Scene(gravity=(0.0, 0.0, -p.g), stiffness_rule="paper")
+        scene = dem.Scene(
+            gravity=(0.0, 0.0, -p.g), stiffness_rule="paper", shear_kinematics=p.shear_kinematics
+        )
         kw = {"kn": p.contact_stiffness, "kt_ratio": p.kt_ratio, "restitution": p.restitution}
         densities = np.unique(self.shape.density)
         mat_face = {

@@ -136,6 +136,10 @@ def chain_command(
     kn: Annotated[float | None, typer.Option(help="contact spring k_n [N/m]")] = None,
     young: Annotated[float | None, typer.Option(help="Young's modulus [Pa]")] = None,
     young_rule: Annotated[str, typer.Option(help="paper (k_n = pi R E/2) | yade (E R)")] = "paper",
+    kt_ratio: Annotated[float, typer.Option(help="tangential / normal stiffness k_t/k_n")] = 1.0,
+    shear_kinematics: Annotated[
+        str, typer.Option(help="contact_point | yade (YADE's ratcheting-free shear rate)")
+    ] = "contact_point",
     friction_floor: Annotated[float, typer.Option(help="phi_f, floor and bottom layer")] = 0.3,
     friction_dominoes: Annotated[float, typer.Option(help="phi_d between dominoes")] = 0.0,
     damping: Annotated[float, typer.Option(help="local damping in [0, 1)")] = 0.0,
@@ -170,6 +174,8 @@ def chain_command(
         kn=kn,
         young=young,
         young_rule=young_rule,
+        kt_ratio=kt_ratio,
+        shear_kinematics=shear_kinematics,
         friction_floor=friction_floor,
         friction_dominoes=friction_dominoes,
         damping=damping,

@@ -15,6 +15,19 @@ Laws (Cundall & Strack 1979, Geotechnique 29:47; YADE's Law2_ScGeom_FrictPhys_Cu
   ``u_s`` is projected onto the new tangent plane with its length kept, then turned about
   the normal by the mean spin of the two bodies (as YADE's ScGeom::rotate, but norm preserving).
 
+Shear kinematics (the scene's ``shear_kinematics``, :func:`yade_shear_velocity`): the
+shear increment is the tangential relative velocity of the two material points at the
+contact point times dt (``SHEAR_CONTACT_POINT``, the default: Cundall & Strack 1979; the
+rate whose product with the contact force is the power the force does on the bodies), or
+YADE's "ratcheting-free" rate (``SHEAR_YADE``: Ig2_Sphere_Sphere_ScGeom's
+avoidGranularRatcheting and Ig2_Wall_Sphere_ScGeom's noRatch, both on by default; McNamara,
+Garcia-Rojo & Herrmann, Phys. Rev. E 77, 031304 (2008)), which scales the relative
+velocity of the sphere centres by ``alpha = (R_i + R_j) / (R_i + R_j - delta)`` and turns
+the spins on the full radii.  For two equal spheres and a sphere on a wall the YADE rate is
+``alpha`` times the contact-point rate: the same rolling condition, the same force while
+sliding, but a tangential spring ``alpha`` times stiffer while sticking.  docs/dem.md gives
+the comparison with YADE.
+
 Sign convention: the unit normal ``n`` points from sphere ``i`` to its partner ``j``; the
 returned force acts on ``j`` (``-F`` on ``i``).
 """
@@ -31,6 +44,8 @@ from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
 __all__ = [
     "RULE_PAPER",
     "RULE_YADE",
+    "SHEAR_CONTACT_POINT",
+    "SHEAR_YADE",
     "active_contact_forces",
     "build_verlet_list",
     "compute_forces",
@@ -42,6 +57,10 @@ __all__ = [
 
 RULE_PAPER = 0
 RULE_YADE = 1
+
+# shear kinematics: what drives the shear displacement (module docstring)
+SHEAR_CONTACT_POINT = 0  # relative velocity of the material points at the contact point
+SHEAR_YADE = 1  # YADE's avoidGranularRatcheting / noRatch rate (yade_shear_velocity)
 
 ONSET = 1
 END = 0
@@ -492,6 +511,30 @@ def rotate_shear(u0, u1, u2, n0, n1, n2, spin):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def yade_shear_velocity(dc0, dc1, dc2, a0, a1, a2, n0, n1, n2, rsum, overlap):
+    """YADE's relative velocity for the shear increment (its normal part is removed by the
+    caller), j minus i [m/s]: ``alpha (v_cj - v_ci) - (R_i w_i + R_j w_j) x n`` with
+    ``alpha = (R_i + R_j) / (R_i + R_j - delta)`` (ScGeom::getIncidentVel with
+    avoidGranularRatcheting; McNamara et al., Phys. Rev. E 77, 031304 (2008)).
+
+    ``dc`` = ``v_cj - v_ci`` the relative velocity of the two sphere *centres* (a clump
+    member's centre moves with ``v + w x (x_s - x_b)``), ``a`` = ``R_i w_i + R_j w_j``
+    [m rad/s], ``n`` the unit normal from i to j, ``rsum`` = ``R_i + R_j`` [m] (a wall
+    takes the sphere's radius: ``2 R_i``), ``overlap`` = delta [m].
+
+    The material points at the contact point move with ``v_ci + w_i x (R_i - delta/2) n``
+    and ``v_cj - w_j x (R_j - delta/2) n``; for ``R_i = R_j`` (and a wall) the YADE rate is
+    exactly ``alpha`` times their relative velocity.
+    """
+    alpha = rsum / (rsum - overlap)
+    return (
+        alpha * dc0 - (a1 * n2 - a2 * n1),
+        alpha * dc1 - (a2 * n0 - a0 * n2),
+        alpha * dc2 - (a0 * n1 - a1 * n0),
+    )
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def onset_averaged_overlap(overlap, vn, dt, new_contact):
     """Contact onset inside a kick interval: the overlap averaged over the interval.
 
@@ -669,7 +712,9 @@ def _normal_force(contacts, c, overlap, vn, weight, fn_elastic, new_contact):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_step):
+def compute_forces(
+    bodies, spheres, walls, contacts, dt, ledger, changes, first_step, shear_kinematics
+):
     """Contact forces and torques on all bodies for the current positions.
 
     ``ledger[LEDGER_FRICTION]`` -= change of the energy stored in the tangential springs
@@ -677,6 +722,7 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
     :func:`contact_power` with the full-step velocities).  Every contact that
     starts or ends is appended to ``changes`` as ``(c, kind)`` rows; returns their count.
     ``first_step``: the initial configuration, no shear increment (no previous step).
+    ``shear_kinematics``: SHEAR_CONTACT_POINT or SHEAR_YADE (module docstring).
     """
     bodies.force[:, :] = 0.0
     bodies.torque[:, :] = 0.0
@@ -716,6 +762,7 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
                 continue
             n0, n1, n2 = -wn0, -wn1, -wn2
             overlap = Ri - dist
+            rsum = 2.0 * Ri  # (SHEAR_YADE: a wall takes the sphere's radius)
         # contact point midway through the overlap (as YADE's ScGeom)
         reach = Ri - 0.5 * overlap
         p0, p1, p2 = pos[i, 0] + reach * n0, pos[i, 1] + reach * n1, pos[i, 2] + reach * n2
@@ -751,15 +798,34 @@ def compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, first_
             spin += 0.5 * n2 * om[bi, 2]
         dv0, dv1, dv2 = vj0 - vi0, vj1 - vi1, vj2 - vi2
         vn = dv0 * n0 + dv1 * n1 + dv2 * n2
+        # the relative velocity that drives the shear (module docstring)
+        s0, s1, s2, sn = dv0, dv1, dv2, vn
+        if shear_kinematics == SHEAR_YADE:
+            ci0, ci1, ci2 = _lever(bodies.pos, bi, pos[i, 0], pos[i, 1], pos[i, 2])
+            ci0, ci1, ci2 = _point_velocity(bodies.vel, om, bi, ci0, ci1, ci2)
+            a0, a1, a2 = Ri * om[bi, 0], Ri * om[bi, 1], Ri * om[bi, 2]
+            cj0 = cj1 = cj2 = 0.0
+            if not wall:
+                js = np.uint64(contacts.j[c])  # (j is typed as a float after the branches)
+                Rj = spheres.radius[js]
+                cj0, cj1, cj2 = _lever(bodies.pos, bj, pos[js, 0], pos[js, 1], pos[js, 2])
+                cj0, cj1, cj2 = _point_velocity(bodies.vel, om, bj, cj0, cj1, cj2)
+                a0 += Rj * om[bj, 0]
+                a1 += Rj * om[bj, 1]
+                a2 += Rj * om[bj, 2]
+            s0, s1, s2 = yade_shear_velocity(
+                cj0 - ci0, cj1 - ci1, cj2 - ci2, a0, a1, a2, n0, n1, n2, rsum, overlap
+            )
+            sn = s0 * n0 + s1 * n1 + s2 * n2
         # tangential: rotate history, add the tangential relative displacement of this step
         u0, u1, u2 = contacts.shear[c, 0], contacts.shear[c, 1], contacts.shear[c, 2]
         stored = u0 * u0 + u1 * u1 + u2 * u2
         u0, u1, u2 = rotate_shear(u0, u1, u2, n0, n1, n2, spin * dt)
         # (none at the first step: the initial positions have no previous step)
         increment = 0.0 if first_step else dt
-        u0 += (dv0 - vn * n0) * increment
-        u1 += (dv1 - vn * n1) * increment
-        u2 += (dv2 - vn * n2) * increment
+        u0 += (s0 - sn * n0) * increment
+        u1 += (s1 - sn * n1) * increment
+        u2 += (s2 - sn * n2) * increment
         weight, overlap_kick = onset_averaged_overlap(overlap, vn, dt, new_contact)
         fn_elastic = contacts.kn[c] * overlap_kick
         kt = contacts.kt[c]

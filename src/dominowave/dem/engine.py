@@ -373,6 +373,7 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
     p_contacts = work[1]
     touched_body = int(stop[STOP_ARG_TOUCHED_BODY])
     planar = settings.planar
+    shear_kinematics = mats.shear_kinematics[0]
     rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
     for done in range(n_steps):
         t = rec.clock[0]
@@ -401,11 +402,27 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
             rec.n_rebuilds[0] += 1
         if planar:
             n_changes = compute_forces_planar(
-                bodies, spheres, walls, contacts, dt, rec.ledger, rec.changes, step == 0
+                bodies,
+                spheres,
+                walls,
+                contacts,
+                dt,
+                rec.ledger,
+                rec.changes,
+                step == 0,
+                shear_kinematics,
             )
         else:
             n_changes = compute_forces(
-                bodies, spheres, walls, contacts, dt, rec.ledger, rec.changes, step == 0
+                bodies,
+                spheres,
+                walls,
+                contacts,
+                dt,
+                rec.ledger,
+                rec.changes,
+                step == 0,
+                shear_kinematics,
             )
         if n_changes > 0:
             _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, step == 0)

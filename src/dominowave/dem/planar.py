@@ -42,6 +42,7 @@ from numba import njit
 from dominowave.dem.contact import (
     END,
     ONSET,
+    SHEAR_YADE,
     _begin,
     _idle,
     _log_change,
@@ -50,6 +51,7 @@ from dominowave.dem.contact import (
     cundall_strack,
     onset_averaged_overlap,
     rotate_shear,
+    yade_shear_velocity,
 )
 from dominowave.dem.energy import POWER_FRICTION, POWER_VISCOUS
 from dominowave.dem.integrate import ROT_AXIS, ROT_ISOTROPIC, ROT_NONE
@@ -112,9 +114,11 @@ def _apply_planar(bodies, b, rx, rz, f0, f2, sign):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def compute_forces_planar(bodies, spheres, walls, contacts, dt, ledger, changes, first_step):
+def compute_forces_planar(
+    bodies, spheres, walls, contacts, dt, ledger, changes, first_step, shear_kinematics
+):
     """contact.compute_forces for a planar scene (same arguments, same return value,
-    same contact law; module docstring)."""
+    same contact law, both shear kinematics; module docstring)."""
     bodies.force[:, :] = 0.0
     bodies.torque[:, :] = 0.0
     pos = spheres.pos
@@ -152,6 +156,7 @@ def compute_forces_planar(bodies, spheres, walls, contacts, dt, ledger, changes,
                 continue
             n0, n2 = -wn0, -wn2
             overlap = Ri - dist
+            rsum = 2.0 * Ri  # (SHEAR_YADE: a wall takes the sphere's radius)
         # contact point midway through the overlap (as YADE's ScGeom)
         reach = Ri - 0.5 * overlap
         p0, p2 = pos[i, 0] + reach * n0, pos[i, 2] + reach * n2
@@ -181,14 +186,32 @@ def compute_forces_planar(bodies, spheres, walls, contacts, dt, ledger, changes,
             dv0 += vel[bj, 0] + wj * rj2
             dv2 += vel[bj, 2] - wj * rj0
         vn = dv0 * n0 + dv2 * n2
+        # the relative velocity that drives the shear (contact module docstring); sphere
+        # centres move with (v_x + w r_z, v_z - w r_x), r = centre - centre of mass
+        s0, s2, sn = dv0, dv2, vn
+        if shear_kinematics == SHEAR_YADE:
+            ci0 = vel[bi, 0] + wi * (pos[i, 2] - body_pos[bi, 2])
+            ci2 = vel[bi, 2] - wi * (pos[i, 0] - body_pos[bi, 0])
+            a1 = Ri * wi
+            cj0 = cj2 = 0.0
+            if not wall:
+                js = np.uint64(contacts.j[c])  # (j is typed as a float after the branches)
+                wj = omega[bj, 1]
+                cj0 = vel[bj, 0] + wj * (pos[js, 2] - body_pos[bj, 2])
+                cj2 = vel[bj, 2] - wj * (pos[js, 0] - body_pos[bj, 0])
+                a1 += spheres.radius[js] * wj
+            s0, _, s2 = yade_shear_velocity(
+                cj0 - ci0, 0.0, cj2 - ci2, 0.0, a1, 0.0, n0, 0.0, n2, rsum, overlap
+            )
+            sn = s0 * n0 + s2 * n2
         # tangential: the general law on the in-plane shear (no spin about the normal),
         # plus this step's tangential relative displacement (none at the first step)
         u0, u2 = u[c, 0], u[c, 2]
         stored = u0 * u0 + u2 * u2
         u0, _, u2 = rotate_shear(u0, 0.0, u2, n0, 0.0, n2, 0.0)
         increment = 0.0 if first_step else dt
-        u0 += (dv0 - vn * n0) * increment
-        u2 += (dv2 - vn * n2) * increment
+        u0 += (s0 - sn * n0) * increment
+        u2 += (s2 - sn * n2) * increment
         weight, overlap_kick = onset_averaged_overlap(overlap, vn, dt, new_contact)
         fn_elastic = contacts.kn[c] * overlap_kick
         kt = contacts.kt[c]

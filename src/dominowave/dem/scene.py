@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from dominowave.checks import check_finite, check_in_range, check_positive
-from dominowave.dem.contact import RULE_PAPER, RULE_YADE
+from dominowave.dem.contact import RULE_PAPER, RULE_YADE, SHEAR_CONTACT_POINT, SHEAR_YADE
 from dominowave.dem.integrate import (
     ROT_AXIS,
     ROT_FREE,
@@ -30,6 +30,7 @@ __all__ = ["Scene", "parse_blocked"]
 
 DOF_NAMES = ("x", "y", "z", "rx", "ry", "rz")
 RULES = {"paper": RULE_PAPER, "yade": RULE_YADE}
+SHEAR_KINEMATICS = {"contact_point": SHEAR_CONTACT_POINT, "yade": SHEAR_YADE}
 
 
 def parse_blocked(blocked) -> np.ndarray:
@@ -62,13 +63,30 @@ class Scene:
     gravity : (3,) [m/s^2]
     stiffness_rule : "paper" (k = pi R E per sphere, in series) or "yade"
         (k_n = 2 E1 R1 E2 R2 / (E1 R1 + E2 R2)); ignored for materials that give kn.
+    shear_kinematics : what drives the tangential (Cundall-Strack) spring:
+        "contact_point" (default) the relative velocity of the two material points at the
+        contact point; "yade" YADE's ratcheting-free rate (the default of its
+        Ig2_Sphere_Sphere_ScGeom and Ig2_Wall_Sphere_ScGeom): the sphere centres' relative
+        velocity times ``(R_i + R_j) / (R_i + R_j - delta)`` plus the spins on the full
+        radii -- for equal spheres and walls a tangential spring stiffer by that factor
+        while it sticks (contact.py, docs/dem.md).
     """
 
-    def __init__(self, gravity=(0.0, 0.0, -9.81), stiffness_rule: str = "paper"):
+    def __init__(
+        self,
+        gravity=(0.0, 0.0, -9.81),
+        stiffness_rule: str = "paper",
+        shear_kinematics: str = "contact_point",
+    ):
         if stiffness_rule not in RULES:
             raise ValueError(f"stiffness_rule = {stiffness_rule!r} is not one of {tuple(RULES)}")
+        if shear_kinematics not in SHEAR_KINEMATICS:
+            raise ValueError(
+                f"shear_kinematics = {shear_kinematics!r} is not one of {tuple(SHEAR_KINEMATICS)}"
+            )
         self.gravity = _vector("gravity", gravity)
         self.stiffness_rule = stiffness_rule
+        self.shear_kinematics = shear_kinematics
         self.materials: list[Material] = []
         self._spheres: list[tuple] = []  # (body, centre, radius, material)
         self._bodies: list[dict] = []
@@ -171,6 +189,7 @@ class Scene:
                 [1.0 if m.restitution is None else m.restitution for m in self.materials]
             ),
             rule=np.array([RULES[self.stiffness_rule]], np.int64),
+            shear_kinematics=np.array([SHEAR_KINEMATICS[self.shear_kinematics]], np.int64),
         )
 
     def _bodies_and_spheres(self):

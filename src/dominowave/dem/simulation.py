@@ -11,7 +11,7 @@ import numpy as np
 
 from dominowave.checks import check_finite, check_in_range, check_positive
 from dominowave.dem import engine
-from dominowave.dem.contact import build_verlet_list, compute_forces
+from dominowave.dem.contact import SHEAR_CONTACT_POINT, build_verlet_list, compute_forces
 from dominowave.dem.energy import ENERGY_NAMES, energies
 from dominowave.dem.engine import Recorder, Settings, run_loop
 from dominowave.dem.integrate import update_sphere_positions
@@ -307,6 +307,7 @@ class Simulation:
                 np.zeros(3),
                 self.rec.changes.copy(),
                 True,
+                self.mats.shear_kinematics[0],
             )
         energies(self.bodies, contacts, self.settings.gravity, self.rec.ledger, self.rec.energy_now)
 
@@ -587,6 +588,8 @@ class Simulation:
                     fields[name] = arr
                 elif key == "settings.planar":  # (decided at each run; older files lack it)
                     fields[name] = False
+                elif key == "mats.shear_kinematics":  # (older files lack it: the default)
+                    fields[name] = np.array([SHEAR_CONTACT_POINT], np.int64)
                 elif not (prefix == "rec" and name in self._PER_RUN):
                     raise ValueError(f"state is missing {key!r}")
             new[prefix] = tup._replace(**fields)
@@ -619,7 +622,11 @@ class Simulation:
                 raise ValueError(f"state is missing {prefix}.{missing[0]}")
             return kind(**{n: np.array(state[f"{prefix}.{n}"]) for n in kind._fields})
 
-        state = {"settings.planar": np.array(False), **state}  # (older files lack it)
+        state = {  # (older files lack them)
+            "settings.planar": np.array(False),
+            "mats.shear_kinematics": np.array([SHEAR_CONTACT_POINT], np.int64),
+            **state,
+        }
         s = group("settings", Settings)
         settings = {k: (v.item() if np.ndim(v) == 0 else v) for k, v in s._asdict().items()}
         del settings["planar"]  # (decided at each run)

@@ -90,6 +90,7 @@ MaterialTable = namedtuple(
         "friction",  # (nm,)
         "restitution",  # (nm,)  1 = elastic
         "rule",  # (1,) int: 0 paper, 1 yade
+        "shear_kinematics",  # (1,) int: 0 contact point, 1 yade (contact.py docstring)
     ],
 )
 
