@@ -1,6 +1,6 @@
 """Geometry of every first hit n -> n+1 (which spheres touch, tilt and base slip of the striker)
 and what the struck domino does afterwards.  Usage: python contact.py OUT.pkl MEMBERS phi1,phi2 d1,d2
-Members built as paper_fig6._run_one (seed 0)."""
+Members built as dominowave.chain.paper_fig6.run_member (seed 0)."""
 import sys, time, pickle
 import numpy as np
 from dominowave.chain.build import ChainParams

@@ -1,6 +1,6 @@
 """Large ensembles for phi_f comparison. Usage: python ens.py OUT.npz MEMBERS phi1,phi2 d1,d2
 Chain length: 30 dominoes, or the environment variable NDOM (60-domino study).
-Each member is built exactly as paper_fig6._run_one (push omega=sqrt(g/l)*(1+1e-3 N(0,1)),
+Each member is built exactly as dominowave.chain.paper_fig6.run_member (push omega=sqrt(g/l)*(1+1e-3 N(0,1)),
 rng default_rng([0, member])), so members 0-7 are the docs' Fig 6 members."""
 import os, sys, time, pickle
 import numpy as np
