@@ -165,37 +165,12 @@ def test_validate_skipping_untouched_dominoes_is_exact():
         theta = np.zeros(chain.n)
         omega = np.zeros(chain.n)
         omega[0] = 1.0
-        out = K.run_chain(
-            theta,
-            omega,
-            n_awake,
-            L,
-            0.0,
-            chain.pitch,
-            M,
-            M * L * L,
-            0.0,
-            L,
-            G,
-            K.LAW_LINEAR,
-            chain.k,
-            0.0,
-            0.0,
-            1e-3,
-            K.NORMAL_GEOMETRIC,
-            0.0,
-            True,
-            dt,
-            20.0,
-            20.0,
-            0.0,
-            100,
-            1000,
-            1000,
-            0,
-            0,
-        )
-        results.append((theta, omega, out[3][: out[4]]))
+        p = K.ChainParams.typed(
+            L, 0.0, chain.pitch, M, M * L * L, 0.0, L, G, K.LAW_LINEAR, chain.k, 0.0, 0.0, 1e-3,
+            K.NORMAL_GEOMETRIC, 0.0, True, dt, 20.0, 20.0, 0.0, 100, 0,
+        )  # fmt: skip
+        st = K.run_chain(p, theta, omega, n_awake, 1000, 1000, 0)
+        results.append((theta, omega, st.events[: st.n_events[0]]))
     np.testing.assert_array_equal(results[0][0], results[1][0])
     np.testing.assert_array_equal(results[0][1], results[1][1])
     np.testing.assert_array_equal(results[0][2], results[1][2])

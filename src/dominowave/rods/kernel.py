@@ -622,67 +622,15 @@ def advance(p, st, n_steps):
     return status != STATUS_RUNNING
 
 
-def run_chain(
-    theta,
-    omega,
-    n_awake,
-    l,
-    s,
-    pitch,
-    m,
-    inertia,
-    cm_u,
-    cm_w,
-    g,
-    law,
-    k,
-    zeta,
-    mu,
-    v_reg,
-    normal,
-    e_floor,
-    gravity_in_contact,
-    dt,
-    t_max,
-    stall_time,
-    tail_time,
-    sample_every,
-    max_events,
-    max_samples,
-    frame_every,
-    max_frames,
-):
+def run_chain(p: ChainParams, theta, omega, n_awake, max_events, max_samples, max_frames):
     """The whole run in one call: :func:`new_state`, then :func:`advance` to the end.
 
-    ``theta``, ``omega`` (shape ``(N,)``, [rad], [rad/s]) are updated in place. Returns
-    ``(status, t_end, n_steps, events, n_events (may exceed max_events), samples,
-    n_samples, arrival, hv_max, lift_steps, theta_min_after, n_awake, frame_t,
-    frame_theta, frame_omega, n_frames)``: ``events`` shape ``(max_events, EV_COLUMNS)``,
-    ``samples`` shape ``(max_samples, SA_COLUMNS)``, per-domino arrays shape ``(N,)``,
-    frames (every ``frame_every`` steps, none if 0) shapes ``(max_frames,)`` and
-    ``(max_frames, N)``.
+    ``p`` the run's parameters (:meth:`ChainParams.typed`); ``theta``, ``omega`` (shape
+    ``(N,)``, [rad], [rad/s]) are updated in place; dominoes from ``n_awake`` on stand
+    until touched; the record buffers hold ``max_events`` contacts, ``max_samples``
+    energy samples and ``max_frames`` frames. Returns the final :class:`ChainState`
+    (records filled up to their counters, see :data:`RECORDS`).
     """
-    p = ChainParams.typed(
-        l, s, pitch, m, inertia, cm_u, cm_w, g, law, k, zeta, mu, v_reg, normal, e_floor,
-        gravity_in_contact, dt, t_max, stall_time, tail_time, sample_every, frame_every,
-    )  # fmt: skip
     st = new_state(p, theta, omega, n_awake, max_events, max_samples, max_frames)
     advance(p, st, np.iinfo(np.int64).max)
-    return (
-        int(st.status[0]),
-        st.step[0] * p.dt,
-        int(st.step[0]),
-        st.events,
-        int(st.n_events[0]),
-        st.samples,
-        int(st.n_samples[0]),
-        st.arrival,
-        st.hv_max,
-        st.lift_steps,
-        st.theta_min_after,
-        int(st.n_awake[0]),
-        st.frame_t,
-        st.frame_theta,
-        st.frame_omega,
-        int(st.n_frames[0]),
-    )
+    return st
