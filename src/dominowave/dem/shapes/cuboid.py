@@ -115,40 +115,55 @@ def box_plane(x, R, h, r, p0, nw, margin, normal, point, overlap, key):
     return n
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _vertex(x, R, h, k):
+    """World position (3 floats) of vertex k of a box (bit m of k: + side of axis m)."""
+    s0 = h[0] if k & 1 else -h[0]
+    s1 = h[1] if k & 2 else -h[1]
+    s2 = h[2] if k & 4 else -h[2]
+    return (
+        x[0] + s0 * R[0, 0] + s1 * R[0, 1] + s2 * R[0, 2],
+        x[1] + s0 * R[1, 0] + s1 * R[1, 1] + s2 * R[1, 2],
+        x[2] + s0 * R[2, 0] + s1 * R[2, 1] + s2 * R[2, 2],
+    )
+
+
 @njit(cache=True, error_model="numpy")
-def point_box_distance(x, R, h, p, closest):
+def point_box_distance(x, R, h, p0, p1, p2):
     """Signed distance [m] of the point ``p`` from the solid box (centre ``x``, axes ``R``,
     half-extents ``h``): positive outside, minus the depth below the nearest face inside.
-    Writes the nearest surface point of the box into ``closest`` (3,) and returns
-    ``(distance, u0, u1, u2)`` with ``u`` the unit vector from ``closest`` towards ``p``
-    (outside), or the nearest face's outward normal (inside)."""
-    q = np.empty(3)
-    for m in range(3):
-        q[m] = (p[0] - x[0]) * R[0, m] + (p[1] - x[1]) * R[1, m] + (p[2] - x[2]) * R[2, m]
-    outside = False
-    for m in range(3):
-        if abs(q[m]) > h[m]:
-            outside = True
-    if outside:
-        for m in range(3):
-            q[m] = min(max(q[m], -h[m]), h[m])
-        for d in range(3):
-            closest[d] = x[d] + R[d, 0] * q[0] + R[d, 1] * q[1] + R[d, 2] * q[2]
-        u0, u1, u2 = p[0] - closest[0], p[1] - closest[1], p[2] - closest[2]
+    Returns ``(distance, u0, u1, u2, c0, c1, c2)``: ``c`` the nearest surface point of
+    the box, ``u`` the unit vector from ``c`` towards ``p`` (outside), or the nearest
+    face's outward normal (inside)."""
+    e0, e1, e2 = p0 - x[0], p1 - x[1], p2 - x[2]
+    q0 = e0 * R[0, 0] + e1 * R[1, 0] + e2 * R[2, 0]
+    q1 = e0 * R[0, 1] + e1 * R[1, 1] + e2 * R[2, 1]
+    q2 = e0 * R[0, 2] + e1 * R[1, 2] + e2 * R[2, 2]
+    if abs(q0) > h[0] or abs(q1) > h[1] or abs(q2) > h[2]:
+        q0 = min(max(q0, -h[0]), h[0])
+        q1 = min(max(q1, -h[1]), h[1])
+        q2 = min(max(q2, -h[2]), h[2])
+        c0 = x[0] + R[0, 0] * q0 + R[0, 1] * q1 + R[0, 2] * q2
+        c1 = x[1] + R[1, 0] * q0 + R[1, 1] * q1 + R[1, 2] * q2
+        c2 = x[2] + R[2, 0] * q0 + R[2, 1] * q1 + R[2, 2] * q2
+        u0, u1, u2 = p0 - c0, p1 - c1, p2 - c2
         dist = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
-        return dist, u0 / dist, u1 / dist, u2 / dist
+        return dist, u0 / dist, u1 / dist, u2 / dist, c0, c1, c2
     # inside: the face of least depth
-    m_best = 0
-    depth = h[0] - abs(q[0])
-    for m in range(1, 3):
-        if h[m] - abs(q[m]) < depth:
-            depth = h[m] - abs(q[m])
-            m_best = m
-    s = _sign(q[m_best])
-    q[m_best] = s * h[m_best]
-    for d in range(3):
-        closest[d] = x[d] + R[d, 0] * q[0] + R[d, 1] * q[1] + R[d, 2] * q[2]
-    return -depth, s * R[0, m_best], s * R[1, m_best], s * R[2, m_best]
+    d0, d1, d2 = h[0] - abs(q0), h[1] - abs(q1), h[2] - abs(q2)
+    if d0 <= d1 and d0 <= d2:
+        m, depth, s = 0, d0, _sign(q0)
+        q0 = s * h[0]
+    elif d1 <= d2:
+        m, depth, s = 1, d1, _sign(q1)
+        q1 = s * h[1]
+    else:
+        m, depth, s = 2, d2, _sign(q2)
+        q2 = s * h[2]
+    c0 = x[0] + R[0, 0] * q0 + R[0, 1] * q1 + R[0, 2] * q2
+    c1 = x[1] + R[1, 0] * q0 + R[1, 1] * q1 + R[1, 2] * q2
+    c2 = x[2] + R[2, 0] * q0 + R[2, 1] * q1 + R[2, 2] * q2
+    return -depth, s * R[0, m], s * R[1, m], s * R[2, m], c0, c1, c2
 
 
 @njit(cache=True, error_model="numpy")
@@ -160,16 +175,15 @@ def box_sphere(x, R, h, r, c, radius, margin, normal, point, overlap, key):
     ``r + radius - d``, normal from ``q`` towards ``c``, point ``q + n (r - overlap/2)``.
     Key 0.  Returns 0 or 1.
     """
-    q = np.empty(3)
-    d, n0, n1, n2 = point_box_distance(x, R, h, c, q)
+    d, n0, n1, n2, q0, q1, q2 = point_box_distance(x, R, h, c[0], c[1], c[2])
     delta = r + radius - d
     if delta <= -margin:
         return 0
     reach = r - 0.5 * delta
     normal[0, 0], normal[0, 1], normal[0, 2] = n0, n1, n2
-    point[0, 0] = q[0] + reach * n0
-    point[0, 1] = q[1] + reach * n1
-    point[0, 2] = q[2] + reach * n2
+    point[0, 0] = q0 + reach * n0
+    point[0, 1] = q1 + reach * n1
+    point[0, 2] = q2 + reach * n2
     overlap[0] = delta
     key[0] = 0
     return 1
@@ -290,16 +304,16 @@ def _edge_id(R, x, n0, n1, n2, a, s):
     return s1, s2, 4 * a + (2 if s1 > 0 else 0) + (1 if s2 > 0 else 0)
 
 
-@njit(cache=True, error_model="numpy")
-def _segment_closest(p, u, q, v):
+@njit(cache=True, error_model="numpy", inline="always")
+def _segment_closest(r0, r1, r2, u0, u1, u2, v0, v1, v2):
     """Parameters (s, t) of the closest points ``p + s u``, ``q + t v`` of two segments with
-    s, t in [-1, 1] (``u``, ``v`` half-length vectors; Ericson 2005, sec. 5.1.9)."""
-    r0, r1, r2 = p[0] - q[0], p[1] - q[1], p[2] - q[2]
-    a = u[0] * u[0] + u[1] * u[1] + u[2] * u[2]
-    e = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
-    b = u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
-    c = u[0] * r0 + u[1] * r1 + u[2] * r2
-    f = v[0] * r0 + v[1] * r1 + v[2] * r2
+    s, t in [-1, 1] (``u``, ``v`` half-length vectors, ``r = p - q``; Ericson 2005, sec.
+    5.1.9)."""
+    a = u0 * u0 + u1 * u1 + u2 * u2
+    e = v0 * v0 + v1 * v1 + v2 * v2
+    b = u0 * v0 + u1 * v1 + u2 * v2
+    c = u0 * r0 + u1 * r1 + u2 * r2
+    f = v0 * r0 + v1 * r1 + v2 * r2
     denom = a * e - b * b
     s = min(max((b * f - c * e) / denom, -1.0), 1.0) if denom > 0.0 else 0.0
     t = (b * s + f) / e
@@ -317,24 +331,23 @@ def _edge_manifold(xi, Ri, hi, ri, a, xj, Rj, hj, rj, b, n0, n1, n2, sep, margin
     normal, point, overlap, key = out
     s1, s2, id_i = _edge_id(Ri, xi, n0, n1, n2, a, 1.0)
     t1, t2, id_j = _edge_id(Rj, xj, n0, n1, n2, b, -1.0)
-    p = np.empty(3)
-    q = np.empty(3)
-    u = np.empty(3)
-    v = np.empty(3)
     ai1, ai2 = (a + 1) % 3, (a + 2) % 3
     bj1, bj2 = (b + 1) % 3, (b + 2) % 3
-    for d in range(3):
-        p[d] = xi[d] + s1 * hi[ai1] * Ri[d, ai1] + s2 * hi[ai2] * Ri[d, ai2]
-        q[d] = xj[d] + t1 * hj[bj1] * Rj[d, bj1] + t2 * hj[bj2] * Rj[d, bj2]
-        u[d] = hi[a] * Ri[d, a]
-        v[d] = hj[b] * Rj[d, b]
-    s, t = _segment_closest(p, u, q, v)
+    # edge centres p, q and half-length vectors u, v
+    p0 = xi[0] + s1 * hi[ai1] * Ri[0, ai1] + s2 * hi[ai2] * Ri[0, ai2]
+    p1 = xi[1] + s1 * hi[ai1] * Ri[1, ai1] + s2 * hi[ai2] * Ri[1, ai2]
+    p2 = xi[2] + s1 * hi[ai1] * Ri[2, ai1] + s2 * hi[ai2] * Ri[2, ai2]
+    q0 = xj[0] + t1 * hj[bj1] * Rj[0, bj1] + t2 * hj[bj2] * Rj[0, bj2]
+    q1 = xj[1] + t1 * hj[bj1] * Rj[1, bj1] + t2 * hj[bj2] * Rj[1, bj2]
+    q2 = xj[2] + t1 * hj[bj1] * Rj[2, bj1] + t2 * hj[bj2] * Rj[2, bj2]
+    u0, u1, u2 = hi[a] * Ri[0, a], hi[a] * Ri[1, a], hi[a] * Ri[2, a]
+    v0, v1, v2 = hj[b] * Rj[0, b], hj[b] * Rj[1, b], hj[b] * Rj[2, b]
+    s, t = _segment_closest(p0 - q0, p1 - q1, p2 - q2, u0, u1, u2, v0, v1, v2)
     if not (-1.0 < s < 1.0 and -1.0 < t < 1.0):
         return 0  # (the closest points involve a vertex: a face or vertex contact)
-    for d in range(3):
-        p[d] += s * u[d]
-        q[d] += t * v[d]
-    g0, g1, g2 = q[0] - p[0], q[1] - p[1], q[2] - p[2]
+    p0, p1, p2 = p0 + s * u0, p1 + s * u1, p2 + s * u2
+    q0, q1, q2 = q0 + t * v0, q1 + t * v1, q2 + t * v2
+    g0, g1, g2 = q0 - p0, q1 - p1, q2 - p2
     dist = math.sqrt(g0 * g0 + g1 * g1 + g2 * g2)
     if sep > 0.0 and dist > 0.0:
         n0, n1, n2 = g0 / dist, g1 / dist, g2 / dist
@@ -345,9 +358,9 @@ def _edge_manifold(xi, Ri, hi, ri, a, xj, Rj, hj, rj, b, n0, n1, n2, sep, margin
         return 0
     lift = 0.5 * (ri + dist - rj)
     normal[0, 0], normal[0, 1], normal[0, 2] = n0, n1, n2
-    point[0, 0] = p[0] + lift * n0
-    point[0, 1] = p[1] + lift * n1
-    point[0, 2] = p[2] + lift * n2
+    point[0, 0] = p0 + lift * n0
+    point[0, 1] = p1 + lift * n1
+    point[0, 2] = p2 + lift * n2
     overlap[0] = delta
     key[0] = KEY_EDGE + id_i * 12 + id_j
     return 1
@@ -360,28 +373,17 @@ def _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, ties, out):
     of it (a symmetric pair of parallel edges gives both ends); key ``KEY_VERTEX + 8 owner
     + k``.  Returns the number of points (0 if out of reach)."""
     normal, point, overlap, key = out
-    best = np.inf
-    dist = np.empty(16)
-    closest = np.empty(3)
-    v = np.empty(3)
-    for owner in range(2):
-        x, R, h = (xi, Ri, hi) if owner == 0 else (xj, Rj, hj)
-        xo, Ro, ho = (xj, Rj, hj) if owner == 0 else (xi, Ri, hi)
-        for k in range(8):
-            for d in range(3):
-                v[d] = x[d]
-                for m in range(3):
-                    v[d] += (h[m] if (k >> m) & 1 else -h[m]) * R[d, m]
-            dist[8 * owner + k] = point_box_distance(xo, Ro, ho, v, closest)[0]
-            best = min(best, dist[8 * owner + k])
+    best_i = best_j = np.inf
+    for k in range(8):
+        v0, v1, v2 = _vertex(xi, Ri, hi, k)
+        best_i = min(best_i, point_box_distance(xj, Rj, hj, v0, v1, v2)[0])
+        v0, v1, v2 = _vertex(xj, Rj, hj, k)
+        best_j = min(best_j, point_box_distance(xi, Ri, hi, v0, v1, v2)[0])
+    best = min(best_i, best_j)
     if ri + rj - best <= -margin:
         return 0
-    tol = 1e-9 * (ri + rj + hi.max() + hj.max())
-    owner = 0
-    for k in range(16):  # (i owns a tie across the two bodies: a vertex on a vertex)
-        if dist[k] <= best + tol:
-            owner = k // 8
-            break
+    tol = 1e-9 * (ri + rj + max(hi[0], hi[1], hi[2]) + max(hj[0], hj[1], hj[2]))
+    owner = 0 if best_i <= best + tol else 1  # (i owns a tie: a vertex on a vertex)
     x, R, h = (xi, Ri, hi) if owner == 0 else (xj, Rj, hj)
     xo, Ro, ho = (xj, Rj, hj) if owner == 0 else (xi, Ri, hi)
     r_own = ri if owner == 0 else rj
@@ -389,19 +391,17 @@ def _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, ties, out):
     sign = -1.0 if owner == 0 else 1.0  # normal from i to j: towards the vertex if j owns it
     n = 0
     for k in range(8):
-        if dist[8 * owner + k] > best + tol or (n > 0 and not ties):
+        if n > 0 and not ties:
+            break
+        v0, v1, v2 = _vertex(x, R, h, k)
+        g, u0, u1, u2, c0, c1, c2 = point_box_distance(xo, Ro, ho, v0, v1, v2)
+        if g > best + tol:
             continue
-        for d in range(3):
-            v[d] = x[d]
-            for m in range(3):
-                v[d] += (h[m] if (k >> m) & 1 else -h[m]) * R[d, m]
-        g, u0, u1, u2 = point_box_distance(xo, Ro, ho, v, closest)
-        n0, n1, n2 = sign * u0, sign * u1, sign * u2
         lift = 0.5 * (r_other + g - r_own)  # from the other core's surface point
-        normal[n, 0], normal[n, 1], normal[n, 2] = n0, n1, n2
-        point[n, 0] = closest[0] + lift * u0
-        point[n, 1] = closest[1] + lift * u1
-        point[n, 2] = closest[2] + lift * u2
+        normal[n, 0], normal[n, 1], normal[n, 2] = sign * u0, sign * u1, sign * u2
+        point[n, 0] = c0 + lift * u0
+        point[n, 1] = c1 + lift * u1
+        point[n, 2] = c2 + lift * u2
         overlap[n] = ri + rj - g
         key[n] = KEY_VERTEX + 8 * owner + k
         n += 1
@@ -438,7 +438,7 @@ def box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap
     out = (normal, point, overlap, key)
     d0, d1, d2 = xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]
     reach = ri + rj + margin
-    tol = 1e-9 * (hi.max() + hj.max() + ri + rj)
+    tol = 1e-9 * (max(hi[0], hi[1], hi[2]) + max(hj[0], hj[1], hj[2]) + ri + rj)
     sep_i, k_i = -np.inf, 0
     sep_j, k_j = -np.inf, 0
     for m in range(3):

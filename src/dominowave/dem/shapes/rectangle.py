@@ -85,44 +85,43 @@ def _edge_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, out):
     mB = 2 - kB
     f0, f2 = xB[0] + sB * hB[kB] * RB[0, kB], xB[2] + sB * hB[kB] * RB[2, kB]
     # the incident edge's two corners in reference coordinates (u along the edge, n up)
-    pu = np.empty(2)
-    pn = np.empty(2)
-    sub = np.empty(2, np.int64)
-    for k in range(2):
-        s = 1.0 if k == 0 else -1.0
-        e0 = f0 + s * hB[mB] * RB[0, mB] - c0
-        e2 = f2 + s * hB[mB] * RB[2, mB] - c2
-        pu[k] = e0 * t0 + e2 * t2
-        pn[k] = e0 * n0 + e2 * n2
-        sub[k] = k
+    e0 = f0 + hB[mB] * RB[0, mB] - c0
+    e2 = f2 + hB[mB] * RB[2, mB] - c2
+    u_a, n_a, sub_a = e0 * t0 + e2 * t2, e0 * n0 + e2 * n2, 0
+    e0 = f0 - hB[mB] * RB[0, mB] - c0
+    e2 = f2 - hB[mB] * RB[2, mB] - c2
+    u_b, n_b, sub_b = e0 * t0 + e2 * t2, e0 * n0 + e2 * n2, 1
     hu = hA[ku]
     # clip the segment to |u| <= hu (sub-key 2: cut at +hu, 3: cut at -hu)
     for side in range(2):
         sgn = 1.0 if side == 0 else -1.0
-        a = sgn * pu[0] - hu
-        b = sgn * pu[1] - hu
+        a = sgn * u_a - hu
+        b = sgn * u_b - hu
         if a > 0.0 and b > 0.0:
             return 0
         if a > 0.0 or b > 0.0:
             t = a / (a - b)
-            u_cut = pu[0] + t * (pu[1] - pu[0])
-            n_cut = pn[0] + t * (pn[1] - pn[0])
-            k = 0 if a > 0.0 else 1
-            pu[k], pn[k], sub[k] = u_cut, n_cut, 2 + side
+            u_cut = u_a + t * (u_b - u_a)
+            n_cut = n_a + t * (n_b - n_a)
+            if a > 0.0:
+                u_a, n_a, sub_a = u_cut, n_cut, 2 + side
+            else:
+                u_b, n_b, sub_b = u_cut, n_cut, 2 + side
     face_A = (kA // 2) * 2 + (0 if sA > 0 else 1)
     face_B = (kB // 2) * 2 + (0 if sB > 0 else 1)
     base = ((swap * 4 + face_A) * 4 + face_B) * 4
     n = 0
     for k in range(2):
-        if pn[k] >= rA + rB + margin:
+        pu, pn, sub = (u_a, n_a, sub_a) if k == 0 else (u_b, n_b, sub_b)
+        if pn >= rA + rB + margin:
             continue
-        lift = 0.5 * (rA + pn[k] - rB)
+        lift = 0.5 * (rA + pn - rB)
         normal[n, 0], normal[n, 1], normal[n, 2] = sign * n0, 0.0, sign * n2
-        point[n, 0] = c0 + pu[k] * t0 + lift * n0
+        point[n, 0] = c0 + pu * t0 + lift * n0
         point[n, 1] = xA[1]
-        point[n, 2] = c2 + pu[k] * t2 + lift * n2
-        overlap[n] = rA + rB - pn[k]
-        key[n] = base + sub[k]
+        point[n, 2] = c2 + pu * t2 + lift * n2
+        overlap[n] = rA + rB - pn
+        key[n] = base + sub
         n += 1
     return n
 
@@ -133,26 +132,17 @@ def _nearest_corners(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, out):
     the other core (the owner of the nearest corner, and its corners within round-off of
     it), key ``KEY_VERTEX + 4 owner + corner``."""
     normal, point, overlap, key = out
-    dist = np.empty(8)
-    closest = np.empty(3)
-    v = np.empty(3)
-    best = np.inf
-    for owner in range(2):
-        x, R, h = (xi, Ri, hi) if owner == 0 else (xj, Rj, hj)
-        xo, Ro, ho = (xj, Rj, hj) if owner == 0 else (xi, Ri, hi)
-        for k in range(4):
-            v[0], v[2] = _corner(x, R, h, k)
-            v[1] = xo[1]  # (a planar body's y is immaterial)
-            dist[4 * owner + k] = point_box_distance(xo, Ro, ho, v, closest)[0]
-            best = min(best, dist[4 * owner + k])
+    best_i = best_j = np.inf
+    for k in range(4):  # (a planar body's y is immaterial: each corner at the other's y)
+        v0, v2 = _corner(xi, Ri, hi, k)
+        best_i = min(best_i, point_box_distance(xj, Rj, hj, v0, xj[1], v2)[0])
+        v0, v2 = _corner(xj, Rj, hj, k)
+        best_j = min(best_j, point_box_distance(xi, Ri, hi, v0, xi[1], v2)[0])
+    best = min(best_i, best_j)
     if ri + rj - best <= -margin:
         return 0
-    tol = 1e-9 * (ri + rj + hi.max() + hj.max())
-    owner = 0
-    for k in range(8):  # (i owns a tie across the two bodies: a vertex on a vertex)
-        if dist[k] <= best + tol:
-            owner = k // 4
-            break
+    tol = 1e-9 * (ri + rj + max(hi[0], hi[1], hi[2]) + max(hj[0], hj[1], hj[2]))
+    owner = 0 if best_i <= best + tol else 1  # (i owns a tie: a corner on a corner)
     x, R, h = (xi, Ri, hi) if owner == 0 else (xj, Rj, hj)
     xo, Ro, ho = (xj, Rj, hj) if owner == 0 else (xi, Ri, hi)
     r_own = ri if owner == 0 else rj
@@ -160,16 +150,15 @@ def _nearest_corners(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, out):
     sign = -1.0 if owner == 0 else 1.0
     n = 0
     for k in range(4):
-        if dist[4 * owner + k] > best + tol:
+        v0, v2 = _corner(x, R, h, k)
+        g, u0, _, u2, c0, _, c2 = point_box_distance(xo, Ro, ho, v0, xo[1], v2)
+        if g > best + tol:
             continue
-        v[0], v[2] = _corner(x, R, h, k)
-        v[1] = xo[1]
-        g, u0, _, u2 = point_box_distance(xo, Ro, ho, v, closest)
         lift = 0.5 * (r_other + g - r_own)
         normal[n, 0], normal[n, 1], normal[n, 2] = sign * u0, 0.0, sign * u2
-        point[n, 0] = closest[0] + lift * u0
+        point[n, 0] = c0 + lift * u0
         point[n, 1] = xi[1]
-        point[n, 2] = closest[2] + lift * u2
+        point[n, 2] = c2 + lift * u2
         overlap[n] = ri + rj - g
         key[n] = KEY_VERTEX + 4 * owner + k
         n += 1
@@ -189,7 +178,7 @@ def rect_rect(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, normal, point, overlap, ke
     out = (normal, point, overlap, key)
     d0, d2 = xj[0] - xi[0], xj[2] - xi[2]
     reach = ri + rj + margin
-    tol = 1e-9 * (hi.max() + hj.max() + ri + rj)
+    tol = 1e-9 * (max(hi[0], hi[1], hi[2]) + max(hj[0], hj[1], hj[2]) + ri + rj)
     sep_i, k_i = -np.inf, 0
     sep_j, k_j = -np.inf, 0
     for m in (0, 2):
