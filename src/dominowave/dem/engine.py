@@ -24,6 +24,7 @@ from collections import namedtuple
 
 from numba import njit
 
+from dominowave.dem.boxes import box_energies, box_forces, box_power
 from dominowave.dem.contact import (
     END,
     ONSET,
@@ -356,11 +357,14 @@ def _advance_bodies(bodies, settings):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_end, stop, work):
+def run_loop(
+    bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_end, stop, work, boxes
+):
     """Advance up to ``n_steps`` steps or until ``time >= t_end`` or a stop condition.
 
     ``stop`` = (no_onset_for [s] or inf, touched_body or -1, kinetic_below [J] or -1,
-    start time of the run [s]).  ``work``: (2, 3) scratch array.  Returns
+    start time of the run [s]).  ``work``: (2, 3) scratch array.  ``boxes``: the
+    rounded-cuboid bodies and their contacts (boxes.py; zero-length without).  Returns
     ``(code, steps_done)``; see the module constants.  ``rec.energy_now`` holds the
     energies of the last step done (time ``clock[0] - dt``).
 
@@ -374,6 +378,7 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
     touched_body = int(stop[STOP_ARG_TOUCHED_BODY])
     planar = settings.planar
     shear_kinematics = mats.shear_kinematics[0]
+    has_boxes = boxes.body.shape[0] > 0
     rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
     for done in range(n_steps):
         t = rec.clock[0]
@@ -424,6 +429,8 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
                 step == 0,
                 shear_kinematics,
             )
+        if has_boxes:
+            box_forces(bodies, boxes, walls, mats, dt, rec.ledger, step == 0, planar)
         if n_changes > 0:
             _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, step == 0)
         if settings.record_peak_force:
@@ -447,6 +454,8 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
                     contact_power_planar(bodies, spheres, walls, contacts, p_contacts)
                 else:
                     contact_power(bodies, spheres, walls, contacts, p_contacts)
+                if has_boxes:
+                    box_power(bodies, boxes, p_contacts)
                 # trapezoidal rule for the work of the non-conservative forces since t_{n-1}
                 if step > 0:
                     viscous = rec.power[LAST_POWER_VISCOUS] + p_contacts[POWER_VISCOUS]
@@ -466,10 +475,14 @@ def run_loop(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_e
                 g = rec.energy_n[0]
                 rec.energy_t[g] = t
                 energies(bodies, contacts, settings.gravity, rec.ledger, rec.energy_val[g])
+                if has_boxes:
+                    box_energies(boxes, rec.energy_val[g])
                 rec.energy_n[0] = g + 1
             # sanity checks at t_n, before the drift
             if check_due:
                 energies(bodies, contacts, settings.gravity, rec.ledger, rec.energy_now)
+                if has_boxes:
+                    box_energies(boxes, rec.energy_now)
                 if not _finite(bodies):
                     return ABORT_NAN, done
                 rec.clock[1] = max(

@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from dominowave.checks import check_finite, check_in_range, check_positive
+from dominowave.dem.boxes import empty_boxes
 from dominowave.dem.contact import RULE_PAPER, RULE_YADE, SHEAR_CONTACT_POINT, SHEAR_YADE
 from dominowave.dem.integrate import (
     ROT_AXIS,
@@ -173,6 +174,77 @@ class Scene:
             self._spheres.append((body, c, r, m))
         return body
 
+    def add_box(
+        self,
+        centre,
+        half_extents,
+        rounding,
+        material: int,
+        *,
+        orientation=None,
+        mass: float | None = None,
+        inertia=None,
+        blocked="",
+        velocity=(0.0, 0.0, 0.0),
+        angular_velocity=(0.0, 0.0, 0.0),
+    ) -> int:
+        """A rigid rounded cuboid (dem/boxes.py, dem/shapes/cuboid.py); returns the body id.
+
+        Parameters
+        ----------
+        centre : (3,) centre of the box [m] (its centre of mass).
+        half_extents : (3,) outer half-extents (a, b, c) along the box axes [m]; the body
+            is a core box of half-extents ``(a, b, c) - rounding`` swept by a sphere of
+            radius ``rounding``.
+        rounding : radius r of the rounded edges and corners [m], ``0 <= r < min(a, b, c)``.
+        material : material id (its density gives the default mass).
+        orientation : (3, 3) rotation whose columns are the box axes in the world frame
+            (default: the world axes).  In a planar scene (blocked "y rx rz") box axis 1
+            must be the world y axis.
+        mass, inertia : the body's mass [kg] and principal moments (3,) about the box axes
+            [kg m^2]; default those of a uniform cuboid of the outer size,
+            ``m = 8 a b c rho``, ``I_x = m (b^2 + c^2) / 3`` (shapes.cuboid_mass_properties).
+        blocked, velocity, angular_velocity : as :meth:`add_clump`.
+        """
+        from dominowave.dem.shapes.cuboid import cuboid_mass_properties
+
+        centre = _vector("centre", centre)
+        half = _vector("half_extents", half_extents)
+        body = len(self._bodies)
+        for k, h in enumerate(half):
+            check_positive(f"half_extents[{k}] of body {body}", h)
+        check_in_range("rounding", rounding, 0.0, float(half.min()), lo_inclusive=True)
+        mat = self._material_id("material", material)
+        R = np.eye(3) if orientation is None else np.asarray(orientation, float)
+        if R.shape != (3, 3) or not np.allclose(R.T @ R, np.eye(3), atol=1e-12):
+            raise ValueError(f"orientation = {orientation!r} is not a 3 x 3 rotation matrix")
+        if np.linalg.det(R) < 0:
+            raise ValueError(f"orientation = {orientation!r} is a reflection (det -1)")
+        m_default, i_default = cuboid_mass_properties(half, self.materials[mat].density)
+        if mass is not None:
+            check_positive("mass", mass)
+        moments = i_default if inertia is None else np.asarray(inertia, float).reshape(3)
+        if inertia is not None:
+            check_positive("inertia", moments)
+        self._bodies.append(
+            {
+                "blocked": parse_blocked(blocked),
+                "velocity": _vector("velocity", velocity),
+                "angular_velocity": _vector("angular_velocity", angular_velocity),
+                "held": False,
+                "box": {
+                    "centre": centre,
+                    "core": half - float(rounding),
+                    "rounding": float(rounding),
+                    "material": mat,
+                    "axes": R,
+                    "mass": m_default if mass is None else float(mass),
+                    "moments": moments,
+                },
+            }
+        )
+        return body
+
     # ------------------------------------------------------------------ build
     def _material_table(self):
         given = [m.kn is not None for m in self.materials]
@@ -229,11 +301,16 @@ class Scene:
         local = np.zeros((ns, 3))
         for b, spec in enumerate(self._bodies):
             members = np.flatnonzero(sphere_body == b)
-            mass, com, moments, axes, tensor = clump_mass_properties(
-                centres[members], radii[members], density[members]
-            )
+            box = spec.get("box")
+            if box is None:
+                mass, com, moments, axes, tensor = clump_mass_properties(
+                    centres[members], radii[members], density[members]
+                )
+            else:  # (principal axes: the box axes, even for a cube)
+                mass, com, moments, axes = box["mass"], box["centre"], box["moments"], box["axes"]
+                tensor = axes @ np.diag(moments) @ axes.T
             blocked = spec["blocked"]
-            isotropic = np.ptp(moments) <= 1e-12 * moments.max()
+            isotropic = box is None and np.ptp(moments) <= 1e-12 * moments.max()
             n_rot_blocked = int(blocked[3:].sum())
             if isotropic:
                 mode, axes = ROT_ISOTROPIC, np.eye(3)
@@ -280,7 +357,10 @@ class Scene:
             bodies.angmom[b] = L
             bodies.angmom_full[b] = L
             local[members] = (centres[members] - com) @ axes
-            bodies.extent[b] = np.linalg.norm(local[members], axis=1).max()
+            if box is None:
+                bodies.extent[b] = np.linalg.norm(local[members], axis=1).max()
+            else:
+                bodies.extent[b] = np.linalg.norm(box["core"])
         spheres = Spheres(
             body=sphere_body,
             radius=radii,
@@ -341,16 +421,18 @@ class Scene:
         """
         from dominowave.dem.timestep import critical_timestep
 
-        if not self._spheres:
-            raise ValueError("the scene has no bodies; add spheres or clumps before build")
+        if not self._bodies:
+            raise ValueError("the scene has no bodies; add spheres, clumps or boxes before build")
         check_in_range("damping", damping, 0.0, 1.0, lo_inclusive=True)
         check_in_range("safety", safety, 0.0, 1.0, hi_inclusive=True)
         check_in_range("check_every", check_every, 1, math.inf, lo_inclusive=True)
         mats = self._material_table()
         bodies, spheres = self._bodies_and_spheres()
         walls = self._walls_arrays()
-        _check_initial_overlaps(spheres, walls, overlap_tolerance)
-        dt_crit = critical_timestep(bodies, spheres, walls, mats)
+        if spheres.radius.size:
+            _check_initial_overlaps(spheres, walls, overlap_tolerance)
+        boxes = self._boxes_arrays()
+        dt_crit = critical_timestep(bodies, spheres, walls, mats, boxes)
         if dt is None:
             dt = safety * dt_crit
         check_positive("dt", dt)
@@ -361,7 +443,8 @@ class Scene:
                 "at start); choose dt <= that, better safety * it (default safety 0.02)"
             )
         if skin is None:
-            skin = 0.3 * float(spheres.radius.mean())
+            sizes = spheres.radius if spheres.radius.size else boxes.radius + boxes.half.min(axis=1)
+            skin = 0.3 * float(sizes.mean())
         check_positive("skin", skin)
         n_bodies = bodies.mass.shape[0]
         if record_pairs is None:
@@ -381,6 +464,16 @@ class Scene:
             record_peak_force=bool(record_peak_force),
             check_every=int(check_every),
             track_energy=bool(track_energy),
+            boxes=boxes,
+        )
+
+    def _boxes_arrays(self):
+        specs = [(b, spec["box"]) for b, spec in enumerate(self._bodies) if "box" in spec]
+        return empty_boxes(
+            body=[b for b, _ in specs],
+            half=[box["core"] for _, box in specs],
+            radius=[box["rounding"] for _, box in specs],
+            material=[box["material"] for _, box in specs],
         )
 
 

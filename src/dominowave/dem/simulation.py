@@ -11,6 +11,7 @@ import numpy as np
 
 from dominowave.checks import check_finite, check_in_range, check_positive
 from dominowave.dem import engine
+from dominowave.dem.boxes import box_energies, box_forces, empty_boxes
 from dominowave.dem.contact import SHEAR_CONTACT_POINT, build_verlet_list, compute_forces
 from dominowave.dem.energy import ENERGY_NAMES, energies
 from dominowave.dem.engine import Recorder, Settings, run_loop
@@ -151,8 +152,11 @@ class Simulation:
         record_peak_force,
         check_every,
         track_energy=True,
+        boxes=None,
     ):
         self.bodies = bodies
+        #: rounded-cuboid bodies and their contact rows (dem/boxes.py)
+        self.boxes = empty_boxes() if boxes is None else boxes
         self.spheres = spheres
         self.walls = walls
         self.mats = mats
@@ -310,6 +314,14 @@ class Simulation:
                 self.mats.shear_kinematics[0],
             )
         energies(self.bodies, contacts, self.settings.gravity, self.rec.ledger, self.rec.energy_now)
+        boxes = self.boxes
+        if self.rec.step[0] == 0 and boxes.body.size:  # (the box contacts at start, on a copy)
+            boxes = copy.deepcopy(boxes)
+            box_forces(
+                copy.deepcopy(self.bodies), boxes, self.walls, self.mats, self.dt, np.zeros(3),
+                True, self.planar_kernels and self.planar,
+            )  # fmt: skip
+        box_energies(boxes, self.rec.energy_now)
 
     # ------------------------------------------------------------------ running
     def run(
@@ -387,6 +399,7 @@ class Simulation:
                 t_end,
                 stop_array,
                 np.empty((2, 3)),  # scratch vectors of the loop
+                self.boxes,
             )
             done_total += done
             remaining -= done
@@ -407,7 +420,11 @@ class Simulation:
         """True if the scene is planar now (dem/planar.py: every body moves in one xz
         plane); the next run then uses the planar kernels, unless ``planar_kernels`` is
         False."""
-        return planar_violation(self.bodies, self.spheres, self.walls) is None
+        if planar_violation(self.bodies, self.spheres, self.walls) is not None:
+            return False
+        # a box's axis 1 along y: its axes 0 and 2 span the plane (shapes/rectangle.py)
+        # (to round-off, as planar.IN_PLANE_TOLERANCE)
+        return bool(np.all(np.abs(self.bodies.rot[self.boxes.body, 1, 1]) >= 1.0 - 1e-13))
 
     def _start_run(self, trajectory_every, energy_every, record_contact_forces):
         planar = self.planar_kernels and self.planar

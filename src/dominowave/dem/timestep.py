@@ -40,10 +40,14 @@ from dominowave.dem.integrate import ROT_AXIS, ROT_NONE
 __all__ = ["critical_timestep"]
 
 
-def critical_timestep(bodies, spheres, walls, mats):
-    """Critical time step estimate [s] of the scene (see module docstring)."""
+def critical_timestep(bodies, spheres, walls, mats, boxes=None):
+    """Critical time step estimate [s] of the scene (see module docstring; rounded
+    cuboids: :func:`_box_omega2`)."""
     rule = int(mats.rule[0])
     given = bool(mats.given_kn[0])
+    omega2_boxes = 0.0 if boxes is None else _box_omega2(bodies, boxes, walls, mats)
+    if spheres.radius.size == 0:
+        return float(1.0 / np.sqrt(omega2_boxes))
 
     def particle(material, radius, tangential):
         k = particle_stiffness(mats.stiffness[material], radius, given, rule)
@@ -94,7 +98,43 @@ def critical_timestep(bodies, spheres, walls, mats):
         if j >= 0:
             k_sum[spheres.body[j]] += k
     omega2 = np.maximum(omega2, 0.5 * k_sum * (inv_mass + coupling))
-    return float(1.0 / np.sqrt(omega2.max()))
+    return float(1.0 / np.sqrt(max(omega2.max(), omega2_boxes)))
+
+
+def _box_omega2(bodies, boxes, walls, mats):
+    """Largest ``omega^2`` [1/s^2] of the rounded cuboids: a face resting on a face or
+    wall, its 4 corners in contact at once (Gershgorin, as above:
+    ``omega^2 <= 4 k (1/m + rho^2/I)``), with ``k`` the stiffest normal or tangential
+    point stiffness the box can form (another box's material or a wall's), ``rho`` its
+    outer half-diagonal and ``I`` its smallest moment (planar: about the axis)."""
+    if boxes.body.size == 0:
+        return 0.0
+    rule = int(mats.rule[0])
+    given = bool(mats.given_kn[0])
+
+    def particle(material, radius, tangential):
+        k = particle_stiffness(mats.stiffness[material], radius, given, rule)
+        return k * mats.kt_ratio[material] if tangential else k
+
+    omega2 = 0.0
+    for x, b in enumerate(boxes.body):
+        m, r = boxes.material[x], boxes.radius[x]
+        partners = list(zip(boxes.material, boxes.radius, strict=True))
+        partners += [(w, r) for w in walls.material]  # (a wall takes the box's radius)
+        k = max(
+            pair_stiffness(particle(m, r, t), particle(pm, pr, t), given, rule)
+            for t in (False, True)
+            for pm, pr in partners
+        )
+        rho = np.linalg.norm(boxes.half[x]) + r
+        if bodies.rot_mode[b] == ROT_NONE:
+            coupling = 0.0
+        elif bodies.rot_mode[b] == ROT_AXIS:
+            coupling = rho**2 / bodies.axis_inertia[b]
+        else:
+            coupling = rho**2 / bodies.inertia[b].min()
+        omega2 = max(omega2, 4.0 * k * (1.0 / bodies.mass[b] + coupling))
+    return omega2
 
 
 def _rotational_coupling(bodies, spheres):

@@ -1,0 +1,479 @@
+"""Rounded-cuboid bodies in the engine: their state and the contact driver.
+
+A box body is a rigid body of ``Bodies`` (mass, inertia, quaternion, the same integrator
+as a clump) whose shape is a rounded cuboid (``shapes.cuboid``): core half-extents ``h``
+in its principal frame and rounding radius ``r``.  Each step :func:`box_forces` finds the
+contact manifold of every box-box and box-wall pair within reach (``shapes.cuboid`` in 3D,
+``shapes.rectangle`` in a planar scene, each of whose points counts twice: the two ends
+of a cuboid edge along y) and applies to every point the contact law of the spheres,
+from the same per-pair functions of contact.py:
+
+* normal ``F_n = k_n delta - c_n v_n`` (linear), with the onset average of the overlap
+  (contact.onset_averaged_overlap) and the end impulse (contact.end_impulse);
+* tangential Cundall-Strack (contact.rotate_shear, contact.cundall_strack), one shear
+  history per contact point, carried from step to step by the point's feature key;
+* the dashpot ``c_n`` from the restitution ``e = min(e_i, e_j)`` (contact.viscous_coefficient)
+  and the effective mass AT THE CONTACT POINT along the normal,
+  ``1/m_eff = 1/m_i + 1/m_j + (r_i x n) . I_i^-1 (r_i x n) + (r_j x n) . I_j^-1 (r_j x n)``
+  (the impulse-response of two rigid bodies at a point, e.g. Brach, Mechanical Impact
+  Dynamics (1991); Stronge, Impact Mechanics (2000) ch. 5), fixed at the point's onset;
+  so a single-point impact has the restitution set, eccentric or not;
+* stiffness from the materials as for spheres, with the rounding radius as the sphere
+  radius (contact.particle_stiffness, contact.pair_stiffness); friction ``min(mu_i, mu_j)``.
+
+Contact rows are kept in pair order (box i, then partner: boxes j > i, then walls) and
+rebuilt every step; pairs within reach are found by bounding spheres (all pairs: O(N^2)
+tests per step).
+"""
+
+from __future__ import annotations
+
+import math
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+
+from dominowave.dem.contact import (
+    cundall_strack,
+    end_impulse,
+    onset_averaged_overlap,
+    pair_stiffness,
+    particle_stiffness,
+    rotate_shear,
+    viscous_coefficient,
+)
+from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
+from dominowave.dem.integrate import ROT_AXIS, ROT_FREE, ROT_ISOTROPIC
+from dominowave.dem.shapes.cuboid import MAX_POINTS, box_box, box_plane
+from dominowave.dem.shapes.rectangle import PLANAR_MULTIPLICITY, rect_plane, rect_rect
+
+__all__ = ["BoxContacts", "Boxes", "box_energies", "box_forces", "box_power", "empty_boxes"]
+
+Boxes = namedtuple(
+    "Boxes",
+    [
+        "body",  # (nx,) int owner body
+        "half",  # (nx, 3) core half-extents in the body frame [m]
+        "radius",  # (nx,) rounding radius [m]
+        "material",  # (nx,) int material id
+        "rows",  # BoxContacts of the last step
+        "next",  # BoxContacts being built (scratch)
+        "m_normal",  # (MAX_POINTS, 3) scratch: the manifold of one pair (shapes.cuboid)
+        "m_point",  # (MAX_POINTS, 3)
+        "m_overlap",  # (MAX_POINTS,)
+        "m_key",  # (MAX_POINTS,) int64
+        "work",  # (2, 9, 4) clipping buffers
+        "used",  # (K,) uint8 scratch: old rows matched this step
+        "props",  # (4,) scratch: kn, kt, mu, restitution of a new point
+    ],
+)
+
+BoxContacts = namedtuple(
+    "BoxContacts",
+    [
+        "n",  # (1,) rows used
+        "i",  # (K,) box
+        "j",  # (K,) partner box, or -(wall + 1)
+        "key",  # (K,) int64 feature key of the point (shapes.cuboid)
+        "mult",  # (K,) how many points of the 3D body the row stands for (planar: 2)
+        "shear",  # (K, 3) Cundall-Strack shear displacement [m]
+        "overlap",  # (K,) [m]
+        "vn",  # (K,) normal relative velocity at the last half step [m/s]
+        "fn",  # (K,) normal force (elastic + dashpot) per point [N]
+        "fn_viscous",  # (K,) dashpot part [N]
+        "kn",  # (K,) [N/m]
+        "kt",  # (K,) [N/m]
+        "mu",  # (K,)
+        "cn",  # (K,) [N s/m]
+        "point",  # (K, 3) contact point [m]
+        "normal",  # (K, 3) unit normal from box i to its partner
+    ],
+)
+
+
+def _empty_rows(capacity):
+    k = int(capacity)
+    z = lambda *shape: np.zeros(shape)  # noqa: E731
+    return BoxContacts(
+        n=np.zeros(1, np.int64),
+        i=np.zeros(k, np.int64),
+        j=np.zeros(k, np.int64),
+        key=np.zeros(k, np.int64),
+        mult=z(k),
+        shear=z(k, 3),
+        overlap=z(k),
+        vn=z(k),
+        fn=z(k),
+        fn_viscous=z(k),
+        kn=z(k),
+        kt=z(k),
+        mu=z(k),
+        cn=z(k),
+        point=z(k, 3),
+        normal=z(k, 3),
+    )
+
+
+def empty_boxes(body=(), half=(), radius=(), material=()):
+    """The box state of a scene (no box: zero-length arrays)."""
+    body = np.asarray(body, np.int64).reshape(-1)
+    nx = body.shape[0]
+    capacity = 32 * nx + 32
+    return Boxes(
+        body=body,
+        half=np.asarray(half, float).reshape(nx, 3),
+        radius=np.asarray(radius, float).reshape(nx),
+        material=np.asarray(material, np.int64).reshape(nx),
+        rows=_empty_rows(capacity),
+        next=_empty_rows(capacity),
+        m_normal=np.zeros((MAX_POINTS, 3)),
+        m_point=np.zeros((MAX_POINTS, 3)),
+        m_overlap=np.zeros(MAX_POINTS),
+        m_key=np.zeros(MAX_POINTS, np.int64),
+        work=np.zeros((2, 9, 4)),
+        used=np.zeros(capacity, np.uint8),
+        props=np.zeros(4),
+    )
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def inverse_mass_at(bodies, b, rx, ry, rz, n0, n1, n2):
+    """``1/m + (r x n) . I^-1 (r x n)`` [1/kg] of body b at lever arm r, along n."""
+    c0 = ry * n2 - rz * n1
+    c1 = rz * n0 - rx * n2
+    c2 = rx * n1 - ry * n0
+    inv = 1.0 / bodies.mass[b]
+    mode = bodies.rot_mode[b]
+    if mode == ROT_FREE:
+        R = bodies.rot[b]
+        for k in range(3):
+            ck = R[0, k] * c0 + R[1, k] * c1 + R[2, k] * c2
+            inv += ck * ck / bodies.inertia[b, k]
+    elif mode == ROT_AXIS:
+        a = bodies.axis[b]
+        ca = a[0] * c0 + a[1] * c1 + a[2] * c2
+        inv += ca * ca / bodies.axis_inertia[b]
+    elif mode == ROT_ISOTROPIC:
+        inv += (c0 * c0 + c1 * c1 + c2 * c2) / bodies.inertia[b, 0]
+    return inv
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _reach_of(boxes, x):
+    """Bounding radius [m] of box x: its core's half-diagonal plus the rounding."""
+    h = boxes.half[x]
+    return math.sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]) + boxes.radius[x]
+
+
+@njit(cache=True, error_model="numpy")
+def _manifold(bodies, boxes, walls, a, j, planar, margin):
+    """Contact points of box a with partner j (box, or -(wall + 1)) into boxes.m_*;
+    returns their number."""
+    normal, point, overlap, keyf = boxes.m_normal, boxes.m_point, boxes.m_overlap, boxes.m_key
+    ba = boxes.body[a]
+    xa, Ra, ha, ra = bodies.pos[ba], bodies.rot[ba], boxes.half[a], boxes.radius[a]
+    if j >= 0:
+        bb = boxes.body[j]
+        xb, Rb, hb, rb = bodies.pos[bb], bodies.rot[bb], boxes.half[j], boxes.radius[j]
+        if planar:
+            n = rect_rect(xa, Ra, ha, ra, xb, Rb, hb, rb, margin, normal, point, overlap, keyf)
+        else:
+            n = box_box(
+                xa, Ra, ha, ra, xb, Rb, hb, rb, margin, boxes.work, normal, point, overlap, keyf
+            )
+    else:
+        w = -j - 1
+        p0, nw = walls.point[w], walls.normal[w]
+        if planar:
+            n = rect_plane(xa, Ra, ha, ra, p0, nw, margin, normal, point, overlap, keyf)
+        else:
+            n = box_plane(xa, Ra, ha, ra, p0, nw, margin, normal, point, overlap, keyf)
+    return n
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _pair_code(i, j, nx, nw):
+    """Sort key of the pair (box i, partner j): boxes j > i first, then the walls."""
+    return i * (nx + nw) + (j if j >= 0 else nx - j - 1)
+
+
+@njit(cache=True, error_model="numpy")
+def _point_properties(bodies, boxes, walls, mats, a, j, out):
+    """kn, kt, mu, restitution of box a with partner j into ``out[0:4]``."""
+    rule = mats.rule[0]
+    ma = boxes.material[a]
+    ra = boxes.radius[a]
+    if j >= 0:
+        mb = boxes.material[j]
+        rb = boxes.radius[j]
+    else:
+        mb = walls.material[-j - 1]
+        rb = ra  # a wall takes the radius of the body touching it (as for spheres)
+    given = mats.given_kn[ma] == 1
+    ka = particle_stiffness(mats.stiffness[ma], ra, given, rule)
+    kb = particle_stiffness(mats.stiffness[mb], rb, given, rule)
+    out[0] = pair_stiffness(ka, kb, given, rule)
+    out[1] = pair_stiffness(ka * mats.kt_ratio[ma], kb * mats.kt_ratio[mb], given, rule)
+    out[2] = min(mats.friction[ma], mats.friction[mb])
+    out[3] = min(mats.restitution[ma], mats.restitution[mb])
+
+
+@njit(cache=True, error_model="numpy")
+def _release(old, q, ledger):
+    """Old row q is gone without an end step (its feature left the manifold): the energy
+    of its shear spring is released by slip (booked as friction)."""
+    u = old.shear[q]
+    ledger[LEDGER_FRICTION] += 0.5 * old.mult[q] * old.kt[q] * (u[0] ** 2 + u[1] ** 2 + u[2] ** 2)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _apply(bodies, b, p, f0, f1, f2, sign):
+    """Add ``sign f`` acting at the point p to the force and torque of body b."""
+    rx, ry, rz = p[0] - bodies.pos[b, 0], p[1] - bodies.pos[b, 1], p[2] - bodies.pos[b, 2]
+    bodies.force[b, 0] += sign * f0
+    bodies.force[b, 1] += sign * f1
+    bodies.force[b, 2] += sign * f2
+    bodies.torque[b, 0] += sign * (ry * f2 - rz * f1)
+    bodies.torque[b, 1] += sign * (rz * f0 - rx * f2)
+    bodies.torque[b, 2] += sign * (rx * f1 - ry * f0)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _relative_velocity(bodies, vel, omega, bi, bj, wall, p):
+    """Velocity of the material point p of body j minus that of body i (a wall is fixed)."""
+    rx, ry, rz = p[0] - bodies.pos[bi, 0], p[1] - bodies.pos[bi, 1], p[2] - bodies.pos[bi, 2]
+    v0 = -(vel[bi, 0] + omega[bi, 1] * rz - omega[bi, 2] * ry)
+    v1 = -(vel[bi, 1] + omega[bi, 2] * rx - omega[bi, 0] * rz)
+    v2 = -(vel[bi, 2] + omega[bi, 0] * ry - omega[bi, 1] * rx)
+    if not wall:
+        rx, ry, rz = p[0] - bodies.pos[bj, 0], p[1] - bodies.pos[bj, 1], p[2] - bodies.pos[bj, 2]
+        v0 += vel[bj, 0] + omega[bj, 1] * rz - omega[bj, 2] * ry
+        v1 += vel[bj, 1] + omega[bj, 2] * rx - omega[bj, 0] * rz
+        v2 += vel[bj, 2] + omega[bj, 0] * ry - omega[bj, 1] * rx
+    return v0, v1, v2
+
+
+@njit(cache=True, error_model="numpy")
+def _end(bodies, old, q, gap, dt, bi, bj, wall, ledger):
+    """Old row q opened in the last drift (now ``gap <= 0``): the end impulse the last kick
+    missed (contact.end_impulse), and the release of its shear spring."""
+    f_el, f_visc = end_impulse(old.overlap[q], gap, old.kn[q], old.cn[q], dt)
+    fn = (f_el + f_visc) * old.mult[q]
+    if fn != 0.0:
+        n = old.normal[q]
+        p = old.point[q]
+        if not wall:
+            _apply(bodies, bj, p, fn * n[0], fn * n[1], fn * n[2], 1.0)
+        _apply(bodies, bi, p, fn * n[0], fn * n[1], fn * n[2], -1.0)
+    _release(old, q, ledger)
+
+
+@njit(cache=True, error_model="numpy")
+def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
+    """Add the forces and torques of every box contact to the bodies (after
+    contact.compute_forces, which zeroes them), rebuild the contact rows, book the change
+    of the energy stored in the shear springs in ``ledger[LEDGER_FRICTION]``."""
+    old, new = boxes.rows, boxes.next
+    nx = boxes.body.shape[0]
+    nw = walls.point.shape[0]
+    capacity = new.i.shape[0]
+    mult = float(PLANAR_MULTIPLICITY) if planar else 1.0
+    used = boxes.used
+    used[: old.n[0]] = 0
+    props = boxes.props
+    o = 0
+    n_new = 0
+    for a in range(nx):
+        ba = boxes.body[a]
+        reach_a = _reach_of(boxes, a)
+        for jj in range(a + 1, nx + nw):
+            j = jj if jj < nx else -(jj - nx) - 1
+            wall = j < 0
+            if wall:
+                w = -j - 1
+                nw_ = walls.normal[w]
+                ha = boxes.half[a]
+                R = bodies.rot[ba]
+                support = boxes.radius[a]
+                for m in range(3):
+                    support += ha[m] * abs(nw_[0] * R[0, m] + nw_[1] * R[1, m] + nw_[2] * R[2, m])
+                dist = 0.0
+                for d in range(3):
+                    dist += (bodies.pos[ba, d] - walls.point[w, d]) * nw_[d]
+                margin = boxes.radius[a]
+                if dist - support >= margin:
+                    continue
+                bj = ba
+            else:
+                bj = boxes.body[j]
+                margin = 0.5 * (boxes.radius[a] + boxes.radius[j])
+                d2 = 0.0
+                for d in range(3):
+                    d2 += (bodies.pos[bj, d] - bodies.pos[ba, d]) ** 2
+                if d2 >= (reach_a + _reach_of(boxes, j) + margin) ** 2:
+                    continue
+            code = _pair_code(a, j, nx, nw)
+            # old rows of pairs before this one are gone: release their springs
+            while o < old.n[0] and _pair_code(old.i[o], old.j[o], nx, nw) < code:
+                if not used[o]:
+                    _release(old, o, ledger)
+                o += 1
+            o_end = o
+            while o_end < old.n[0] and _pair_code(old.i[o_end], old.j[o_end], nx, nw) == code:
+                o_end += 1
+            m = _manifold(bodies, boxes, walls, a, j, planar, margin)
+            for k in range(m):
+                key = boxes.m_key[k]
+                q = -1
+                for t in range(o, o_end):
+                    if old.key[t] == key and not used[t]:
+                        q = t
+                        break
+                overlap = boxes.m_overlap[k]
+                if overlap <= 0.0:
+                    if q >= 0:
+                        used[q] = 1
+                        _end(bodies, old, q, overlap, dt, ba, bj, wall, ledger)
+                    continue
+                if n_new == capacity:
+                    raise RuntimeError("box contact rows full")
+                c = n_new
+                n_new += 1
+                n0, n1, n2 = boxes.m_normal[k, 0], boxes.m_normal[k, 1], boxes.m_normal[k, 2]
+                new.i[c] = a
+                new.j[c] = j
+                new.key[c] = key
+                new.mult[c] = mult
+                for d in range(3):
+                    new.normal[c, d] = boxes.m_normal[k, d]
+                    new.point[c, d] = boxes.m_point[k, d]
+                p = new.point[c]
+                fresh = q < 0
+                if fresh:
+                    _point_properties(bodies, boxes, walls, mats, a, j, props)
+                    new.kn[c], new.kt[c], new.mu[c] = props[0], props[1], props[2]
+                    inv = inverse_mass_at(
+                        bodies, ba, p[0] - bodies.pos[ba, 0], p[1] - bodies.pos[ba, 1],
+                        p[2] - bodies.pos[ba, 2], n0, n1, n2,
+                    )  # fmt: skip
+                    if not wall:
+                        inv += inverse_mass_at(
+                            bodies, bj, p[0] - bodies.pos[bj, 0], p[1] - bodies.pos[bj, 1],
+                            p[2] - bodies.pos[bj, 2], n0, n1, n2,
+                        )  # fmt: skip
+                    # (each point its own dashpot, as for a single-point impact; a planar
+                    # row stands for mult such points)
+                    new.cn[c] = viscous_coefficient(props[3], 1.0 / inv, new.kn[c])
+                    u0 = u1 = u2 = 0.0
+                    vn_old = 0.0
+                else:
+                    used[q] = 1
+                    new.kn[c], new.kt[c], new.mu[c], new.cn[c] = (
+                        old.kn[q], old.kt[q], old.mu[q], old.cn[q],
+                    )  # fmt: skip
+                    u0, u1, u2 = old.shear[q, 0], old.shear[q, 1], old.shear[q, 2]
+                    vn_old = old.vn[q]
+                stored = u0 * u0 + u1 * u1 + u2 * u2
+                dv0, dv1, dv2 = _relative_velocity(
+                    bodies, bodies.vel, bodies.omega, ba, bj, wall, p
+                )
+                vn = dv0 * n0 + dv1 * n1 + dv2 * n2
+                om = bodies.omega
+                spin = n0 * om[ba, 0] + n1 * om[ba, 1] + n2 * om[ba, 2]
+                if not wall:
+                    spin += n0 * om[bj, 0] + n1 * om[bj, 1] + n2 * om[bj, 2]
+                u0, u1, u2 = rotate_shear(u0, u1, u2, n0, n1, n2, 0.5 * spin * dt)
+                increment = 0.0 if first_step else dt
+                u0 += (dv0 - vn * n0) * increment
+                u1 += (dv1 - vn * n1) * increment
+                u2 += (dv2 - vn * n2) * increment
+                weight, overlap_kick = onset_averaged_overlap(overlap, vn, dt, fresh)
+                kn, kt = new.kn[c], new.kt[c]
+                fn_elastic = kn * overlap_kick
+                u0, u1, u2 = cundall_strack(u0, u1, u2, kt, new.mu[c], fn_elastic)
+                new.shear[c, 0], new.shear[c, 1], new.shear[c, 2] = u0, u1, u2
+                stored -= u0 * u0 + u1 * u1 + u2 * u2
+                ledger[LEDGER_FRICTION] += 0.5 * mult * kt * stored
+                vn_dashpot = vn if fresh else 1.5 * vn - 0.5 * vn_old
+                fn_viscous = -new.cn[c] * vn_dashpot * weight
+                fn = fn_elastic + fn_viscous
+                new.overlap[c] = overlap
+                new.vn[c] = vn
+                new.fn[c] = fn
+                new.fn_viscous[c] = fn_viscous
+                f0 = mult * (fn * n0 - kt * u0)
+                f1 = mult * (fn * n1 - kt * u1)
+                f2 = mult * (fn * n2 - kt * u2)
+                if not wall:
+                    _apply(bodies, bj, p, f0, f1, f2, 1.0)
+                _apply(bodies, ba, p, f0, f1, f2, -1.0)
+            # rows of this pair whose feature left the manifold
+            for t in range(o, o_end):
+                if not used[t]:
+                    used[t] = 1
+                    _release(old, t, ledger)
+            o = o_end
+    for t in range(o, old.n[0]):
+        if not used[t]:
+            _release(old, t, ledger)
+    _copy_rows(new, old, n_new)
+
+
+@njit(cache=True, error_model="numpy")
+def _copy_rows(src, dst, n):
+    for c in range(n):
+        dst.i[c] = src.i[c]
+        dst.j[c] = src.j[c]
+        dst.key[c] = src.key[c]
+        dst.mult[c] = src.mult[c]
+        dst.overlap[c] = src.overlap[c]
+        dst.vn[c] = src.vn[c]
+        dst.fn[c] = src.fn[c]
+        dst.fn_viscous[c] = src.fn_viscous[c]
+        dst.kn[c] = src.kn[c]
+        dst.kt[c] = src.kt[c]
+        dst.mu[c] = src.mu[c]
+        dst.cn[c] = src.cn[c]
+        for d in range(3):
+            dst.shear[c, d] = src.shear[c, d]
+            dst.point[c, d] = src.point[c, d]
+            dst.normal[c, d] = src.normal[c, d]
+    dst.n[0] = n
+
+
+@njit(cache=True, error_model="numpy")
+def box_power(bodies, boxes, out):
+    """Add the power [W] of the box contacts' dashpots (``out[POWER_VISCOUS]``) and
+    tangential forces (``out[POWER_FRICTION]``) at the full-step velocities (as
+    contact.contact_power)."""
+    rows = boxes.rows
+    for c in range(rows.n[0]):
+        wall = rows.j[c] < 0
+        bi = boxes.body[rows.i[c]]
+        bj = bi if wall else boxes.body[rows.j[c]]
+        dv0, dv1, dv2 = _relative_velocity(
+            bodies, bodies.vel_full, bodies.omega_full, bi, bj, wall, rows.point[c]
+        )
+        n = rows.normal[c]
+        u = rows.shear[c]
+        m = rows.mult[c]
+        out[POWER_VISCOUS] += m * rows.fn_viscous[c] * (n[0] * dv0 + n[1] * dv1 + n[2] * dv2)
+        out[POWER_FRICTION] -= m * rows.kt[c] * (u[0] * dv0 + u[1] * dv1 + u[2] * dv2)
+
+
+@njit(cache=True, error_model="numpy")
+def box_energies(boxes, out):
+    """Add the elastic energies [J] of the box contacts to ``out`` (ENERGY_NAMES vector:
+    normal ``k_n delta^2 / 2`` to entry 3, tangential ``k_t |u|^2 / 2`` to 4, both to the
+    total, 8)."""
+    rows = boxes.rows
+    en = 0.0
+    es = 0.0
+    for c in range(rows.n[0]):
+        u = rows.shear[c]
+        en += 0.5 * rows.mult[c] * rows.kn[c] * rows.overlap[c] ** 2
+        es += 0.5 * rows.mult[c] * rows.kt[c] * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+    out[3] += en
+    out[4] += es
+    out[8] += en + es

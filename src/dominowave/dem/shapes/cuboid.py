@@ -1,0 +1,543 @@
+"""The rounded cuboid: mass properties and contact geometry (pure per-pair numba functions).
+
+A rounded cuboid is the Minkowski sum of a *core* box of half-extents ``h = (a, b, c)``
+and a sphere of radius ``r`` (a sphero-polyhedron: Alonso-Marroquin, EPL 83, 14001
+(2008); Galindo-Torres, Alonso-Marroquin et al., Phys. Rev. E 79, 060301 (2009)).  Two
+rounded bodies touch where their cores come closer than the sum of their radii; at a
+pair of core points at distance ``d`` the overlap is ``delta = r_i + r_j - d``.  The
+outer size of the body is ``h + r``; every function here takes the core ``h``.
+
+Frames: ``x`` (3,) is the centre [m], ``R`` (3, 3) the rotation whose columns are the
+box axes in the world frame (``x_world = x + R u``), as ``Bodies.rot``.
+
+Contact output, shared by every pair function (``M = MAX_POINTS`` rows):
+
+* ``normal`` (M, 3): unit normal from body ``i`` to its partner ``j`` (a wall: into it);
+* ``point`` (M, 3): contact point midway through the overlap [m];
+* ``overlap`` (M,): ``r_i + r_j - d`` [m], > 0 in contact; points with an overlap above
+  ``-margin`` are returned (so a caller sees a contact open);
+* ``key`` (M,) int64: the touching feature pair, stable while that pair persists (a box
+  vertex, a face pair with the clipped polygon corner, an edge pair), so that a caller can
+  carry each point's shear history from step to step.
+
+The function returns the number of points written.
+
+Box-box contacts use the separating-axis test over the 15 axes of two boxes (3 + 3 face
+normals, 9 edge cross products; Gottschalk, Lin & Manocha, SIGGRAPH 1996) on the cores:
+an axis along which the cores are farther apart than ``r_i + r_j`` separates the rounded
+bodies.  Otherwise the face axis of largest separation gives the reference face; the
+incident face of the other box (the one most anti-parallel to its normal) is clipped
+against the side planes of the reference face (Sutherland-Hodgman), and every corner of
+the clipped polygon closer than ``r_i + r_j`` to the reference face is a contact point (a
+face resting on a face gets the corners of their overlap, up to 8).  The deepest point
+of the pair is then found exactly -- the core distance of two boxes is attained at a
+vertex of one (point-box distance) or between two crossing edges (the edge axis of
+largest separation, closest points inside both edges; Ericson, Real-Time Collision
+Detection (2005) sec. 5.1.9) -- and if the manifold misses it by more than round-off (a
+vertex over a rounded edge, two crossing edges) it replaces the corner nearest to it
+(which keeps its key) or, if none is within ``r_i + r_j``, is added.  An empty manifold
+(e.g. two parallel edges side by side) is replaced by the deepest point, and by every
+vertex within round-off of it (both ends of two parallel edges).  So the largest overlap
+of every manifold is exact.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+__all__ = [
+    "MAX_POINTS",
+    "box_box",
+    "box_plane",
+    "box_sphere",
+    "cuboid_mass_properties",
+    "merge_deepest",
+    "point_box_distance",
+    "rows_from",
+]
+
+MAX_POINTS = 25  # (at most 16 are returned; the rest is scratch)
+
+# key offsets of the feature kinds (see box_box)
+KEY_EDGE = 2 * 6 * 6 * 64
+KEY_VERTEX = KEY_EDGE + 12 * 12
+
+
+def cuboid_mass_properties(half_extents, density):
+    """Mass [kg] and principal moments (3,) [kg m^2] of a uniform solid cuboid.
+
+    ``half_extents`` (3,) [m] of the cuboid the body stands for (its outer size), density
+    [kg/m^3]: ``m = 8 a b c rho``, ``I_x = m (b^2 + c^2) / 3`` and cyclic (a box of edge
+    lengths 2a, 2b, 2c: ``m ((2b)^2 + (2c)^2) / 12``).  The principal axes are the box axes.
+    """
+    a, b, c = (float(v) for v in half_extents)
+    mass = 8.0 * a * b * c * density
+    moments = np.array([b * b + c * c, a * a + c * c, a * a + b * b]) * mass / 3.0
+    return mass, moments
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _sign(x):
+    return 1.0 if x >= 0.0 else -1.0
+
+
+@njit(cache=True, error_model="numpy")
+def box_plane(x, R, h, r, p0, nw, margin, normal, point, overlap, key):
+    """Contacts of a rounded box with the plane through ``p0`` of unit normal ``nw``.
+
+    One point per core vertex ``v`` with ``d = (v - p0).nw < r + margin`` (a face resting
+    on the plane gets its 4 corners): overlap ``r - d``, normal ``-nw`` (from the box into
+    the wall), point ``v - nw (r - overlap / 2)``; key = the vertex id ``k`` (bit 0, 1, 2:
+    the sign of the box coordinate x, y, z, 1 = positive).
+    """
+    n = 0
+    for k in range(8):
+        v0, v1, v2 = x[0], x[1], x[2]
+        for m in range(3):
+            s = h[m] if (k >> m) & 1 else -h[m]
+            v0 += s * R[0, m]
+            v1 += s * R[1, m]
+            v2 += s * R[2, m]
+        d = (v0 - p0[0]) * nw[0] + (v1 - p0[1]) * nw[1] + (v2 - p0[2]) * nw[2]
+        if d < r + margin:
+            delta = r - d
+            reach = r - 0.5 * delta
+            normal[n, 0], normal[n, 1], normal[n, 2] = -nw[0], -nw[1], -nw[2]
+            point[n, 0] = v0 - reach * nw[0]
+            point[n, 1] = v1 - reach * nw[1]
+            point[n, 2] = v2 - reach * nw[2]
+            overlap[n] = delta
+            key[n] = k
+            n += 1
+    return n
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _vertex(x, R, h, k):
+    """World position (3 floats) of vertex k of a box (bit m of k: + side of axis m)."""
+    s0 = h[0] if k & 1 else -h[0]
+    s1 = h[1] if k & 2 else -h[1]
+    s2 = h[2] if k & 4 else -h[2]
+    return (
+        x[0] + s0 * R[0, 0] + s1 * R[0, 1] + s2 * R[0, 2],
+        x[1] + s0 * R[1, 0] + s1 * R[1, 1] + s2 * R[1, 2],
+        x[2] + s0 * R[2, 0] + s1 * R[2, 1] + s2 * R[2, 2],
+    )
+
+
+@njit(cache=True, error_model="numpy")
+def point_box_distance(x, R, h, p0, p1, p2):
+    """Signed distance [m] of the point ``p`` from the solid box (centre ``x``, axes ``R``,
+    half-extents ``h``): positive outside, minus the depth below the nearest face inside.
+    Returns ``(distance, u0, u1, u2, c0, c1, c2)``: ``c`` the nearest surface point of
+    the box, ``u`` the unit vector from ``c`` towards ``p`` (outside), or the nearest
+    face's outward normal (inside)."""
+    e0, e1, e2 = p0 - x[0], p1 - x[1], p2 - x[2]
+    q0 = e0 * R[0, 0] + e1 * R[1, 0] + e2 * R[2, 0]
+    q1 = e0 * R[0, 1] + e1 * R[1, 1] + e2 * R[2, 1]
+    q2 = e0 * R[0, 2] + e1 * R[1, 2] + e2 * R[2, 2]
+    if abs(q0) > h[0] or abs(q1) > h[1] or abs(q2) > h[2]:
+        q0 = min(max(q0, -h[0]), h[0])
+        q1 = min(max(q1, -h[1]), h[1])
+        q2 = min(max(q2, -h[2]), h[2])
+        c0 = x[0] + R[0, 0] * q0 + R[0, 1] * q1 + R[0, 2] * q2
+        c1 = x[1] + R[1, 0] * q0 + R[1, 1] * q1 + R[1, 2] * q2
+        c2 = x[2] + R[2, 0] * q0 + R[2, 1] * q1 + R[2, 2] * q2
+        u0, u1, u2 = p0 - c0, p1 - c1, p2 - c2
+        dist = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
+        return dist, u0 / dist, u1 / dist, u2 / dist, c0, c1, c2
+    # inside: the face of least depth
+    d0, d1, d2 = h[0] - abs(q0), h[1] - abs(q1), h[2] - abs(q2)
+    if d0 <= d1 and d0 <= d2:
+        m, depth, s = 0, d0, _sign(q0)
+        q0 = s * h[0]
+    elif d1 <= d2:
+        m, depth, s = 1, d1, _sign(q1)
+        q1 = s * h[1]
+    else:
+        m, depth, s = 2, d2, _sign(q2)
+        q2 = s * h[2]
+    c0 = x[0] + R[0, 0] * q0 + R[0, 1] * q1 + R[0, 2] * q2
+    c1 = x[1] + R[1, 0] * q0 + R[1, 1] * q1 + R[1, 2] * q2
+    c2 = x[2] + R[2, 0] * q0 + R[2, 1] * q1 + R[2, 2] * q2
+    return -depth, s * R[0, m], s * R[1, m], s * R[2, m], c0, c1, c2
+
+
+@njit(cache=True, error_model="numpy")
+def box_sphere(x, R, h, r, c, radius, margin, normal, point, overlap, key):
+    """Contact of a rounded box (body ``i``) with a sphere of centre ``c`` and ``radius``.
+
+    The nearest point ``q`` of the core box to ``c`` (clamped box coordinates; inside: the
+    nearest face), ``d`` the signed distance (:func:`point_box_distance`): overlap
+    ``r + radius - d``, normal from ``q`` towards ``c``, point ``q + n (r - overlap/2)``.
+    Key 0.  Returns 0 or 1.
+    """
+    d, n0, n1, n2, q0, q1, q2 = point_box_distance(x, R, h, c[0], c[1], c[2])
+    delta = r + radius - d
+    if delta <= -margin:
+        return 0
+    reach = r - 0.5 * delta
+    normal[0, 0], normal[0, 1], normal[0, 2] = n0, n1, n2
+    point[0, 0] = q0 + reach * n0
+    point[0, 1] = q1 + reach * n1
+    point[0, 2] = q2 + reach * n2
+    overlap[0] = delta
+    key[0] = 0
+    return 1
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _face_separation(d0, d1, d2, L0, L1, L2, Ri, hi, Rj, hj):
+    """Gap [m] of the two core boxes along the unit axis L (negative: their projections
+    overlap) and the sign of ``L . (x_j - x_i)``."""
+    radius = 0.0
+    for m in range(3):
+        radius += hi[m] * abs(L0 * Ri[0, m] + L1 * Ri[1, m] + L2 * Ri[2, m])
+        radius += hj[m] * abs(L0 * Rj[0, m] + L1 * Rj[1, m] + L2 * Rj[2, m])
+    along = L0 * d0 + L1 * d1 + L2 * d2
+    return abs(along) - radius, _sign(along)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _clip(src, n_src, dst, axis, side, limit, label):
+    """Sutherland-Hodgman: the polygon ``src[:n_src]`` (rows u, v, n, out-edge label) cut
+    by the half plane ``side * src[axis] <= limit`` into ``dst``; a new corner on the cut
+    line starts an edge labelled ``label``.  Returns the corner count of ``dst``."""
+    m = 0
+    for k in range(n_src):
+        k1 = k + 1 if k + 1 < n_src else 0
+        a = side * src[k, axis] - limit
+        b = side * src[k1, axis] - limit
+        if a <= 0.0:
+            for col in range(4):
+                dst[m, col] = src[k, col]
+            m += 1
+        if (a <= 0.0) != (b <= 0.0):
+            t = a / (a - b)
+            for col in range(3):
+                dst[m, col] = src[k, col] + t * (src[k1, col] - src[k, col])
+            dst[m, 3] = label if a <= 0.0 else src[k, 3]
+            m += 1
+    return m
+
+
+@njit(cache=True, error_model="numpy")
+def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work, out):
+    """Clip the incident face of box B against the reference face ``kA`` of box A.
+
+    ``out = (normal, point, overlap, key)``; the normal written is ``sign`` times the
+    reference face's outward normal (so that it points from body i to body j);
+    ``swap`` = 1 if A is body j.  Returns the number of points.
+    """
+    normal, point, overlap, key = out
+    d0, d1, d2 = xB[0] - xA[0], xB[1] - xA[1], xB[2] - xA[2]
+    sA = _sign(d0 * RA[0, kA] + d1 * RA[1, kA] + d2 * RA[2, kA])
+    n0, n1, n2 = sA * RA[0, kA], sA * RA[1, kA], sA * RA[2, kA]
+    ku, kv = (kA + 1) % 3, (kA + 2) % 3
+    c0 = xA[0] + hA[kA] * n0
+    c1 = xA[1] + hA[kA] * n1
+    c2 = xA[2] + hA[kA] * n2
+    # incident face: the face of B whose outward normal is most anti-parallel to n
+    kB = 0
+    best = -1.0
+    for m in range(3):
+        dot = abs(n0 * RB[0, m] + n1 * RB[1, m] + n2 * RB[2, m])
+        if dot > best:
+            best = dot
+            kB = m
+    sB = -_sign(n0 * RB[0, kB] + n1 * RB[1, kB] + n2 * RB[2, kB])
+    m1, m2 = (kB + 1) % 3, (kB + 2) % 3
+    poly = work[0]
+    for k in range(4):  # corners in cyclic order; edge k runs from corner k to k + 1
+        s1 = 1.0 if k == 0 or k == 3 else -1.0
+        s2 = 1.0 if k < 2 else -1.0
+        e0 = xB[0] + sB * hB[kB] * RB[0, kB] + s1 * hB[m1] * RB[0, m1] + s2 * hB[m2] * RB[0, m2]
+        e1 = xB[1] + sB * hB[kB] * RB[1, kB] + s1 * hB[m1] * RB[1, m1] + s2 * hB[m2] * RB[1, m2]
+        e2 = xB[2] + sB * hB[kB] * RB[2, kB] + s1 * hB[m1] * RB[2, m1] + s2 * hB[m2] * RB[2, m2]
+        e0, e1, e2 = e0 - c0, e1 - c1, e2 - c2
+        poly[k, 0] = e0 * RA[0, ku] + e1 * RA[1, ku] + e2 * RA[2, ku]
+        poly[k, 1] = e0 * RA[0, kv] + e1 * RA[1, kv] + e2 * RA[2, kv]
+        poly[k, 2] = e0 * n0 + e1 * n1 + e2 * n2
+        poly[k, 3] = k
+    count = 4
+    src, dst = work[0], work[1]
+    for plane in range(4):  # side planes: +u, -u, +v, -v, labels 4..7
+        axis = plane // 2
+        side = 1.0 if plane % 2 == 0 else -1.0
+        limit = hA[ku] if axis == 0 else hA[kv]
+        count = _clip(src, count, dst, axis, side, limit, 4 + plane)
+        src, dst = dst, src
+        if count == 0:
+            return 0
+    face_A = 2 * kA + (0 if sA > 0 else 1)
+    face_B = 2 * kB + (0 if sB > 0 else 1)
+    base = ((swap * 6 + face_A) * 6 + face_B) * 64
+    reach = rA + rB + margin
+    n = 0
+    for k in range(count):
+        pn = src[k, 2]
+        if pn >= reach:
+            continue
+        label_in = int(src[k - 1 if k > 0 else count - 1, 3])
+        label_out = int(src[k, 3])
+        lift = 0.5 * (rA + pn - rB)  # midway between the two rounded surfaces
+        point[n, 0] = c0 + src[k, 0] * RA[0, ku] + src[k, 1] * RA[0, kv] + lift * n0
+        point[n, 1] = c1 + src[k, 0] * RA[1, ku] + src[k, 1] * RA[1, kv] + lift * n1
+        point[n, 2] = c2 + src[k, 0] * RA[2, ku] + src[k, 1] * RA[2, kv] + lift * n2
+        normal[n, 0], normal[n, 1], normal[n, 2] = sign * n0, sign * n1, sign * n2
+        overlap[n] = rA + rB - pn
+        key[n] = base + min(label_in, label_out) * 8 + max(label_in, label_out)
+        n += 1
+    return n
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _edge_id(R, x, n0, n1, n2, a, s):
+    """Centre (3 floats) and id (0..11) of the edge along axis ``a`` of a box that lies
+    farthest along ``s n``: id = 4 a + 2 [sign of axis a+1 > 0] + [sign of axis a+2 > 0]."""
+    k1, k2 = (a + 1) % 3, (a + 2) % 3
+    s1 = _sign(s * (n0 * R[0, k1] + n1 * R[1, k1] + n2 * R[2, k1]))
+    s2 = _sign(s * (n0 * R[0, k2] + n1 * R[1, k2] + n2 * R[2, k2]))
+    return s1, s2, 4 * a + (2 if s1 > 0 else 0) + (1 if s2 > 0 else 0)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _segment_closest(r0, r1, r2, u0, u1, u2, v0, v1, v2):
+    """Parameters (s, t) of the closest points ``p + s u``, ``q + t v`` of two segments with
+    s, t in [-1, 1] (``u``, ``v`` half-length vectors, ``r = p - q``; Ericson 2005, sec.
+    5.1.9)."""
+    a = u0 * u0 + u1 * u1 + u2 * u2
+    e = v0 * v0 + v1 * v1 + v2 * v2
+    b = u0 * v0 + u1 * v1 + u2 * v2
+    c = u0 * r0 + u1 * r1 + u2 * r2
+    f = v0 * r0 + v1 * r1 + v2 * r2
+    denom = a * e - b * b
+    s = min(max((b * f - c * e) / denom, -1.0), 1.0) if denom > 0.0 else 0.0
+    t = (b * s + f) / e
+    if t < -1.0 or t > 1.0:
+        t = min(max(t, -1.0), 1.0)
+        s = min(max((t * b - c) / a, -1.0), 1.0)
+    return s, t
+
+
+@njit(cache=True, error_model="numpy")
+def _edge_manifold(xi, Ri, hi, ri, a, xj, Rj, hj, rj, b, n0, n1, n2, sep, margin, out):
+    """One point between the closest points of edge ``a`` of box i (farthest along n) and
+    edge ``b`` of box j (farthest along -n).  Separated cores: the distance of the two
+    segments; penetrating cores: the separation ``sep`` along the axis ``n``."""
+    normal, point, overlap, key = out
+    s1, s2, id_i = _edge_id(Ri, xi, n0, n1, n2, a, 1.0)
+    t1, t2, id_j = _edge_id(Rj, xj, n0, n1, n2, b, -1.0)
+    ai1, ai2 = (a + 1) % 3, (a + 2) % 3
+    bj1, bj2 = (b + 1) % 3, (b + 2) % 3
+    # edge centres p, q and half-length vectors u, v
+    p0 = xi[0] + s1 * hi[ai1] * Ri[0, ai1] + s2 * hi[ai2] * Ri[0, ai2]
+    p1 = xi[1] + s1 * hi[ai1] * Ri[1, ai1] + s2 * hi[ai2] * Ri[1, ai2]
+    p2 = xi[2] + s1 * hi[ai1] * Ri[2, ai1] + s2 * hi[ai2] * Ri[2, ai2]
+    q0 = xj[0] + t1 * hj[bj1] * Rj[0, bj1] + t2 * hj[bj2] * Rj[0, bj2]
+    q1 = xj[1] + t1 * hj[bj1] * Rj[1, bj1] + t2 * hj[bj2] * Rj[1, bj2]
+    q2 = xj[2] + t1 * hj[bj1] * Rj[2, bj1] + t2 * hj[bj2] * Rj[2, bj2]
+    u0, u1, u2 = hi[a] * Ri[0, a], hi[a] * Ri[1, a], hi[a] * Ri[2, a]
+    v0, v1, v2 = hj[b] * Rj[0, b], hj[b] * Rj[1, b], hj[b] * Rj[2, b]
+    s, t = _segment_closest(p0 - q0, p1 - q1, p2 - q2, u0, u1, u2, v0, v1, v2)
+    if not (-1.0 < s < 1.0 and -1.0 < t < 1.0):
+        return 0  # (the closest points involve a vertex: a face or vertex contact)
+    p0, p1, p2 = p0 + s * u0, p1 + s * u1, p2 + s * u2
+    q0, q1, q2 = q0 + t * v0, q1 + t * v1, q2 + t * v2
+    g0, g1, g2 = q0 - p0, q1 - p1, q2 - p2
+    dist = math.sqrt(g0 * g0 + g1 * g1 + g2 * g2)
+    if sep > 0.0 and dist > 0.0:
+        n0, n1, n2 = g0 / dist, g1 / dist, g2 / dist
+    else:
+        dist = sep
+    delta = ri + rj - dist
+    if delta <= -margin:
+        return 0
+    lift = 0.5 * (ri + dist - rj)
+    normal[0, 0], normal[0, 1], normal[0, 2] = n0, n1, n2
+    point[0, 0] = p0 + lift * n0
+    point[0, 1] = p1 + lift * n1
+    point[0, 2] = p2 + lift * n2
+    overlap[0] = delta
+    key[0] = KEY_EDGE + id_i * 12 + id_j
+    return 1
+
+
+@njit(cache=True, error_model="numpy")
+def _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, ties, out):
+    """The vertices of one box nearest the other core, as contact points: the box owning
+    the vertex of least distance, and (``ties``) its vertices within a round-off tolerance
+    of it (a symmetric pair of parallel edges gives both ends); key ``KEY_VERTEX + 8 owner
+    + k``.  Returns the number of points (0 if out of reach)."""
+    normal, point, overlap, key = out
+    best_i = best_j = np.inf
+    for k in range(8):
+        v0, v1, v2 = _vertex(xi, Ri, hi, k)
+        best_i = min(best_i, point_box_distance(xj, Rj, hj, v0, v1, v2)[0])
+        v0, v1, v2 = _vertex(xj, Rj, hj, k)
+        best_j = min(best_j, point_box_distance(xi, Ri, hi, v0, v1, v2)[0])
+    best = min(best_i, best_j)
+    if ri + rj - best <= -margin:
+        return 0
+    tol = 1e-9 * (ri + rj + max(hi[0], hi[1], hi[2]) + max(hj[0], hj[1], hj[2]))
+    owner = 0 if best_i <= best + tol else 1  # (i owns a tie: a vertex on a vertex)
+    x, R, h = (xi, Ri, hi) if owner == 0 else (xj, Rj, hj)
+    xo, Ro, ho = (xj, Rj, hj) if owner == 0 else (xi, Ri, hi)
+    r_own = ri if owner == 0 else rj
+    r_other = rj if owner == 0 else ri
+    sign = -1.0 if owner == 0 else 1.0  # normal from i to j: towards the vertex if j owns it
+    n = 0
+    for k in range(8):
+        if n > 0 and not ties:
+            break
+        v0, v1, v2 = _vertex(x, R, h, k)
+        g, u0, u1, u2, c0, c1, c2 = point_box_distance(xo, Ro, ho, v0, v1, v2)
+        if g > best + tol:
+            continue
+        lift = 0.5 * (r_other + g - r_own)  # from the other core's surface point
+        normal[n, 0], normal[n, 1], normal[n, 2] = sign * u0, sign * u1, sign * u2
+        point[n, 0] = c0 + lift * u0
+        point[n, 1] = c1 + lift * u1
+        point[n, 2] = c2 + lift * u2
+        overlap[n] = ri + rj - g
+        key[n] = KEY_VERTEX + 8 * owner + k
+        n += 1
+    return n
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def rows_from(out, k):
+    """The output arrays from row k on."""
+    return out[0][k:], out[1][k:], out[2][k:], out[3][k:]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _copy_row(out, src, dst):
+    for d in range(3):
+        out[0][dst, d] = out[0][src, d]
+        out[1][dst, d] = out[1][src, d]
+    out[2][dst] = out[2][src]
+    out[3][dst] = out[3][src]
+
+
+@njit(cache=True, error_model="numpy")
+def box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap, key):
+    """Contact manifold of two rounded boxes i and j (see the module docstring).
+
+    ``work``: (2, 9, 4) float64 scratch (clipping buffers).  Keys: face contact
+    ``((swap * 6 + face_ref) * 6 + face_inc) * 64 + corner`` (face = 2 axis + [negative
+    side], swap = 1 if the reference face is j's, corner = the pair of polygon edge labels
+    meeting there: incident edges 0..3, reference side planes 4..7); edge contact
+    ``KEY_EDGE + 12 edge_i + edge_j``; vertex ``KEY_VERTEX + 8 owner + vertex``.  A face of
+    j is the reference only if it separates better than every face of i by a round-off
+    tolerance (so that ties -- parallel faces -- keep one choice).
+    """
+    out = (normal, point, overlap, key)
+    d0, d1, d2 = xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]
+    reach = ri + rj + margin
+    tol = 1e-9 * (max(hi[0], hi[1], hi[2]) + max(hj[0], hj[1], hj[2]) + ri + rj)
+    sep_i, k_i = -np.inf, 0
+    sep_j, k_j = -np.inf, 0
+    for m in range(3):
+        s, _ = _face_separation(d0, d1, d2, Ri[0, m], Ri[1, m], Ri[2, m], Ri, hi, Rj, hj)
+        if s >= reach:
+            return 0
+        if s > sep_i:
+            sep_i, k_i = s, m
+        s, _ = _face_separation(d0, d1, d2, Rj[0, m], Rj[1, m], Rj[2, m], Ri, hi, Rj, hj)
+        if s >= reach:
+            return 0
+        if s > sep_j:
+            sep_j, k_j = s, m
+    sep_e, a_e, b_e = -np.inf, 0, 0
+    e0 = e1 = e2 = 0.0
+    for a in range(3):
+        for b in range(3):
+            L0 = Ri[1, a] * Rj[2, b] - Ri[2, a] * Rj[1, b]
+            L1 = Ri[2, a] * Rj[0, b] - Ri[0, a] * Rj[2, b]
+            L2 = Ri[0, a] * Rj[1, b] - Ri[1, a] * Rj[0, b]
+            length = math.sqrt(L0 * L0 + L1 * L1 + L2 * L2)
+            if length < 1e-6:  # (near-parallel edges: the face axes decide)
+                continue
+            L0, L1, L2 = L0 / length, L1 / length, L2 / length
+            s, sgn = _face_separation(d0, d1, d2, L0, L1, L2, Ri, hi, Rj, hj)
+            if s >= reach:
+                return 0
+            if s > sep_e:
+                sep_e, a_e, b_e = s, a, b
+                e0, e1, e2 = sgn * L0, sgn * L1, sgn * L2
+    if sep_j > sep_i + tol:
+        n = _face_manifold(xj, Rj, hj, rj, k_j, xi, Ri, hi, ri, margin, -1.0, 1, work, out)
+    else:
+        n = _face_manifold(xi, Ri, hi, ri, k_i, xj, Rj, hj, rj, margin, 1.0, 0, work, out)
+    # The exact deepest point: the core distance of two boxes is attained at a vertex
+    # (point-box distance) or between two crossing edges.
+    v_row, e_row = 16, 24
+    m_v = _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, True, rows_from(out, v_row))
+    m_e = 0
+    if sep_e > -np.inf:
+        m_e = _edge_manifold(
+            xi,
+            Ri,
+            hi,
+            ri,
+            a_e,
+            xj,
+            Rj,
+            hj,
+            rj,
+            b_e,
+            e0,
+            e1,
+            e2,
+            sep_e,
+            margin,
+            rows_from(out, e_row),
+        )
+    if m_e == 1 and (m_v == 0 or overlap[e_row] > overlap[v_row]):
+        first, count = e_row, 1
+    else:
+        first, count = v_row, m_v
+    return merge_deepest(out, n, first, count, ri + rj, tol)
+
+
+@njit(cache=True, error_model="numpy")
+def merge_deepest(out, n, first, count, reach, tol):
+    """Merge the exact deepest points (rows ``first .. first + count - 1``, equally deep)
+    into the manifold ``out[:n]``; returns the new count.  An empty manifold becomes the
+    deepest points.  Otherwise, if they are deeper than every corner by more than ``tol``
+    [m] (the manifold misses a vertex over a rounded edge, or two crossing edges), each
+    replaces the corner nearest to it (keeping the corner's key, so its history) if that
+    is within ``reach`` [m], or is added."""
+    _, point, overlap, key = out
+    if count == 0:
+        return n
+    if n == 0:
+        for k in range(count):
+            _copy_row(out, first + k, k)
+        return count
+    deepest = -np.inf
+    for k in range(n):
+        deepest = max(deepest, overlap[k])
+    if overlap[first] <= deepest + tol:
+        return n
+    n_old = n
+    for c in range(first, first + count):
+        nearest, gap2 = -1, reach * reach
+        for k in range(n_old):
+            g2 = 0.0
+            for d in range(3):
+                g2 += (point[k, d] - point[c, d]) ** 2
+            if g2 < gap2:
+                nearest, gap2 = k, g2
+        if nearest >= 0:
+            corner_key = key[nearest]
+            _copy_row(out, c, nearest)
+            key[nearest] = corner_key
+        else:
+            _copy_row(out, c, n)
+            n += 1
+    return n

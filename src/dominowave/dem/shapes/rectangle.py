@@ -1,0 +1,200 @@
+"""The rounded cuboid in a planar scene: a rounded rectangle moving in the xz plane.
+
+The body is the cuboid of :mod:`dominowave.dem.shapes.cuboid` (core half-extents ``h``,
+rounding ``r``) turning about the world y axis only; its box axes 0 and 2 lie in the xz
+plane.  Its contacts are those of the cuboid with every point taken at the body's own y:
+the 3D manifold of such a scene consists of pairs of points at the two ends (``y = +-b``)
+of each edge parallel to y, with equal overlaps and normals, and this module returns one
+point per pair -- the caller counts each twice (``PLANAR_MULTIPLICITY``).  The geometry is
+the 2D version of the same method: separating axes over the 2 + 2 face normals, the
+incident edge clipped against the reference edge's two side lines (a face on a face: 2
+points), and the exact deepest point -- a corner-edge pair in 2D -- merged in as in 3D.
+Arguments and output as in ``cuboid`` (y components of the normals 0).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from dominowave.dem.shapes.cuboid import merge_deepest, point_box_distance, rows_from
+
+__all__ = ["PLANAR_MULTIPLICITY", "rect_plane", "rect_rect"]
+
+PLANAR_MULTIPLICITY = 2  # the two ends y = +-b of a cuboid edge parallel to y
+KEY_VERTEX = 2 * 4 * 4 * 4
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _sign(x):
+    return 1.0 if x >= 0.0 else -1.0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _corner(x, R, h, k):
+    """World (x, z) of corner k of the rectangle (bit 0: + axis 0, bit 1: + axis 2)."""
+    s0 = h[0] if k & 1 else -h[0]
+    s2 = h[2] if k & 2 else -h[2]
+    return x[0] + s0 * R[0, 0] + s2 * R[0, 2], x[2] + s0 * R[2, 0] + s2 * R[2, 2]
+
+
+@njit(cache=True, error_model="numpy")
+def rect_plane(x, R, h, r, p0, nw, margin, normal, point, overlap, key):
+    """Contacts of a rounded rectangle with the plane through ``p0``, unit normal ``nw``
+    (in the xz plane): one point per corner within ``r + margin`` (a face on the plane: 2),
+    overlap ``r - d``, normal ``-nw``; key = corner id."""
+    n = 0
+    for k in range(4):
+        v0, v2 = _corner(x, R, h, k)
+        d = (v0 - p0[0]) * nw[0] + (x[1] - p0[1]) * nw[1] + (v2 - p0[2]) * nw[2]
+        if d < r + margin:
+            delta = r - d
+            reach = r - 0.5 * delta
+            normal[n, 0], normal[n, 1], normal[n, 2] = -nw[0], 0.0, -nw[2]
+            point[n, 0] = v0 - reach * nw[0]
+            point[n, 1] = x[1]
+            point[n, 2] = v2 - reach * nw[2]
+            overlap[n] = delta
+            key[n] = k
+            n += 1
+    return n
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _separation(d0, d2, L0, L2, Ri, hi, Rj, hj):
+    """Gap [m] of the two core rectangles along the in-plane unit axis L."""
+    radius = 0.0
+    for m in (0, 2):
+        radius += hi[m] * abs(L0 * Ri[0, m] + L2 * Ri[2, m])
+        radius += hj[m] * abs(L0 * Rj[0, m] + L2 * Rj[2, m])
+    return abs(L0 * d0 + L2 * d2) - radius
+
+
+@njit(cache=True, error_model="numpy")
+def _edge_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, out):
+    """Clip the incident edge of B against the reference edge (face axis ``kA``) of A."""
+    normal, point, overlap, key = out
+    d0, d2 = xB[0] - xA[0], xB[2] - xA[2]
+    sA = _sign(d0 * RA[0, kA] + d2 * RA[2, kA])
+    n0, n2 = sA * RA[0, kA], sA * RA[2, kA]
+    ku = 2 - kA
+    t0, t2 = RA[0, ku], RA[2, ku]
+    c0, c2 = xA[0] + hA[kA] * n0, xA[2] + hA[kA] * n2
+    kB = 0 if abs(n0 * RB[0, 0] + n2 * RB[2, 0]) >= abs(n0 * RB[0, 2] + n2 * RB[2, 2]) else 2
+    sB = -_sign(n0 * RB[0, kB] + n2 * RB[2, kB])
+    mB = 2 - kB
+    f0, f2 = xB[0] + sB * hB[kB] * RB[0, kB], xB[2] + sB * hB[kB] * RB[2, kB]
+    # the incident edge's two corners in reference coordinates (u along the edge, n up)
+    e0 = f0 + hB[mB] * RB[0, mB] - c0
+    e2 = f2 + hB[mB] * RB[2, mB] - c2
+    u_a, n_a, sub_a = e0 * t0 + e2 * t2, e0 * n0 + e2 * n2, 0
+    e0 = f0 - hB[mB] * RB[0, mB] - c0
+    e2 = f2 - hB[mB] * RB[2, mB] - c2
+    u_b, n_b, sub_b = e0 * t0 + e2 * t2, e0 * n0 + e2 * n2, 1
+    hu = hA[ku]
+    # clip the segment to |u| <= hu (sub-key 2: cut at +hu, 3: cut at -hu)
+    for side in range(2):
+        sgn = 1.0 if side == 0 else -1.0
+        a = sgn * u_a - hu
+        b = sgn * u_b - hu
+        if a > 0.0 and b > 0.0:
+            return 0
+        if a > 0.0 or b > 0.0:
+            t = a / (a - b)
+            u_cut = u_a + t * (u_b - u_a)
+            n_cut = n_a + t * (n_b - n_a)
+            if a > 0.0:
+                u_a, n_a, sub_a = u_cut, n_cut, 2 + side
+            else:
+                u_b, n_b, sub_b = u_cut, n_cut, 2 + side
+    face_A = (kA // 2) * 2 + (0 if sA > 0 else 1)
+    face_B = (kB // 2) * 2 + (0 if sB > 0 else 1)
+    base = ((swap * 4 + face_A) * 4 + face_B) * 4
+    n = 0
+    for k in range(2):
+        pu, pn, sub = (u_a, n_a, sub_a) if k == 0 else (u_b, n_b, sub_b)
+        if pn >= rA + rB + margin:
+            continue
+        lift = 0.5 * (rA + pn - rB)
+        normal[n, 0], normal[n, 1], normal[n, 2] = sign * n0, 0.0, sign * n2
+        point[n, 0] = c0 + pu * t0 + lift * n0
+        point[n, 1] = xA[1]
+        point[n, 2] = c2 + pu * t2 + lift * n2
+        overlap[n] = rA + rB - pn
+        key[n] = base + sub
+        n += 1
+    return n
+
+
+@njit(cache=True, error_model="numpy")
+def _nearest_corners(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, out):
+    """The exact deepest points, corner-edge pairs: the corners of one rectangle nearest
+    the other core (the owner of the nearest corner, and its corners within round-off of
+    it), key ``KEY_VERTEX + 4 owner + corner``."""
+    normal, point, overlap, key = out
+    best_i = best_j = np.inf
+    for k in range(4):  # (a planar body's y is immaterial: each corner at the other's y)
+        v0, v2 = _corner(xi, Ri, hi, k)
+        best_i = min(best_i, point_box_distance(xj, Rj, hj, v0, xj[1], v2)[0])
+        v0, v2 = _corner(xj, Rj, hj, k)
+        best_j = min(best_j, point_box_distance(xi, Ri, hi, v0, xi[1], v2)[0])
+    best = min(best_i, best_j)
+    if ri + rj - best <= -margin:
+        return 0
+    tol = 1e-9 * (ri + rj + max(hi[0], hi[1], hi[2]) + max(hj[0], hj[1], hj[2]))
+    owner = 0 if best_i <= best + tol else 1  # (i owns a tie: a corner on a corner)
+    x, R, h = (xi, Ri, hi) if owner == 0 else (xj, Rj, hj)
+    xo, Ro, ho = (xj, Rj, hj) if owner == 0 else (xi, Ri, hi)
+    r_own = ri if owner == 0 else rj
+    r_other = rj if owner == 0 else ri
+    sign = -1.0 if owner == 0 else 1.0
+    n = 0
+    for k in range(4):
+        v0, v2 = _corner(x, R, h, k)
+        g, u0, _, u2, c0, _, c2 = point_box_distance(xo, Ro, ho, v0, xo[1], v2)
+        if g > best + tol:
+            continue
+        lift = 0.5 * (r_other + g - r_own)
+        normal[n, 0], normal[n, 1], normal[n, 2] = sign * u0, 0.0, sign * u2
+        point[n, 0] = c0 + lift * u0
+        point[n, 1] = xi[1]
+        point[n, 2] = c2 + lift * u2
+        overlap[n] = ri + rj - g
+        key[n] = KEY_VERTEX + 4 * owner + k
+        n += 1
+    return n
+
+
+@njit(cache=True, error_model="numpy")
+def rect_rect(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, normal, point, overlap, key):
+    """Contact manifold (up to 2 points) of two rounded rectangles i and j.
+
+    Keys: edge contact ``((swap * 4 + face_ref) * 4 + face_inc) * 4 + sub`` (face = 2
+    [axis 2] + [negative side]; sub 0, 1: a corner of the incident edge, 2, 3: the
+    incident edge cut by the reference edge's side line at +u, -u); corner fallback
+    ``KEY_VERTEX + 4 owner + corner``.  A face of j is the reference only if it separates
+    better than i's by a round-off tolerance.
+    """
+    out = (normal, point, overlap, key)
+    d0, d2 = xj[0] - xi[0], xj[2] - xi[2]
+    reach = ri + rj + margin
+    tol = 1e-9 * (max(hi[0], hi[1], hi[2]) + max(hj[0], hj[1], hj[2]) + ri + rj)
+    sep_i, k_i = -np.inf, 0
+    sep_j, k_j = -np.inf, 0
+    for m in (0, 2):
+        s = _separation(d0, d2, Ri[0, m], Ri[2, m], Ri, hi, Rj, hj)
+        if s >= reach:
+            return 0
+        if s > sep_i:
+            sep_i, k_i = s, m
+        s = _separation(d0, d2, Rj[0, m], Rj[2, m], Ri, hi, Rj, hj)
+        if s >= reach:
+            return 0
+        if s > sep_j:
+            sep_j, k_j = s, m
+    if sep_j > sep_i + tol:
+        n = _edge_manifold(xj, Rj, hj, rj, k_j, xi, Ri, hi, ri, margin, -1.0, 1, out)
+    else:
+        n = _edge_manifold(xi, Ri, hi, ri, k_i, xj, Rj, hj, rj, margin, 1.0, 0, out)
+    m = _nearest_corners(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, rows_from(out, 8))
+    return merge_deepest(out, n, 8, m, ri + rj, tol)

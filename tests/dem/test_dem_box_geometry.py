@@ -1,0 +1,314 @@
+"""Rounded-cuboid geometry (dem/shapes): mass properties and contact manifolds against
+independent calculations (quadrature, bounded least squares for the distance of two
+boxes, the support function), symmetry, rotation invariance, the planar reduction."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.optimize import lsq_linear
+from scipy.spatial.transform import Rotation
+
+from dominowave.dem.shapes.cuboid import (
+    MAX_POINTS,
+    box_box,
+    box_plane,
+    box_sphere,
+    cuboid_mass_properties,
+)
+from dominowave.dem.shapes.rectangle import rect_plane, rect_rect
+
+H_I = np.array([0.012, 0.004, 0.024])  # a domino-like core [m]
+H_J = np.array([0.010, 0.006, 0.020])
+
+
+def _out():
+    return (
+        np.zeros((MAX_POINTS, 3)),
+        np.zeros((MAX_POINTS, 3)),
+        np.zeros(MAX_POINTS),
+        np.zeros(MAX_POINTS, np.int64),
+    )
+
+
+def _box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin=0.0):
+    normal, point, overlap, key = _out()
+    work = np.zeros((2, 9, 4))
+    n = box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap, key)
+    return normal[:n], point[:n], overlap[:n], key[:n]
+
+
+def core_distance(xi, Ri, hi, xj, Rj, hj):
+    """Distance of two solid boxes: min |xi + Ri u - xj - Rj w| over |u| <= hi, |w| <= hj,
+    a bounded linear least-squares problem solved exactly (BVLS)."""
+    A = np.hstack([Ri, -Rj])
+    lo = np.concatenate([-hi, -hj])
+    res = lsq_linear(A, xj - xi, bounds=(lo, -lo), method="bvls", tol=1e-14)
+    return np.linalg.norm(A @ res.x - (xj - xi))
+
+
+def _random_pair(rng, gap):
+    """Box j placed in a random direction from box i with its core at distance ``gap``
+    (found by bisection on the exact distance)."""
+    Ri = Rotation.random(random_state=rng).as_matrix()
+    Rj = Rotation.random(random_state=rng).as_matrix()
+    xi = rng.normal(size=3) * 0.01
+    u = rng.normal(size=3)
+    u /= np.linalg.norm(u)
+    lo, hi = 0.0, 0.2
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        if core_distance(xi, Ri, H_I, xi + mid * u, Rj, H_J) < gap:
+            lo = mid
+        else:
+            hi = mid
+    return xi, Ri, xi + hi * u, Rj
+
+
+# ----------------------------------------------------------------------- mass properties
+
+
+def test_validate_cuboid_inertia_against_quadrature():
+    """m and I of a uniform cuboid vs Gauss-Legendre quadrature (exact for quadratics)."""
+    half = np.array([0.024, 0.012, 0.0375]) / 2
+    rho = 1100.0
+    mass, moments = cuboid_mass_properties(half, rho)
+    g, w = np.polynomial.legendre.leggauss(3)
+    X, Y, Z = np.meshgrid(g * half[0], g * half[1], g * half[2], indexing="ij")
+    W = np.einsum("i,j,k->ijk", w, w, w) * np.prod(half)
+    assert mass == pytest.approx(rho * W.sum(), rel=1e-13)
+    expected = rho * np.array(
+        [(W * (Y**2 + Z**2)).sum(), (W * (X**2 + Z**2)).sum(), (W * (X**2 + Y**2)).sum()]
+    )
+    np.testing.assert_allclose(moments, expected, rtol=1e-13)
+
+
+# ----------------------------------------------------------------------- box and plane
+
+
+def test_box_flat_on_plane_gets_four_corners():
+    normal, point, overlap, key = _out()
+    r = 0.001
+    x = np.array([0.0, 0.0, H_I[2] + r - 1e-5])
+    up = np.array([0, 0, 1.0])
+    n = box_plane(x, np.eye(3), H_I, r, np.zeros(3), up, 0.0, normal, point, overlap, key)
+    assert n == 4
+    np.testing.assert_allclose(overlap[:n], 1e-5, rtol=1e-9)
+    np.testing.assert_allclose(normal[:n], [[0, 0, -1.0]] * 4)
+    np.testing.assert_allclose(point[:n, 2], -0.5e-5, atol=1e-15)
+    assert sorted(key[:n]) == [0, 1, 2, 3]
+    np.testing.assert_allclose(point[:n, :2].mean(axis=0), 0.0, atol=1e-15)
+
+
+def test_validate_box_plane_deepest_point_is_support_function():
+    """The largest overlap is the depth of the support point of the rounded box along -n:
+    ``h(-n) = sum_k h_k |n . R_k| + r`` (support function of a Minkowski sum)."""
+    rng = np.random.default_rng(1)
+    for _ in range(200):
+        R = Rotation.random(random_state=rng).as_matrix()
+        nw = rng.normal(size=3)
+        nw /= np.linalg.norm(nw)
+        p0 = rng.normal(size=3) * 0.01
+        r = 0.002
+        support = np.sum(H_I * np.abs(nw @ R)) + r
+        depth = rng.uniform(1e-6, 2e-3)
+        x = p0 + nw * (support - depth)
+        normal, point, overlap, key = _out()
+        n = box_plane(x, R, H_I, r, p0, nw, 0.0, normal, point, overlap, key)
+        assert n >= 1
+        assert overlap[:n].max() == pytest.approx(depth, rel=1e-9, abs=1e-15)
+        # every point midway through its overlap, on the plane's side
+        np.testing.assert_allclose((point[:n] - p0) @ nw, -0.5 * overlap[:n], atol=1e-15)
+
+
+def test_validate_box_sphere_against_least_squares():
+    rng = np.random.default_rng(2)
+    r, radius = 0.001, 0.003
+    for _ in range(200):
+        R = Rotation.random(random_state=rng).as_matrix()
+        x = rng.normal(size=3) * 0.01
+        u = rng.normal(size=3)
+        u /= np.linalg.norm(u)
+        c = x + u * rng.uniform(0.0, 0.05)
+        res = lsq_linear(R, c - x, bounds=(-H_I, H_I), method="bvls", tol=1e-14)
+        dist = np.linalg.norm(R @ res.x - (c - x))
+        normal, point, overlap, key = _out()
+        n = box_sphere(x, R, H_I, r, c, radius, 1.0, normal, point, overlap, key)
+        assert n == 1
+        local = R.T @ (c - x)
+        if np.all(np.abs(local) < H_I):  # inside the core: depth below the nearest face
+            assert overlap[0] == pytest.approx(r + radius + np.min(H_I - np.abs(local)), abs=1e-13)
+        else:
+            assert overlap[0] == pytest.approx(r + radius - dist, abs=1e-13)
+            # the point lies midway through the overlap, along the normal from the box
+            surface_sphere = c - radius * normal[0]
+            midway = surface_sphere + 0.5 * overlap[0] * normal[0]
+            np.testing.assert_allclose(point[0], midway, atol=1e-13)
+
+
+# ----------------------------------------------------------------------- box and box
+
+
+def test_stacked_boxes_get_the_corners_of_the_overlap():
+    r = 0.001
+    R = np.eye(3)
+    xi = np.zeros(3)
+    xj = np.array([0.005, 0.002, H_I[2] + H_J[2] + 2 * r - 1e-5])
+    normal, point, overlap, key = _box_box(xi, R, H_I, r, xj, R, H_J, r)
+    assert len(overlap) == 4
+    np.testing.assert_allclose(overlap, 1e-5, rtol=1e-9)
+    np.testing.assert_allclose(normal, [[0, 0, 1.0]] * 4)
+    # the overlap rectangle of the two footprints
+    xs = sorted(set(np.round(point[:, 0], 12)))
+    ys = sorted(set(np.round(point[:, 1], 12)))
+    np.testing.assert_allclose(xs, [0.005 - H_J[0], H_I[0]], atol=1e-12)
+    np.testing.assert_allclose(ys, [-H_I[1], H_I[1]], atol=1e-12)
+    assert len(set(key)) == 4
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_validate_box_box_deepest_point_against_exact_distance(seed):
+    """The largest overlap of the manifold is ``r_i + r_j - d`` with d the exact core
+    distance (bounded least squares), over random orientations and directions."""
+    rng = np.random.default_rng(10 + seed)
+    ri, rj = 0.002, 0.0015
+    for _ in range(40):
+        gap = rng.uniform(0.0002, ri + rj - 1e-5)
+        xi, Ri, xj, Rj = _random_pair(rng, gap)
+        d = core_distance(xi, Ri, H_I, xj, Rj, H_J)
+        normal, _, overlap, _ = _box_box(xi, Ri, H_I, ri, xj, Rj, H_J, rj)
+        assert len(overlap) >= 1
+        assert overlap.max() == pytest.approx(ri + rj - d, abs=1e-10)
+        np.testing.assert_allclose(np.linalg.norm(normal, axis=1), 1.0, rtol=1e-12)
+        # the normal points from i to j
+        assert np.all(normal @ (xj - xi) > 0.0)
+
+
+def test_validate_box_box_no_contact_beyond_reach():
+    rng = np.random.default_rng(5)
+    ri, rj = 0.002, 0.0015
+    for _ in range(60):
+        gap = rng.uniform(ri + rj + 1e-6, 0.02)
+        xi, Ri, xj, Rj = _random_pair(rng, gap)
+        assert len(_box_box(xi, Ri, H_I, ri, xj, Rj, H_J, rj)[2]) == 0
+
+
+def _rotation(draw_angles):
+    return Rotation.from_rotvec(draw_angles).as_matrix()
+
+
+vectors = st.lists(st.floats(-3.0, 3.0), min_size=3, max_size=3).map(np.array)
+
+
+@settings(max_examples=30, deadline=None)
+@given(vectors, vectors, vectors, st.floats(0.0, 1.0), st.floats(1e-5, 0.003))
+def test_box_box_symmetric_and_rotation_invariant(ai, aj, q, direction, gap):
+    Ri, Rj = _rotation(ai), _rotation(aj)
+    u = np.array([np.cos(6.0 * direction), np.sin(6.0 * direction), 0.5])
+    u /= np.linalg.norm(u)
+    xi = np.zeros(3)
+    lo, hi = 0.0, 0.2  # j along u, its core at distance ``gap`` from i's (bisection)
+    for _ in range(45):
+        mid = 0.5 * (lo + hi)
+        if core_distance(xi, Ri, H_I, mid * u, Rj, H_J) < gap:
+            lo = mid
+        else:
+            hi = mid
+    xj = hi * u
+    r = 0.002
+    ab = _box_box(xi, Ri, H_I, r, xj, Rj, H_J, r)
+    ba = _box_box(xj, Rj, H_J, r, xi, Ri, H_I, r)
+    if len(ab[2]) == len(ba[2]) and len(ab[2]) > 0:
+        # the same physical contact: the same deepest overlap, normals opposite
+        assert ab[2].max() == pytest.approx(ba[2].max(), abs=1e-12)
+        np.testing.assert_allclose(ab[0].sum(axis=0), -ba[0].sum(axis=0), atol=1e-9)
+    assert (len(ab[2]) > 0) == (len(ba[2]) > 0)
+    # rotation of the whole scene
+    Q = _rotation(q)
+    rot = _box_box(Q @ xi, Q @ Ri, H_I, r, Q @ xj, Q @ Rj, H_J, r)
+    assert len(rot[2]) == len(ab[2])
+    np.testing.assert_allclose(np.sort(rot[2]), np.sort(ab[2]), atol=1e-12)
+    order_a, order_r = np.argsort(ab[3]), np.argsort(rot[3])
+    np.testing.assert_array_equal(ab[3][order_a], rot[3][order_r])
+    np.testing.assert_allclose(rot[1][order_r], ab[1][order_a] @ Q.T, atol=1e-12)
+    np.testing.assert_allclose(rot[0][order_r], ab[0][order_a] @ Q.T, atol=1e-9)
+
+
+def test_keys_persist_under_small_motion():
+    """A face contact keeps its keys while the boxes slide and turn a little."""
+    r = 0.001
+    xi = np.zeros(3)
+    base = np.array([0.004, 0.001, H_I[2] + H_J[2] + 2 * r - 2e-5])
+    _, _, _, key0 = _box_box(xi, np.eye(3), H_I, r, base, np.eye(3), H_J, r)
+    for k in range(1, 20):
+        Rj = _rotation([1e-6 * k, -2e-6 * k, 3e-6 * k])
+        xj = base + np.array([1e-5, -1e-5, 0.0]) * k
+        _, _, _, key = _box_box(xi, np.eye(3), H_I, r, xj, Rj, H_J, r)
+        assert sorted(key) == sorted(key0)
+
+
+def test_validate_sharp_limit_of_the_rounding():
+    """r -> 0 at a fixed outer size ``H`` (core ``H - r``): a tilted box over a plane.  By
+    the support function the rounded body reaches ``r (sum_k |n . R_k| - 1)`` less deep
+    than the sharp box (0 for a face parallel to the plane), which -> 0 with r."""
+    outer = np.array([0.012, 0.004, 0.024])
+    R = _rotation([0.0, 0.3, 0.0])
+    nw = np.array([0.0, 0.0, 1.0])
+    support = np.sum(outer * np.abs(nw @ R))
+    x = np.array([0.0, 0.0, support - 1e-4])  # the sharp box dips 1e-4 m
+    previous = np.inf
+    for r in (2e-4, 2e-5, 2e-6, 2e-7):
+        normal, point, overlap, key = _out()
+        n = box_plane(x, R, outer - r, r, np.zeros(3), nw, 0.0, normal, point, overlap, key)
+        err = abs(overlap[:n].max() - 1e-4)
+        exact = r * (np.sum(np.abs(nw @ R)) - 1.0)
+        assert err == pytest.approx(exact, rel=1e-6, abs=1e-16)
+        assert err < previous
+        previous = err
+
+
+# ----------------------------------------------------------------------- planar reduction
+
+planar_angles = st.floats(-np.pi, np.pi)
+
+
+def _about_y(angle):
+    return Rotation.from_rotvec([0.0, angle, 0.0]).as_matrix()
+
+
+@settings(max_examples=40, deadline=None)
+@given(planar_angles, planar_angles, st.floats(-np.pi, np.pi), st.floats(1e-5, 0.0035))
+def test_validate_planar_rectangles_are_the_cuboid_pairs(ti, tj, direction, gap):
+    """In a planar scene the 3D manifold consists of point pairs at y = +-b, and the 2D
+    kernel returns one of each pair: the same overlaps, normals and (x, z) points."""
+    Ri, Rj = _about_y(ti), _about_y(tj)
+    h_i = np.array([0.012, 0.004, 0.024])
+    h_j = np.array([0.010, 0.004, 0.020])
+    u = np.array([np.cos(direction), 0.0, np.sin(direction)])
+    lo, hi = 0.0, 0.2
+    for _ in range(45):
+        mid = 0.5 * (lo + hi)
+        if core_distance(np.zeros(3), Ri, h_i, mid * u, Rj, h_j) < gap:
+            lo = mid
+        else:
+            hi = mid
+    xi, xj = np.zeros(3), hi * u
+    r = 0.002
+    n3, p3, o3, _ = _box_box(xi, Ri, h_i, r, xj, Rj, h_j, r)
+    normal, point, overlap, key = _out()
+    n = rect_rect(xi, Ri, h_i, r, xj, Rj, h_j, r, 0.0, normal, point, overlap, key)
+    assert overlap[:n].max() == pytest.approx(2 * r - gap, abs=1e-10)  # (exact distance)
+    assert len(o3) == 2 * n
+    rows3 = np.column_stack([p3[:, 0], p3[:, 2], n3[:, 0], n3[:, 2], o3])
+    rows2 = np.column_stack([point[:n, 0], point[:n, 2], normal[:n, 0], normal[:n, 2], overlap[:n]])
+    rows3 = rows3[np.lexsort(np.round(rows3.T, 9))]
+    rows2 = np.repeat(rows2[np.lexsort(np.round(rows2.T, 9))], 2, axis=0)
+    np.testing.assert_allclose(rows3, rows2, atol=1e-11)
+    # and the same against a plane
+    nw = np.array([np.sin(0.2), 0.0, np.cos(0.2)])
+    x = nw * (np.sum(h_i * np.abs(nw @ Ri)) + r - 1e-4)
+    n2 = rect_plane(x, Ri, h_i, r, np.zeros(3), nw, 0.0, normal, point, overlap, key)
+    out3 = _out()
+    m3 = box_plane(x, Ri, h_i, r, np.zeros(3), nw, 0.0, *out3)
+    assert m3 == 2 * n2
+    np.testing.assert_allclose(np.sort(out3[2][:m3]), np.repeat(np.sort(overlap[:n2]), 2))
