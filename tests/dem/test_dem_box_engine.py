@@ -274,3 +274,40 @@ def test_bad_box_input_is_refused_with_its_name(half, rounding, options, fragmen
     with pytest.raises(ValueError) as err:
         scene.add_box((0.0, 0.0, 0.1), half, rounding, m, **options)
     assert fragment in str(err.value)
+
+
+# ----------------------------------------------------------------------- events
+
+
+def test_validate_box_contact_events_at_the_free_fall_and_approach_times():
+    """Body-level contact events of boxes: a box falling from rest onto the floor touches
+    it at ``sqrt(2 h / g)``; two boxes approaching at relative speed v from a gap h touch
+    at ``h / v`` and the touched stop fires there.  Event times are interpolated within
+    the step (as for spheres)."""
+    from dominowave.dem import ONSET, StopCondition
+
+    scene = Scene(gravity=(0.0, 0.0, -G))
+    m = scene.add_material(Material(density=RHO, kn=1e5, restitution=0.5))
+    scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), m)
+    half = np.array([0.01, 0.01, 0.01])
+    gap = 0.002
+    scene.add_box((0.0, 0.0, half[2] + gap), half, 0.001, m)
+    sim = scene.build(safety=0.05)
+    res = sim.run(until=0.05)
+    ev = res.events
+    assert (ev.body_i[0], ev.body_j[0], ev.kind[0]) == (0, -1, ONSET)
+    assert ev.time[0] == pytest.approx(math.sqrt(2 * gap / G), abs=1e-3 * sim.dt)
+
+    scene = Scene(gravity=(0.0, 0.0, 0.0))
+    m = scene.add_material(Material(density=RHO, kn=1e5))
+    scene.add_box((0.0, 0.0, 0.0), half, 0.001, m, velocity=(0.3, 0.0, 0.0))
+    scene.add_box((0.02 + 0.001, 0.003, 0.0), half, 0.001, m, velocity=(-0.1, 0.0, 0.0))
+    sim = scene.build(safety=0.05)
+    res = sim.run(until=1.0, stop=StopCondition(touched_body=1))
+    assert res.stop_reason == "touched"
+    assert res.events.kind[0] == ONSET
+    assert res.events.time[0] == pytest.approx(0.001 / 0.4, abs=1e-9)
+    assert sim.pairs.first_contact[0, 1] == res.events.time[0]
+    res = sim.run(until=0.05)  # the boxes part again: one end event
+    assert list(res.events.kind) == [0]
+    assert sim.pairs.n_contacts[0, 1] == 1

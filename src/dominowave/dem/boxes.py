@@ -35,6 +35,8 @@ import numpy as np
 from numba import njit
 
 from dominowave.dem.contact import (
+    END,
+    ONSET,
     cundall_strack,
     end_impulse,
     onset_averaged_overlap,
@@ -66,6 +68,9 @@ Boxes = namedtuple(
         "work",  # (2, 9, 4) clipping buffers
         "used",  # (K,) uint8 scratch: old rows matched this step
         "props",  # (4,) scratch: kn, kt, mu, restitution of a new point
+        "n_changes",  # (1,) int64: body pairs whose contact started or ended this step
+        "changes",  # (K, 3) int64: body i, body j or -(wall + 1), ONSET / END
+        "change_lag",  # (K,) how long before this step's time it happened [s], in [0, dt]
     ],
 )
 
@@ -134,6 +139,9 @@ def empty_boxes(body=(), half=(), radius=(), material=()):
         work=np.zeros((2, 9, 4)),
         used=np.zeros(capacity, np.uint8),
         props=np.zeros(4),
+        n_changes=np.zeros(1, np.int64),
+        changes=np.zeros((capacity, 3), np.int64),
+        change_lag=np.zeros(capacity),
     )
 
 
@@ -269,12 +277,36 @@ def _end(bodies, old, q, gap, dt, bi, bj, wall, ledger):
     _release(old, q, ledger)
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _lag(depth, speed, dt, first_step):
+    """Time [s] since the overlap (``depth`` > 0, onset) or the gap (``|depth|``, end) began,
+    the overlap linear over the last drift at ``speed`` (as engine.event_time); 0 for the
+    initial configuration or an unknown speed, at most dt."""
+    if first_step or speed <= 0.0:
+        return 0.0
+    return min(abs(depth) / speed, dt)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _log(boxes, a, j, kind, lag):
+    """Record that the contact of box a's body with partner j (box or -(wall + 1))
+    started (ONSET) or ended (END) ``lag`` [s] before this step."""
+    k = boxes.n_changes[0]
+    boxes.changes[k, 0] = boxes.body[a]
+    boxes.changes[k, 1] = boxes.body[j] if j >= 0 else j
+    boxes.changes[k, 2] = kind
+    boxes.change_lag[k] = lag
+    boxes.n_changes[0] = k + 1
+
+
 @njit(cache=True, error_model="numpy")
 def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     """Add the forces and torques of every box contact to the bodies (after
     contact.compute_forces, which zeroes them), rebuild the contact rows, book the change
-    of the energy stored in the shear springs in ``ledger[LEDGER_FRICTION]``."""
+    of the energy stored in the shear springs in ``ledger[LEDGER_FRICTION]``.  Body pairs
+    whose contact (any point) started or ended are listed in ``boxes.changes``."""
     old, new = boxes.rows, boxes.next
+    boxes.n_changes[0] = 0
     nx = boxes.body.shape[0]
     nw = walls.point.shape[0]
     capacity = new.i.shape[0]
@@ -315,14 +347,13 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
                     continue
             code = _pair_code(a, j, nx, nw)
             # old rows of pairs before this one are gone: release their springs
-            while o < old.n[0] and _pair_code(old.i[o], old.j[o], nx, nw) < code:
-                if not used[o]:
-                    _release(old, o, ledger)
-                o += 1
+            o = _drop_before(old, boxes, o, code, nx, nw, ledger)
             o_end = o
             while o_end < old.n[0] and _pair_code(old.i[o_end], old.j[o_end], nx, nw) == code:
                 o_end += 1
             m = _manifold(bodies, boxes, walls, a, j, planar, margin)
+            first_row = n_new
+            end_depth, end_speed = 0.0, 0.0
             for k in range(m):
                 key = boxes.m_key[k]
                 q = -1
@@ -335,6 +366,8 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
                     if q >= 0:
                         used[q] = 1
                         _end(bodies, old, q, overlap, dt, ba, bj, wall, ledger)
+                        if old.overlap[q] - overlap > end_speed * dt:
+                            end_depth, end_speed = overlap, (old.overlap[q] - overlap) / dt
                     continue
                 if n_new == capacity:
                     raise RuntimeError("box contact rows full")
@@ -413,11 +446,33 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
                 if not used[t]:
                     used[t] = 1
                     _release(old, t, ledger)
+            if o_end == o and n_new > first_row:
+                deepest = first_row
+                for c in range(first_row, n_new):
+                    if new.overlap[c] > new.overlap[deepest]:
+                        deepest = c
+                lag = _lag(new.overlap[deepest], -new.vn[deepest], dt, first_step)
+                _log(boxes, a, j, ONSET, lag)
+            elif o_end > o and n_new == first_row:
+                _log(boxes, a, j, END, _lag(end_depth, end_speed, dt, first_step))
             o = o_end
-    for t in range(o, old.n[0]):
-        if not used[t]:
-            _release(old, t, ledger)
+    _drop_before(old, boxes, o, 2**62, nx, nw, ledger)
     _copy_rows(new, old, n_new)
+
+
+@njit(cache=True, error_model="numpy")
+def _drop_before(old, boxes, o, code, nx, nw, ledger):
+    """Old rows from o on of the pairs before ``code`` are gone (their pair is out of
+    reach): release their springs and log the end of each such pair; returns the first
+    row of ``code`` or after."""
+    used = boxes.used
+    while o < old.n[0] and _pair_code(old.i[o], old.j[o], nx, nw) < code:
+        if not used[o]:
+            _release(old, o, ledger)
+        if o + 1 == old.n[0] or old.i[o + 1] != old.i[o] or old.j[o + 1] != old.j[o]:
+            _log(boxes, old.i[o], old.j[o], END, 0.0)
+        o += 1
+    return o
 
 
 @njit(cache=True, error_model="numpy")

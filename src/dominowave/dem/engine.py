@@ -251,6 +251,48 @@ def _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, first_step
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
+def _bookkeep_boxes(boxes, rec, settings, t):
+    """Body-level onsets and ends of the box contacts of this step (boxes.changes, one per
+    body pair: a pair is in contact while any of its points is): event log, pair
+    statistics, touched bodies, as :func:`_bookkeep` for sphere contacts."""
+    if not settings.record_pairs:
+        return
+    for k in range(boxes.n_changes[0]):
+        bi = boxes.changes[k, 0]
+        j = boxes.changes[k, 1]
+        kind = boxes.changes[k, 2]
+        te = t - boxes.change_lag[k]
+        if j >= 0:
+            a = min(bi, j)
+            b = max(bi, j)
+            if kind == ONSET:
+                rec.pair_count[a, b] += 1
+                if rec.pair_count[a, b] == 1:
+                    _log_event(rec, te, a, b, ONSET)
+                    rec.n_contacts[a, b] += 1
+                    if math.isnan(rec.first_contact[a, b]):
+                        rec.first_contact[a, b] = te
+                    rec.last_onset[0] = t
+                    rec.touched[a] = 1
+                    rec.touched[b] = 1
+            else:
+                rec.pair_count[a, b] -= 1
+                if rec.pair_count[a, b] == 0:
+                    _log_event(rec, te, a, b, END)
+                    rec.last_separation[a, b] = te
+        else:
+            w = -j - 1
+            if kind == ONSET:
+                rec.wall_count[bi, w] += 1
+                if rec.wall_count[bi, w] == 1:
+                    _log_event(rec, te, bi, j, ONSET)
+            else:
+                rec.wall_count[bi, w] -= 1
+                if rec.wall_count[bi, w] == 0:
+                    _log_event(rec, te, bi, j, END)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _record_peak_force(spheres, contacts, rec):
     for c in range(contacts.n[0]):
         j = contacts.j[c]
@@ -386,7 +428,8 @@ def run_loop(
             return DONE_TIME, done
         last = done == n_steps - 1 or t + dt >= t_end - 0.5 * dt
         # room for this step's records, otherwise hand back to Python before changing state
-        if settings.record_pairs and rec.ev_time.shape[0] - rec.ev_n[0] < contacts.i.shape[0]:
+        room = contacts.i.shape[0] + (boxes.changes.shape[0] if has_boxes else 0)
+        if settings.record_pairs and rec.ev_time.shape[0] - rec.ev_n[0] < room:
             return GROW_EVENTS, done
         step = rec.step[0]
         traj_due = rec.traj_every[0] > 0 and step % rec.traj_every[0] == 0
@@ -431,6 +474,8 @@ def run_loop(
             )
         if has_boxes:
             box_forces(bodies, boxes, walls, mats, dt, rec.ledger, step == 0, planar)
+            if boxes.n_changes[0] > 0:
+                _bookkeep_boxes(boxes, rec, settings, t)
         if n_changes > 0:
             _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, step == 0)
         if settings.record_peak_force:

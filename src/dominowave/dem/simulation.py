@@ -468,7 +468,8 @@ class Simulation:
             self.contacts = _grown_contacts(self.contacts)
             self.rec = r._replace(changes=np.zeros((self.contacts.i.shape[0], 2), np.int64))
         elif code == engine.GROW_EVENTS:
-            need = r.ev_n[0] + 2 * self.contacts.i.shape[0]
+            room = self.contacts.i.shape[0] + self.boxes.changes.shape[0]  # (engine.run_loop)
+            need = r.ev_n[0] + 2 * room
             self.rec = r._replace(
                 **{
                     k: _grow_rows(getattr(r, k), need)
