@@ -219,35 +219,11 @@ def _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, first_step
                         _release(bodies, spheres, contacts, bj, t)
                 if not settings.record_pairs:
                     continue
-                a = min(bi, bj)
-                b = max(bi, bj)
                 te = event_time(contacts, c, t, settings.dt, kind == ONSET, first_step)
-                if kind == ONSET:
-                    rec.pair_count[a, b] += 1
-                    if rec.pair_count[a, b] == 1:
-                        _log_event(rec, te, a, b, ONSET)
-                        rec.n_contacts[a, b] += 1
-                        if math.isnan(rec.first_contact[a, b]):
-                            rec.first_contact[a, b] = te
-                        rec.last_onset[0] = t
-                        rec.touched[a] = 1
-                        rec.touched[b] = 1
-                else:
-                    rec.pair_count[a, b] -= 1
-                    if rec.pair_count[a, b] == 0:
-                        _log_event(rec, te, a, b, kind)
-                        rec.last_separation[a, b] = te
+                _count_pair_change(rec, bi, bj, kind, te, t)
             elif settings.record_pairs:
-                w = -j - 1
                 te = event_time(contacts, c, t, settings.dt, kind == ONSET, first_step)
-                if kind == ONSET:
-                    rec.wall_count[bi, w] += 1
-                    if rec.wall_count[bi, w] == 1:
-                        _log_event(rec, te, bi, j, ONSET)
-                else:
-                    rec.wall_count[bi, w] -= 1
-                    if rec.wall_count[bi, w] == 0:
-                        _log_event(rec, te, bi, j, kind)
+                _count_wall_change(rec, bi, j, kind, te)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -263,33 +239,48 @@ def _bookkeep_boxes(boxes, rec, settings, t):
         kind = boxes.changes[k, 2]
         te = t - boxes.change_lag[k]
         if j >= 0:
-            a = min(bi, j)
-            b = max(bi, j)
-            if kind == ONSET:
-                rec.pair_count[a, b] += 1
-                if rec.pair_count[a, b] == 1:
-                    _log_event(rec, te, a, b, ONSET)
-                    rec.n_contacts[a, b] += 1
-                    if math.isnan(rec.first_contact[a, b]):
-                        rec.first_contact[a, b] = te
-                    rec.last_onset[0] = t
-                    rec.touched[a] = 1
-                    rec.touched[b] = 1
-            else:
-                rec.pair_count[a, b] -= 1
-                if rec.pair_count[a, b] == 0:
-                    _log_event(rec, te, a, b, END)
-                    rec.last_separation[a, b] = te
+            _count_pair_change(rec, bi, j, kind, te, t)
         else:
-            w = -j - 1
-            if kind == ONSET:
-                rec.wall_count[bi, w] += 1
-                if rec.wall_count[bi, w] == 1:
-                    _log_event(rec, te, bi, j, ONSET)
-            else:
-                rec.wall_count[bi, w] -= 1
-                if rec.wall_count[bi, w] == 0:
-                    _log_event(rec, te, bi, j, END)
+            _count_wall_change(rec, bi, j, kind, te)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _count_pair_change(rec, bi, bj, kind, te, t):
+    """A contact of bodies ``bi`` and ``bj`` began (``kind`` ONSET) or ended at ``te`` [s]
+    (step time ``t``): the pair's count of touching contacts; its first onset and its
+    last end are the body pair's events (log, pair statistics, touched bodies)."""
+    a = min(bi, bj)
+    b = max(bi, bj)
+    if kind == ONSET:
+        rec.pair_count[a, b] += 1
+        if rec.pair_count[a, b] == 1:
+            _log_event(rec, te, a, b, ONSET)
+            rec.n_contacts[a, b] += 1
+            if math.isnan(rec.first_contact[a, b]):
+                rec.first_contact[a, b] = te
+            rec.last_onset[0] = t
+            rec.touched[a] = 1
+            rec.touched[b] = 1
+    else:
+        rec.pair_count[a, b] -= 1
+        if rec.pair_count[a, b] == 0:
+            _log_event(rec, te, a, b, END)
+            rec.last_separation[a, b] = te
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _count_wall_change(rec, bi, j, kind, te):
+    """A contact of body ``bi`` with wall ``-j - 1`` began or ended at ``te`` [s]: the
+    count of its touching contacts; the first onset and the last end are logged."""
+    w = -j - 1
+    if kind == ONSET:
+        rec.wall_count[bi, w] += 1
+        if rec.wall_count[bi, w] == 1:
+            _log_event(rec, te, bi, j, ONSET)
+    else:
+        rec.wall_count[bi, w] -= 1
+        if rec.wall_count[bi, w] == 0:
+            _log_event(rec, te, bi, j, END)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
