@@ -37,6 +37,7 @@ from numba import njit
 from dominowave.dem.contact import (
     END,
     ONSET,
+    apply_at_lever,
     cundall_strack,
     end_impulse,
     onset_averaged_overlap,
@@ -239,12 +240,7 @@ def _release(old, q, ledger):
 def _apply(bodies, b, p, f0, f1, f2, sign):
     """Add ``sign f`` acting at the point p to the force and torque of body b."""
     rx, ry, rz = p[0] - bodies.pos[b, 0], p[1] - bodies.pos[b, 1], p[2] - bodies.pos[b, 2]
-    bodies.force[b, 0] += sign * f0
-    bodies.force[b, 1] += sign * f1
-    bodies.force[b, 2] += sign * f2
-    bodies.torque[b, 0] += sign * (ry * f2 - rz * f1)
-    bodies.torque[b, 1] += sign * (rz * f0 - rx * f2)
-    bodies.torque[b, 2] += sign * (rx * f1 - ry * f0)
+    apply_at_lever(bodies, b, rx, ry, rz, f0, f1, f2, sign)
 
 
 @njit(cache=True, error_model="numpy", inline="always")

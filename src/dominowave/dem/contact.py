@@ -47,6 +47,7 @@ __all__ = [
     "SHEAR_CONTACT_POINT",
     "SHEAR_YADE",
     "active_contact_forces",
+    "apply_at_lever",
     "build_verlet_list",
     "compute_forces",
     "contact_power",
@@ -628,7 +629,7 @@ def _point_velocity(vel, omega, b, rx, ry, rz):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _apply(bodies, b, rx, ry, rz, f0, f1, f2, sign):
+def apply_at_lever(bodies, b, rx, ry, rz, f0, f1, f2, sign):
     """Add ``sign f`` acting at lever arm ``r`` to the force and torque of body b."""
     bodies.force[b, 0] += sign * f0
     bodies.force[b, 1] += sign * f1
@@ -660,9 +661,9 @@ def _separate(bodies, contacts, c, bi, bj, wall, n0, n1, n2, gap, dt, p0, p1, p2
         f0, f1, f2 = fn * n0, fn * n1, fn * n2
         if not wall:
             rx, ry, rz = _lever(bodies.pos, bj, p0, p1, p2)
-            _apply(bodies, bj, rx, ry, rz, f0, f1, f2, 1.0)
+            apply_at_lever(bodies, bj, rx, ry, rz, f0, f1, f2, 1.0)
         rx, ry, rz = _lever(bodies.pos, bi, p0, p1, p2)
-        _apply(bodies, bi, rx, ry, rz, f0, f1, f2, -1.0)
+        apply_at_lever(bodies, bi, rx, ry, rz, f0, f1, f2, -1.0)
     u = contacts.shear
     released = 0.5 * contacts.kt[c] * (u[c, 0] * u[c, 0] + u[c, 1] * u[c, 1] + u[c, 2] * u[c, 2])
     contacts.active[c] = 0
@@ -838,8 +839,8 @@ def compute_forces(
         # normal force plus the tangential spring force -kt u, on j (minus on i)
         f0, f1, f2 = fn * n0 + -kt * u0, fn * n1 + -kt * u1, fn * n2 + -kt * u2
         if not wall:
-            _apply(bodies, bj, rj0, rj1, rj2, f0, f1, f2, 1.0)
-        _apply(bodies, bi, ri0, ri1, ri2, f0, f1, f2, -1.0)
+            apply_at_lever(bodies, bj, rj0, rj1, rj2, f0, f1, f2, 1.0)
+        apply_at_lever(bodies, bi, ri0, ri1, ri2, f0, f1, f2, -1.0)
     return n_changes
 
 
