@@ -611,3 +611,25 @@ def test_spin_about_a_blocked_axis():
     bad.add_clump(column(3), R, m, blocked="y rx rz", angular_velocity=(1.0, 3.0, 0.0))
     with pytest.raises(ValueError, match="angular_velocity"):
         bad.build()
+
+
+def test_energy_indices_name_the_energy_vector():
+    """The named indices of the energy vector point at the entries ENERGY_NAMES gives
+    them, and the total the kernel writes at E_TOTAL is the sum of the others."""
+    from dominowave.dem import energy
+
+    for name in energy.ENERGY_NAMES:
+        assert energy.ENERGY_NAMES.index(name) == getattr(energy, f"E_{name.upper()}")
+    assert len(energy.ENERGY_NAMES) == energy.N_ENERGIES == energy.E_TOTAL + 1
+    assert energy.ENERGY_NAMES[: energy.N_MECHANICAL] == (
+        "kinetic_translational",
+        "kinetic_rotational",
+        "gravitational",
+        "elastic_normal",
+        "elastic_tangential",
+    )
+    sim = _box_scene(n=8, seed=1)
+    sim.run(n_steps=200)
+    e = sim.energy()
+    assert e["kinetic_translational"] > 0.0 and e["gravitational"] != 0.0
+    assert e["total"] == pytest.approx(sum(e[name] for name in energy.ENERGY_NAMES[:-1]))

@@ -29,6 +29,20 @@ ENERGY_NAMES = (
     "dissipated_damping",
     "total",
 )
+# indices of the ENERGY_NAMES vectors (energies, engine.Recorder.energy_*)
+E_KINETIC_TRANSLATIONAL = 0
+E_KINETIC_ROTATIONAL = 1
+E_GRAVITATIONAL = 2
+E_ELASTIC_NORMAL = 3
+E_ELASTIC_TANGENTIAL = 4
+E_DISSIPATED_FRICTION = 5
+E_DISSIPATED_VISCOUS = 6
+E_DISSIPATED_DAMPING = 7
+E_TOTAL = 8
+N_ENERGIES = 9
+N_MECHANICAL = 5  # the first entries: kinetic, gravitational and elastic energy
+
+# the engine's (3,) dissipation ledger (engine.Recorder.ledger) [J]
 LEDGER_FRICTION = 0
 LEDGER_VISCOUS = 1
 LEDGER_DAMPING = 2
@@ -44,7 +58,8 @@ LAST_POWER_FRICTION = 2
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def kinetic_energy(bodies, out):
-    """Translational and rotational kinetic energy [J] at the last full step into out[0:2]."""
+    """Translational and rotational kinetic energy [J] at the last full step into
+    ``out[E_KINETIC_TRANSLATIONAL]``, ``out[E_KINETIC_ROTATIONAL]``."""
     et = 0.0
     er = 0.0
     for b in range(bodies.mass.shape[0]):
@@ -53,13 +68,13 @@ def kinetic_energy(bodies, out):
         L = bodies.angmom_full[b]
         et += 0.5 * bodies.mass[b] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
         er += 0.5 * (w[0] * L[0] + w[1] * L[1] + w[2] * L[2])
-    out[0] = et
-    out[1] = er
+    out[E_KINETIC_TRANSLATIONAL] = et
+    out[E_KINETIC_ROTATIONAL] = er
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def energies(bodies, contacts, gravity, ledger, out):
-    """All entries of ``ENERGY_NAMES`` [J] into ``out`` (length 9)."""
+    """All entries of ``ENERGY_NAMES`` [J] into ``out`` (length N_ENERGIES)."""
     kinetic_energy(bodies, out)
     eg = 0.0
     for b in range(bodies.mass.shape[0]):
@@ -72,13 +87,13 @@ def energies(bodies, contacts, gravity, ledger, out):
             en += 0.5 * contacts.kn[c] * contacts.overlap[c] ** 2
             u = contacts.shear[c]
             es += 0.5 * contacts.kt[c] * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
-    out[2] = eg
-    out[3] = en
-    out[4] = es
-    out[5] = ledger[LEDGER_FRICTION]
-    out[6] = ledger[LEDGER_VISCOUS]
-    out[7] = ledger[LEDGER_DAMPING]
+    out[E_GRAVITATIONAL] = eg
+    out[E_ELASTIC_NORMAL] = en
+    out[E_ELASTIC_TANGENTIAL] = es
+    out[E_DISSIPATED_FRICTION] = ledger[LEDGER_FRICTION]
+    out[E_DISSIPATED_VISCOUS] = ledger[LEDGER_VISCOUS]
+    out[E_DISSIPATED_DAMPING] = ledger[LEDGER_DAMPING]
     total = 0.0
-    for k in range(8):
+    for k in range(E_TOTAL):  # (every entry before the total, in order)
         total += out[k]
-    out[8] = total
+    out[E_TOTAL] = total

@@ -36,12 +36,22 @@ from dominowave.dem.contact import (
     needs_rebuild,
 )
 from dominowave.dem.energy import (
+    E_DISSIPATED_DAMPING,
+    E_DISSIPATED_FRICTION,
+    E_DISSIPATED_VISCOUS,
+    E_ELASTIC_NORMAL,
+    E_ELASTIC_TANGENTIAL,
+    E_GRAVITATIONAL,
+    E_KINETIC_ROTATIONAL,
+    E_KINETIC_TRANSLATIONAL,
+    E_TOTAL,
     LAST_POWER_DAMPING,
     LAST_POWER_FRICTION,
     LAST_POWER_VISCOUS,
     LEDGER_DAMPING,
     LEDGER_FRICTION,
     LEDGER_VISCOUS,
+    N_MECHANICAL,
     POWER_FRICTION,
     POWER_VISCOUS,
     energies,
@@ -80,6 +90,14 @@ STOP_ARG_TOUCHED_BODY = 1
 STOP_ARG_KINETIC_BELOW = 2
 STOP_ARG_RUN_START = 3
 
+# entries of Recorder.clock
+CLOCK_TIME = 0  # time [s]
+CLOCK_ENERGY_SCALE = 1  # largest active energy so far [J] (the runaway test, active_energy)
+
+# rows of run_loop's (2, 3) ``work`` scratch argument
+WORK_KINETIC = 0  # kinetic energies (energy.kinetic_energy)
+WORK_POWER = 1  # contact powers (contact.contact_power)
+
 Settings = namedtuple(
     "Settings",
     [
@@ -99,9 +117,11 @@ Settings = namedtuple(
 Recorder = namedtuple(
     "Recorder",
     [
-        "clock",  # (2,) time [s], energy scale for the runaway test [J]
-        "ledger",  # (3,) dissipated by friction, viscous dashpots, local damping [J]
-        "power",  # (3,) power of dashpots, local damping, tangential forces, last step [W]
+        "clock",  # (2,) time [s], energy scale for the runaway test [J]: CLOCK_*
+        "ledger",  # (3,) dissipated by friction, viscous dashpots, local damping [J]:
+        #   energy.LEDGER_*
+        "power",  # (3,) power of dashpots, local damping, tangential forces, last step [W]:
+        #   energy.LAST_POWER_*
         "step",  # (1,) int64 steps done since build
         "n_rebuilds",  # (1,) int64 Verlet-list builds since build
         "last_onset",  # (1,) time of the last body-body contact onset [s]
@@ -135,9 +155,9 @@ Recorder = namedtuple(
         "energy_every",  # (1,) int64, 0 = off
         "energy_n",  # (1,) int64
         "energy_t",  # (G,)
-        "energy_val",  # (G, 9)
-        "energy_now",  # (9,) energies at the last step
-        "energy_ref",  # (9,) energies at the start of the run
+        "energy_val",  # (G, N_ENERGIES) the ENERGY_NAMES vectors, indices energy.E_*
+        "energy_now",  # (N_ENERGIES,) energies at the last step
+        "energy_ref",  # (N_ENERGIES,) energies at the start of the run
     ],
 )
 
@@ -339,9 +359,11 @@ def _finite(bodies):
 def active_energy(e, track_energy):
     """Scale [J] of the energies that change in a run: kinetic, elastic and (tracked)
     dissipated; the runaway test allows half of its largest value."""
-    active = abs(e[0]) + abs(e[1]) + abs(e[3]) + abs(e[4])
+    active = abs(e[E_KINETIC_TRANSLATIONAL]) + abs(e[E_KINETIC_ROTATIONAL])
+    active += abs(e[E_ELASTIC_NORMAL]) + abs(e[E_ELASTIC_TANGENTIAL])
     if track_energy:
-        active += abs(e[5]) + abs(e[6]) + abs(e[7])
+        active += abs(e[E_DISSIPATED_FRICTION]) + abs(e[E_DISSIPATED_VISCOUS])
+        active += abs(e[E_DISSIPATED_DAMPING])
     return active
 
 
@@ -353,10 +375,10 @@ def energy_excess(e, ref, track_energy):
     (kinetic + gravitational + elastic), which every non-conservative force of the engine
     (Coulomb slip, dashpots, local damping) can only decrease."""
     if track_energy:
-        return abs(e[8] - ref[8])
+        return abs(e[E_TOTAL] - ref[E_TOTAL])
     mech = 0.0
     mech_ref = 0.0
-    for k in range(5):
+    for k in range(N_MECHANICAL):
         mech += e[k]
         mech_ref += ref[k]
     return mech - mech_ref
@@ -396,25 +418,26 @@ def run_loop(
     """Advance up to ``n_steps`` steps or until ``time >= t_end`` or a stop condition.
 
     ``stop`` = (no_onset_for [s] or inf, touched_body or -1, kinetic_below [J] or -1,
-    start time of the run [s]).  ``work``: (2, 3) scratch array.  ``boxes``: the
+    start time of the run [s]; entries STOP_ARG_*).  ``work``: (2, 3) scratch array
+    (rows WORK_*).  ``boxes``: the
     rounded-cuboid bodies and their contacts (boxes.py; zero-length without).  Returns
     ``(code, steps_done)``; see the module constants.  ``rec.energy_now`` holds the
-    energies of the last step done (time ``clock[0] - dt``).
+    energies of the last step done (time ``clock[CLOCK_TIME] - dt``).
 
     Compiled without numba's reference counting, as the kernels it calls every step
     (contact.py): it allocates nothing itself, and every pass through the loop would
     otherwise pay atomic reference-count updates of the ~100 state arrays.
     """
     dt = settings.dt
-    kin = work[0]
-    p_contacts = work[1]
+    kin = work[WORK_KINETIC]
+    p_contacts = work[WORK_POWER]
     touched_body = int(stop[STOP_ARG_TOUCHED_BODY])
     planar = settings.planar
     shear_kinematics = mats.shear_kinematics[0]
     has_boxes = boxes.body.shape[0] > 0
     rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
     for done in range(n_steps):
-        t = rec.clock[0]
+        t = rec.clock[CLOCK_TIME]
         if t >= t_end - 0.5 * dt:
             return DONE_TIME, done
         last = done == n_steps - 1 or t + dt >= t_end - 0.5 * dt
@@ -521,20 +544,23 @@ def run_loop(
                     box_energies(boxes, rec.energy_now)
                 if not _finite(bodies):
                     return ABORT_NAN, done
-                rec.clock[1] = max(
-                    rec.clock[1], active_energy(rec.energy_now, settings.track_energy)
+                rec.clock[CLOCK_ENERGY_SCALE] = max(
+                    rec.clock[CLOCK_ENERGY_SCALE],
+                    active_energy(rec.energy_now, settings.track_energy),
                 )
-                slack = 0.5 * rec.clock[1] + 1e-9 * abs(rec.energy_ref[2])
+                slack = 0.5 * rec.clock[CLOCK_ENERGY_SCALE]
+                slack += 1e-9 * abs(rec.energy_ref[E_GRAVITATIONAL])
                 if energy_excess(rec.energy_now, rec.energy_ref, settings.track_energy) > slack:
                     return ABORT_RUNAWAY, done
                 if code < 0 and stop[STOP_ARG_KINETIC_BELOW] >= 0.0:
                     kinetic_energy(bodies, kin)
-                    if kin[0] + kin[1] < stop[STOP_ARG_KINETIC_BELOW]:
+                    kinetic = kin[E_KINETIC_TRANSLATIONAL] + kin[E_KINETIC_ROTATIONAL]
+                    if kinetic < stop[STOP_ARG_KINETIC_BELOW]:
                         code = STOP_KINETIC
             drift(bodies, dt, planar)
             rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
         update_listed_sphere_positions(bodies, spheres, planar)
-        rec.clock[0] = t + dt
+        rec.clock[CLOCK_TIME] = t + dt
         rec.step[0] = step + 1
         if code >= 0:
             return code, done + 1

@@ -13,7 +13,7 @@ from dominowave.checks import check_finite, check_in_range, check_positive
 from dominowave.dem import engine
 from dominowave.dem.boxes import box_energies, box_forces, empty_boxes
 from dominowave.dem.contact import SHEAR_CONTACT_POINT, build_verlet_list, compute_forces
-from dominowave.dem.energy import ENERGY_NAMES, energies
+from dominowave.dem.energy import E_TOTAL, ENERGY_NAMES, N_ENERGIES, N_MECHANICAL, energies
 from dominowave.dem.engine import Recorder, Settings, run_loop
 from dominowave.dem.integrate import update_sphere_positions
 from dominowave.dem.planar import planar_violation
@@ -194,7 +194,7 @@ class Simulation:
     @property
     def time(self) -> float:
         """Current time [s]."""
-        return float(self.rec.clock[0])
+        return float(self.rec.clock[engine.CLOCK_TIME])
 
     @property
     def n_bodies(self) -> int:
@@ -431,7 +431,8 @@ class Simulation:
         self.settings = self.settings._replace(planar=planar)
         r = self.rec
         r.energy_ref[:] = r.energy_now
-        r.clock[1] = max(engine.active_energy(r.energy_now, self.settings.track_energy), 1e-300)
+        scale = engine.active_energy(r.energy_now, self.settings.track_energy)
+        r.clock[engine.CLOCK_ENERGY_SCALE] = max(scale, 1e-300)
         r.touched[:] = 0
         r.ev_n[0] = 0
         r.traj_every[0] = trajectory_every
@@ -448,10 +449,11 @@ class Simulation:
             e = self.energy()
             cause = (
                 f"the energy balance broke down (total {e['total']:.6g} J, "
-                f"{self.rec.energy_ref[8]:.6g} J at the start of the run)"
+                f"{self.rec.energy_ref[E_TOTAL]:.6g} J at the start of the run)"
             )
         else:
-            now, ref = self.rec.energy_now[:5].sum(), self.rec.energy_ref[:5].sum()
+            now = self.rec.energy_now[:N_MECHANICAL].sum()
+            ref = self.rec.energy_ref[:N_MECHANICAL].sum()
             cause = (
                 f"the mechanical energy grew from {ref:.6g} J to {now:.6g} J (without "
                 "energy tracking; every dissipative force can only lower it)"
@@ -740,7 +742,7 @@ def _empty_recorder(nb, nw, capacity, record_pairs):
         energy_every=np.zeros(1, np.int64),
         energy_n=np.zeros(1, np.int64),
         energy_t=np.zeros(0),
-        energy_val=np.zeros((0, 9)),
-        energy_now=np.zeros(9),
-        energy_ref=np.zeros(9),
+        energy_val=np.zeros((0, N_ENERGIES)),
+        energy_now=np.zeros(N_ENERGIES),
+        energy_ref=np.zeros(N_ENERGIES),
     )
