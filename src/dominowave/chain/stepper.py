@@ -18,10 +18,10 @@ uninterrupted one.
 Why the quiet-time stop is not simply the engine's: the engine counts
 ``StopCondition.no_onset_for`` from the last contact onset *or from the start of the
 current* ``Simulation.run`` *call*, whichever is later, so split into calls it would
-stop later than in one call. The stepper therefore counts the steps to the quiet stop
-itself (:func:`steps_until_quiet`, the engine's arithmetic on the engine's clock) and
-caps each engine call there; an engine call that reaches the cap with no new onset is
-the quiet stop.
+stop later than in one call. The stepper therefore asks the engine for the steps to the
+quiet stop counted from the phase's start (:func:`dominowave.dem.engine.steps_until_quiet`,
+the engine's own test on the engine's clock) and caps each engine call there; an engine
+call that reaches the cap with no new onset is the quiet stop.
 """
 
 from __future__ import annotations
@@ -33,6 +33,7 @@ import numpy as np
 
 from dominowave import dem
 from dominowave.chain.events import ChainRecord
+from dominowave.dem.engine import steps_until_quiet
 
 __all__ = ["ChainStepper", "steps_until_quiet"]
 
@@ -48,25 +49,6 @@ _CONTACT_SHAPES = (((), np.int64), ((), np.int64), ((), np.int64), ((3,), float)
 """Row shape and dtype of each of them (empty pieces)."""
 _REASONS = ("", "touched", "no_onset", "until")
 """Why phase 1 ended ('' while it runs), coded by index in the checkpoint."""
-
-
-def steps_until_quiet(t0: float, dt: float, since: float, quiet: float, limit: int) -> int | None:
-    """Steps from time ``t0`` after which the engine's quiet test first holds, or None.
-
-    The engine tests ``(t + dt) - since >= quiet`` at the end of the step that starts at
-    ``t`` and advances its clock by ``t <- t + dt``; this repeats that arithmetic
-    (``np.cumsum`` adds strictly in sequence) for at most ``limit`` steps [s, s, s, s, -].
-    """
-    block = 1 << 16
-    t, done = t0, 0
-    while done < limit:
-        n = min(block, limit - done)
-        ends = np.cumsum(np.concatenate([[t], np.full(n, dt)]))[1:]  # t + dt of each step
-        hit = np.flatnonzero(ends - since >= quiet)
-        if hit.size:
-            return done + int(hit[0]) + 1
-        t, done = float(ends[-1]), done + n
-    return None
 
 
 class ChainStepper:

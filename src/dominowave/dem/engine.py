@@ -68,7 +68,7 @@ from dominowave.dem.integrate import (
 )
 from dominowave.dem.planar import compute_forces_planar, contact_power_planar
 
-__all__ = ["Recorder", "Settings", "run_loop"]
+__all__ = ["Recorder", "Settings", "quiet_reached", "run_loop", "steps_until_quiet"]
 
 # return codes of run_loop
 DONE_STEPS = 0
@@ -384,6 +384,36 @@ def energy_excess(e, ref, track_energy):
     return mech - mech_ref
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def quiet_reached(t, dt, since, quiet):
+    """The quiet stop (``StopCondition.no_onset_for``): True if the step that starts at
+    ``t`` [s] and lasts ``dt`` [s] ends at least ``quiet`` [s] after ``since`` [s] (the
+    last body-body contact onset, or the start of the counting)."""
+    return t + dt - since >= quiet
+
+
+@njit(cache=True, error_model="numpy")
+def _steps_until_quiet(t0, dt, since, quiet, limit):
+    t = t0
+    for k in range(limit):
+        if quiet_reached(t, dt, since, quiet):
+            return k + 1
+        t = t + dt  # (the run loop's clock: one addition per step)
+    return -1
+
+
+def steps_until_quiet(t0: float, dt: float, since: float, quiet: float, limit: int) -> int | None:
+    """Steps from time ``t0`` after which :func:`quiet_reached` first holds, or None.
+
+    The run loop decides the quiet stop at the end of the step that starts at ``t`` and
+    then advances its clock by ``t <- t + dt``; this walks the same clock with the same
+    test (no onset assumed) for at most ``limit`` steps [s, s, s, s, -]: a caller that
+    counts quiet time across several runs caps each run here (chain.stepper).
+    """
+    n = _steps_until_quiet(float(t0), float(dt), float(since), float(quiet), int(limit))
+    return None if n < 0 else int(n)
+
+
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _advance_bodies(bodies, settings):
     """Kick and drift in one pass over the bodies, for the steps in which nothing reads the
@@ -498,7 +528,9 @@ def run_loop(
         code = -1
         if touched_body >= 0 and rec.touched[touched_body]:
             code = STOP_TOUCHED
-        elif t + dt - max(rec.last_onset[0], stop[STOP_ARG_RUN_START]) >= stop[STOP_ARG_QUIET]:
+        elif quiet_reached(
+            t, dt, max(rec.last_onset[0], stop[STOP_ARG_RUN_START]), stop[STOP_ARG_QUIET]
+        ):
             code = STOP_NO_ONSET
         check_due = (step + 1) % settings.check_every == 0 or last or code >= 0
         if not (traj_due or energy_due or check_due or settings.track_energy):
