@@ -1,12 +1,17 @@
 """Contact detection and contact laws.
 
-Each contact law is a small pure function of one pair (jax-md style); the driver
-:func:`compute_forces` maps it over the Verlet list.
+Each pair geometry and each contact law is a small pure function of one pair (jax-md
+style): :func:`sphere_sphere` and :func:`sphere_wall` (normal and overlap),
+:func:`contact_point`; :func:`linear_normal_force` (with :func:`onset_averaged_overlap` and
+:func:`end_impulse`), :func:`rotate_shear`, :func:`yade_shear_velocity` and
+:func:`cundall_strack`.  The drivers :func:`compute_forces`, :func:`contact_power` and
+:func:`active_contact_forces` (and the planar ones of planar.py) map them over the Verlet
+list.
 
 Laws (Cundall & Strack 1979, Geotechnique 29:47; YADE's Law2_ScGeom_FrictPhys_CundallStrack):
 
 * normal: ``F_n = k_n * delta`` (linear spring, delta = overlap) plus an optional viscous
-  dashpot ``-c_n * v_n``;
+  dashpot ``-c_n * v_n`` (:func:`linear_normal_force`);
 * tangential: elastic shear displacement ``u_s`` accumulated from the tangential relative
   velocity, ``F_s = -k_t u_s``, Coulomb limit ``|F_s| <= mu k_n delta``; on sliding ``u_s`` is
   shortened to the limit; the energy this dissipates (YADE's plasticDissipation ``(|F_trial|
@@ -48,12 +53,29 @@ __all__ = [
     "SHEAR_YADE",
     "active_contact_forces",
     "apply_at_lever",
+    "begin_contact",
     "build_verlet_list",
     "compute_forces",
+    "contact_point",
     "contact_power",
+    "cundall_strack",
+    "dashpot_velocity",
+    "end_contact",
+    "end_impulse",
+    "idle_pair",
+    "lever_arm",
+    "linear_normal_force",
+    "log_change",
     "needs_rebuild",
+    "onset_averaged_overlap",
     "pair_stiffness",
+    "point_velocity",
+    "rotate_shear",
+    "sphere_sphere",
+    "sphere_wall",
+    "store_normal_force",
     "viscous_coefficient",
+    "yade_shear_velocity",
 ]
 
 RULE_PAPER = 0
@@ -475,6 +497,85 @@ def _list_spheres(spheres, contacts, seen):
     spheres.n_listed[0] = k
 
 
+# --------------------------------------------------------------------------- pair geometry
+# Each shape pair has one pure per-pair function (jax-md style): positions and sizes in,
+# the contact normal and overlap out; the drivers below map them over the Verlet list.
+# Vectors pass as scalar triples: kept in registers, whereas through a scratch array
+# every component is a store and a reload (the compiler cannot rule out that the
+# scratch array aliases the state arrays it reads).  The planar drivers (planar.py) pass
+# the components that are zero in the plane as 0.0 and drop those of the results.
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def sphere_sphere(xi0, xi1, xi2, xj0, xj1, xj2, rsum, keep):
+    """Contact geometry of two spheres with centres ``x_i``, ``x_j`` [m] and radii
+    summing to ``rsum`` = ``R_i + R_j`` [m].
+
+    ``n = (x_j - x_i) / |x_j - x_i|`` is the unit normal from i to j, ``delta = R_i +
+    R_j - |x_j - x_i|`` [m] the overlap (> 0 in contact; Cundall & Strack 1979, YADE's
+    Ig2_Sphere_Sphere_ScGeom).  Returns ``(near, n0, n1, n2, delta)``.  Spheres that are
+    apart, ``|x_j - x_i|^2 >= rsum^2`` (tested without a root: most listed pairs are),
+    are resolved only if ``keep`` (a contact that is on needs the normal and the gap at
+    which it ends); otherwise ``near`` is False and the rest is zero.
+    """
+    dx = xj0 - xi0
+    dy = xj1 - xi1
+    dz = xj2 - xi2
+    d2 = dx * dx + dy * dy + dz * dz
+    if d2 >= rsum * rsum and not keep:
+        return False, 0.0, 0.0, 0.0, 0.0
+    dist = math.sqrt(d2)
+    inv_dist = 1.0 / dist  # (one division per normal)
+    return True, dx * inv_dist, dy * inv_dist, dz * inv_dist, rsum - dist
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def sphere_wall(xi0, xi1, xi2, radius, w0, w1, w2, nw0, nw1, nw2, keep):
+    """Contact geometry of a sphere (centre ``x_i`` [m], ``radius`` [m]) and a wall (the
+    plane through ``w`` [m] with unit normal ``nw`` pointing to the side of the spheres).
+
+    The sphere's centre lies ``dist = (x_i - w) . nw`` [m] from the plane; the normal
+    from the sphere to the wall is ``n = -nw`` and the overlap ``delta = radius - dist``
+    [m] (YADE's Ig2_Wall_Sphere_ScGeom).  Returns ``(near, n0, n1, n2, delta)``, as
+    :func:`sphere_sphere`: ``near`` is ``delta > 0 or keep``.
+    """
+    dist = (xi0 - w0) * nw0
+    dist += (xi1 - w1) * nw1
+    dist += (xi2 - w2) * nw2
+    delta = radius - dist
+    return delta > 0.0 or keep, -nw0, -nw1, -nw2, delta
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def contact_point(xi0, xi1, xi2, radius, n0, n1, n2, overlap):
+    """Contact point [m] midway through the overlap (YADE's ScGeom): ``p = x_i + (R_i -
+    delta / 2) n`` for sphere i (centre ``x_i``, ``radius`` R_i), normal ``n`` from i to
+    its partner and overlap ``delta`` [m]."""
+    reach = radius - 0.5 * overlap
+    return xi0 + reach * n0, xi1 + reach * n1, xi2 + reach * n2
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def lever_arm(pos, b, p0, p1, p2):
+    """Lever arm ``p - x_b`` [m] of the point ``p`` about the centre of mass of body b
+    (``pos`` (nb, 3) the body positions)."""
+    return p0 - pos[b, 0], p1 - pos[b, 1], p2 - pos[b, 2]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def point_velocity(vel, omega, b, rx, ry, rz):
+    """Velocity ``v + omega x r`` [m/s] of the material point at lever arm ``r`` of body b.
+
+    ``vel``/``omega`` (nb, 3) are the body velocities to use: the half-step ones for the
+    contact law, the full-step ones for the energy ledger.
+    """
+    return (
+        vel[b, 0] + omega[b, 1] * rz - omega[b, 2] * ry,
+        vel[b, 1] + omega[b, 2] * rx - omega[b, 0] * rz,
+        vel[b, 2] + omega[b, 0] * ry - omega[b, 1] * rx,
+    )
+
+
 # --------------------------------------------------------------------------- contact law
 
 
@@ -559,6 +660,23 @@ def onset_averaged_overlap(overlap, vn, dt, new_contact):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def linear_normal_force(kn, cn, overlap, vn, weight):
+    """Normal force [N] of the linear spring-dashpot on partner j along ``n`` (minus on
+    i), as its elastic part ``k_n delta`` and its dashpot part ``-c_n v_n w``.
+
+    ``kn`` [N/m] the contact stiffness (:func:`pair_stiffness`, the paper's eqs. 22-24),
+    ``cn`` [N s/m] the dashpot (:func:`viscous_coefficient`), ``overlap`` delta [m] the
+    overlap acting over the kick (at an onset its average over the kick interval,
+    :func:`onset_averaged_overlap`), ``vn`` [m/s] the normal relative velocity (j minus i,
+    < 0 approaching), ``weight`` w the fraction of the kick interval in contact (1 but at
+    an onset).  Cundall & Strack (1979), Geotechnique 29:47; YADE's
+    Law2_ScGeom_FrictPhys_CundallStrack with a viscous dashpot.  Returns ``(elastic,
+    dashpot)``.
+    """
+    return kn * overlap, -cn * vn * weight
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def end_impulse(last_overlap, gap, kn, cn, dt):
     """Normal force [N] for one kick that supplies the impulse missed when a contact ended.
 
@@ -603,31 +721,6 @@ def cundall_strack(u0, u1, u2, kt, mu, fn_elastic):
     return u0, u1, u2
 
 
-# The per-contact helpers pass vectors as scalar triples: kept in registers, whereas
-# through a scratch array every component is a store and a reload (the compiler cannot
-# rule out that the scratch array aliases the state arrays it reads).
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _lever(pos, b, p0, p1, p2):
-    """Lever arm ``p - x_b`` [m] of the point ``p`` about the centre of mass of body b."""
-    return p0 - pos[b, 0], p1 - pos[b, 1], p2 - pos[b, 2]
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _point_velocity(vel, omega, b, rx, ry, rz):
-    """Velocity ``v + omega x r`` of the material point at lever arm ``r`` of body b.
-
-    ``vel``/``omega`` are the body velocities to use: the half-step ones for the
-    contact law, the full-step ones for the energy ledger.
-    """
-    return (
-        vel[b, 0] + omega[b, 1] * rz - omega[b, 2] * ry,
-        vel[b, 1] + omega[b, 2] * rx - omega[b, 0] * rz,
-        vel[b, 2] + omega[b, 0] * ry - omega[b, 1] * rx,
-    )
-
-
 @njit(cache=True, error_model="numpy", inline="always")
 def apply_at_lever(bodies, b, rx, ry, rz, f0, f1, f2, sign):
     """Add ``sign f`` acting at lever arm ``r`` to the force and torque of body b."""
@@ -639,8 +732,13 @@ def apply_at_lever(bodies, b, rx, ry, rz, f0, f1, f2, sign):
     bodies.torque[b, 2] += sign * (rx * f1 - ry * f0)
 
 
+# --------------------------------------------------------------------------- drivers
+# The per-contact bookkeeping of the drivers (here and planar.py): the state of contact
+# c in ``contacts`` and the forces on the bodies.
+
+
 @njit(cache=True, error_model="numpy", inline="always")
-def _separate(bodies, contacts, c, bi, bj, wall, n0, n1, n2, gap, dt, p0, p1, p2):
+def end_contact(bodies, contacts, c, bi, bj, wall, n0, n1, n2, gap, dt, p0, p1, p2):
     """End contact c at the first step without overlap (``gap <= 0``, normal ``n``, contact
     point ``p``).
 
@@ -660,9 +758,9 @@ def _separate(bodies, contacts, c, bi, bj, wall, n0, n1, n2, gap, dt, p0, p1, p2
     if fn != 0.0:
         f0, f1, f2 = fn * n0, fn * n1, fn * n2
         if not wall:
-            rx, ry, rz = _lever(bodies.pos, bj, p0, p1, p2)
+            rx, ry, rz = lever_arm(bodies.pos, bj, p0, p1, p2)
             apply_at_lever(bodies, bj, rx, ry, rz, f0, f1, f2, 1.0)
-        rx, ry, rz = _lever(bodies.pos, bi, p0, p1, p2)
+        rx, ry, rz = lever_arm(bodies.pos, bi, p0, p1, p2)
         apply_at_lever(bodies, bi, rx, ry, rz, f0, f1, f2, -1.0)
     u = contacts.shear
     released = 0.5 * contacts.kt[c] * (u[c, 0] * u[c, 0] + u[c, 1] * u[c, 1] + u[c, 2] * u[c, 2])
@@ -673,7 +771,7 @@ def _separate(bodies, contacts, c, bi, bj, wall, n0, n1, n2, gap, dt, p0, p1, p2
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _idle(contacts, c):
+def idle_pair(contacts, c):
     """Pair c is not in contact this step: its dashpot force (the end impulse of the last
     step, if any) is zero now (stored only if needed: most listed pairs stay idle)."""
     if contacts.fn_viscous[c] != 0.0:
@@ -681,7 +779,7 @@ def _idle(contacts, c):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _log_change(changes, n_changes, c, kind):
+def log_change(changes, n_changes, c, kind):
     """Append ``(c, kind)`` (ONSET / END) to ``changes``; returns the new count."""
     changes[n_changes, 0] = c
     changes[n_changes, 1] = kind
@@ -689,7 +787,7 @@ def _log_change(changes, n_changes, c, kind):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _begin(contacts, c):
+def begin_contact(contacts, c):
     """Pair c starts a contact: active, no shear history."""
     contacts.active[c] = 1
     for d in range(3):
@@ -697,14 +795,18 @@ def _begin(contacts, c):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _normal_force(contacts, c, overlap, vn, weight, fn_elastic, new_contact):
-    """Normal force [N] of contact c: the elastic part plus the dashpot on the normal
-    velocity at t_n, extrapolated from the last two half steps (``vn`` [m/s] this one's;
-    ``weight`` of an onset, :func:`onset_averaged_overlap`); stores overlap, vn, fn and
-    its dashpot part."""
+def dashpot_velocity(contacts, c, vn, new_contact):
+    """The normal velocity [m/s] for the dashpot of contact c at t_n, extrapolated from the
+    last two half steps (``vn`` this one's, stored for the next step)."""
     vn_dashpot = vn if new_contact else 1.5 * vn - 0.5 * contacts.vn[c]
     contacts.vn[c] = vn
-    fn_viscous = -contacts.cn[c] * vn_dashpot * weight
+    return vn_dashpot
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def store_normal_force(contacts, c, overlap, fn_elastic, fn_viscous):
+    """Store the overlap [m] and the normal force [N] of contact c and its dashpot part;
+    returns the normal force."""
     fn = fn_elastic + fn_viscous
     contacts.overlap[c] = overlap
     contacts.fn[c] = fn
@@ -735,60 +837,50 @@ def compute_forces(
         j = contacts.j[c]
         bi = np.uint64(spheres.body[i])
         Ri = spheres.radius[i]
+        active = contacts.active[c]
         wall = j < 0
         if not wall:
             j = np.uint64(j)
             bj = np.uint64(spheres.body[j])
-            dx = pos[j, 0] - pos[i, 0]
-            dy = pos[j, 1] - pos[i, 1]
-            dz = pos[j, 2] - pos[i, 2]
             rsum = Ri + spheres.radius[j]
-            d2 = dx * dx + dy * dy + dz * dz
-            if d2 >= rsum * rsum and not contacts.active[c]:
-                _idle(contacts, c)
-                continue
-            dist = math.sqrt(d2)
-            inv_dist = 1.0 / dist  # (one division per normal)
-            n0, n1, n2 = dx * inv_dist, dy * inv_dist, dz * inv_dist
-            overlap = rsum - dist
+            near, n0, n1, n2, overlap = sphere_sphere(
+                pos[i, 0], pos[i, 1], pos[i, 2], pos[j, 0], pos[j, 1], pos[j, 2], rsum, active
+            )
         else:
             bj = bi  # (unused)
             w = np.uint64(-j - 1)
-            wn0, wn1, wn2 = walls.normal[w, 0], walls.normal[w, 1], walls.normal[w, 2]
-            dist = (pos[i, 0] - walls.point[w, 0]) * wn0
-            dist += (pos[i, 1] - walls.point[w, 1]) * wn1
-            dist += (pos[i, 2] - walls.point[w, 2]) * wn2
-            if dist >= Ri and not contacts.active[c]:
-                _idle(contacts, c)
-                continue
-            n0, n1, n2 = -wn0, -wn1, -wn2
-            overlap = Ri - dist
+            wp, wn = walls.point, walls.normal
+            near, n0, n1, n2, overlap = sphere_wall(
+                pos[i, 0], pos[i, 1], pos[i, 2], Ri, wp[w, 0], wp[w, 1], wp[w, 2],
+                wn[w, 0], wn[w, 1], wn[w, 2], active,
+            )  # fmt: skip
             rsum = 2.0 * Ri  # (SHEAR_YADE: a wall takes the sphere's radius)
-        # contact point midway through the overlap (as YADE's ScGeom)
-        reach = Ri - 0.5 * overlap
-        p0, p1, p2 = pos[i, 0] + reach * n0, pos[i, 1] + reach * n1, pos[i, 2] + reach * n2
+        if not near:
+            idle_pair(contacts, c)
+            continue
+        p0, p1, p2 = contact_point(pos[i, 0], pos[i, 1], pos[i, 2], Ri, n0, n1, n2, overlap)
         if overlap <= 0.0:
-            if not contacts.active[c]:  # (d2 < rsum^2, but |d| rounds to rsum: no contact)
-                _idle(contacts, c)
+            if not active:  # (d2 < rsum^2, but |d| rounds to rsum: no contact)
+                idle_pair(contacts, c)
                 continue
             # an active contact opened in the last drift
-            ledger[LEDGER_FRICTION] += _separate(
+            ledger[LEDGER_FRICTION] += end_contact(
                 bodies, contacts, c, bi, bj, wall, n0, n1, n2, overlap, dt, p0, p1, p2
             )
-            n_changes = _log_change(changes, n_changes, c, END)
+            n_changes = log_change(changes, n_changes, c, END)
             continue
-        new_contact = not contacts.active[c]
+        new_contact = not active
         if new_contact:
-            _begin(contacts, c)
-            n_changes = _log_change(changes, n_changes, c, ONSET)
+            begin_contact(contacts, c)
+            n_changes = log_change(changes, n_changes, c, ONSET)
         # relative velocity of the contact point, j minus i (a wall is fixed)
         om = bodies.omega
-        ri0, ri1, ri2 = _lever(bodies.pos, bi, p0, p1, p2)
-        vi0, vi1, vi2 = _point_velocity(bodies.vel, om, bi, ri0, ri1, ri2)
+        ri0, ri1, ri2 = lever_arm(bodies.pos, bi, p0, p1, p2)
+        vi0, vi1, vi2 = point_velocity(bodies.vel, om, bi, ri0, ri1, ri2)
         rj0 = rj1 = rj2 = 0.0
         if not wall:
-            rj0, rj1, rj2 = _lever(bodies.pos, bj, p0, p1, p2)
-            vj0, vj1, vj2 = _point_velocity(bodies.vel, om, bj, rj0, rj1, rj2)
+            rj0, rj1, rj2 = lever_arm(bodies.pos, bj, p0, p1, p2)
+            vj0, vj1, vj2 = point_velocity(bodies.vel, om, bj, rj0, rj1, rj2)
             spin = 0.5 * n0 * (om[bi, 0] + om[bj, 0])
             spin += 0.5 * n1 * (om[bi, 1] + om[bj, 1])
             spin += 0.5 * n2 * (om[bi, 2] + om[bj, 2])
@@ -802,15 +894,15 @@ def compute_forces(
         # the relative velocity that drives the shear (module docstring)
         s0, s1, s2, sn = dv0, dv1, dv2, vn
         if shear_kinematics == SHEAR_YADE:
-            ci0, ci1, ci2 = _lever(bodies.pos, bi, pos[i, 0], pos[i, 1], pos[i, 2])
-            ci0, ci1, ci2 = _point_velocity(bodies.vel, om, bi, ci0, ci1, ci2)
+            ci0, ci1, ci2 = lever_arm(bodies.pos, bi, pos[i, 0], pos[i, 1], pos[i, 2])
+            ci0, ci1, ci2 = point_velocity(bodies.vel, om, bi, ci0, ci1, ci2)
             a0, a1, a2 = Ri * om[bi, 0], Ri * om[bi, 1], Ri * om[bi, 2]
             cj0 = cj1 = cj2 = 0.0
             if not wall:
                 js = np.uint64(contacts.j[c])  # (j is typed as a float after the branches)
                 Rj = spheres.radius[js]
-                cj0, cj1, cj2 = _lever(bodies.pos, bj, pos[js, 0], pos[js, 1], pos[js, 2])
-                cj0, cj1, cj2 = _point_velocity(bodies.vel, om, bj, cj0, cj1, cj2)
+                cj0, cj1, cj2 = lever_arm(bodies.pos, bj, pos[js, 0], pos[js, 1], pos[js, 2])
+                cj0, cj1, cj2 = point_velocity(bodies.vel, om, bj, cj0, cj1, cj2)
                 a0 += Rj * om[bj, 0]
                 a1 += Rj * om[bj, 1]
                 a2 += Rj * om[bj, 2]
@@ -827,15 +919,19 @@ def compute_forces(
         u0 += (s0 - sn * n0) * increment
         u1 += (s1 - sn * n1) * increment
         u2 += (s2 - sn * n2) * increment
+        # normal: the linear spring-dashpot, averaged over the kick at an onset
         weight, overlap_kick = onset_averaged_overlap(overlap, vn, dt, new_contact)
-        fn_elastic = contacts.kn[c] * overlap_kick
+        vn_dashpot = dashpot_velocity(contacts, c, vn, new_contact)
         kt = contacts.kt[c]
+        fn_elastic, fn_viscous = linear_normal_force(
+            contacts.kn[c], contacts.cn[c], overlap_kick, vn_dashpot, weight
+        )
         u0, u1, u2 = cundall_strack(u0, u1, u2, kt, contacts.mu[c], fn_elastic)
         contacts.shear[c, 0], contacts.shear[c, 1], contacts.shear[c, 2] = u0, u1, u2
         # friction ledger, part 1: minus the change of the energy stored in the spring
         stored -= u0 * u0 + u1 * u1 + u2 * u2
         ledger[LEDGER_FRICTION] += 0.5 * kt * stored
-        fn = _normal_force(contacts, c, overlap, vn, weight, fn_elastic, new_contact)
+        fn = store_normal_force(contacts, c, overlap, fn_elastic, fn_viscous)
         # normal force plus the tangential spring force -kt u, on j (minus on i)
         f0, f1, f2 = fn * n0 + -kt * u0, fn * n1 + -kt * u1, fn * n2 + -kt * u2
         if not wall:
@@ -846,17 +942,19 @@ def compute_forces(
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def contact_power(bodies, spheres, walls, contacts, out):
-    """Power [W] at t_n of the dashpot forces (``out[0]``) and of the tangential forces
-    (``out[1]``) on the bodies: ``F . v_rel`` with the full-step relative velocity of the
-    contact point (``v_n``, the velocity in which the kinetic-energy change of velocity
-    Verlet is exact to O(dt^3) per step).  The caller integrates them with the trapezoidal
-    rule; the friction dissipation is minus the tangential work minus the change of the
-    energy stored in the springs (booked in :func:`compute_forces`), which closes the
-    balance to O(dt^2) with rotating bodies and turning contact frames as well.
+    """Power [W] at t_n of the dashpot forces (``out[POWER_VISCOUS]``) and of the
+    tangential forces (``out[POWER_FRICTION]``) on the bodies: ``F . v_rel`` with the
+    full-step relative velocity of the contact point (``v_n``, the velocity in which the
+    kinetic-energy change of velocity Verlet is exact to O(dt^3) per step).  The caller
+    integrates them with the trapezoidal rule; the friction dissipation is minus the
+    tangential work minus the change of the energy stored in the springs (booked in
+    :func:`compute_forces`), which closes the balance to O(dt^2) with rotating bodies and
+    turning contact frames as well.
 
     The dashpot force is ``contacts.fn_viscous`` (including the dashpot part of an end
     impulse, :func:`end_impulse`).  The elastic onset/end corrections are part of the
-    elastic force and are not booked, for elastic and viscous materials alike.
+    elastic force and are not booked, for elastic and viscous materials alike.  The
+    contact point is that of the last :func:`compute_forces` (its stored overlap).
     """
     pos = spheres.pos
     p_viscous = 0.0
@@ -869,24 +967,27 @@ def contact_power(bodies, spheres, walls, contacts, out):
         i = contacts.i[c]
         j = contacts.j[c]
         bi = spheres.body[i]
+        Ri = spheres.radius[i]
         if j >= 0:
-            dx = pos[j, 0] - pos[i, 0]
-            dy = pos[j, 1] - pos[i, 1]
-            dz = pos[j, 2] - pos[i, 2]
-            inv_dist = 1.0 / math.sqrt(dx * dx + dy * dy + dz * dz)  # (as compute_forces)
-            n0, n1, n2 = dx * inv_dist, dy * inv_dist, dz * inv_dist
+            _, n0, n1, n2, _ = sphere_sphere(
+                pos[i, 0], pos[i, 1], pos[i, 2], pos[j, 0], pos[j, 1], pos[j, 2], 0.0, True
+            )
         else:
-            w = -j - 1
-            n0, n1, n2 = -walls.normal[w, 0], -walls.normal[w, 1], -walls.normal[w, 2]
-        reach = spheres.radius[i] - 0.5 * contacts.overlap[c]
-        p0, p1, p2 = pos[i, 0] + reach * n0, pos[i, 1] + reach * n1, pos[i, 2] + reach * n2
+            wn = walls.normal
+            _, n0, n1, n2, _ = sphere_wall(
+                pos[i, 0], pos[i, 1], pos[i, 2], Ri, 0.0, 0.0, 0.0,
+                wn[-j - 1, 0], wn[-j - 1, 1], wn[-j - 1, 2], True,
+            )  # fmt: skip
+        p0, p1, p2 = contact_point(
+            pos[i, 0], pos[i, 1], pos[i, 2], Ri, n0, n1, n2, contacts.overlap[c]
+        )
         vel, omega = bodies.vel_full, bodies.omega_full
-        ri0, ri1, ri2 = _lever(bodies.pos, bi, p0, p1, p2)
-        vi0, vi1, vi2 = _point_velocity(vel, omega, bi, ri0, ri1, ri2)
+        ri0, ri1, ri2 = lever_arm(bodies.pos, bi, p0, p1, p2)
+        vi0, vi1, vi2 = point_velocity(vel, omega, bi, ri0, ri1, ri2)
         if j >= 0:
             bj = spheres.body[j]
-            rj0, rj1, rj2 = _lever(bodies.pos, bj, p0, p1, p2)
-            vj0, vj1, vj2 = _point_velocity(vel, omega, bj, rj0, rj1, rj2)
+            rj0, rj1, rj2 = lever_arm(bodies.pos, bj, p0, p1, p2)
+            vj0, vj1, vj2 = point_velocity(vel, omega, bj, rj0, rj1, rj2)
         else:
             vj0 = vj1 = vj2 = 0.0
         kt = contacts.kt[c]
@@ -910,6 +1011,7 @@ def active_contact_forces(spheres, walls, contacts, first, second, point, force)
     contact that opened in the last drift (:func:`end_impulse`) is not recorded.
     Row arrays: ``first, second`` (K,) int64, ``point, force`` (K, 3), K >= active count.
     """
+    pos = spheres.pos
     k = 0
     for c in range(contacts.n[0]):
         if not contacts.active[c]:
@@ -919,26 +1021,29 @@ def active_contact_forces(spheres, walls, contacts, first, second, point, force)
         u = contacts.shear[c]
         kt = contacts.kt[c]
         fn = contacts.fn[c]
+        Ri = spheres.radius[i]
         if j >= 0:
-            dist = 0.0
-            for d in range(3):  # (point[k] holds the centre-to-centre vector first)
-                point[k, d] = spheres.pos[j, d] - spheres.pos[i, d]
-                dist += point[k, d] * point[k, d]
-            inv_dist = 1.0 / math.sqrt(dist)  # (the normal exactly as in compute_forces)
-            reach = spheres.radius[i] - 0.5 * contacts.overlap[c]
-            for d in range(3):
-                nd = point[k, d] * inv_dist
-                force[k, d] = fn * nd - kt * u[d]
-                point[k, d] = spheres.pos[i, d] + reach * nd
+            _, n0, n1, n2, _ = sphere_sphere(
+                pos[i, 0], pos[i, 1], pos[i, 2], pos[j, 0], pos[j, 1], pos[j, 2], 0.0, True
+            )
+            sign = 1.0  # (on j)
             first[k] = i
             second[k] = j
         else:
-            reach = spheres.radius[i] - 0.5 * contacts.overlap[c]
-            for d in range(3):
-                nd = -walls.normal[-j - 1, d]
-                force[k, d] = -(fn * nd - kt * u[d])  # on the sphere
-                point[k, d] = spheres.pos[i, d] + reach * nd
+            wn = walls.normal
+            _, n0, n1, n2, _ = sphere_wall(
+                pos[i, 0], pos[i, 1], pos[i, 2], Ri, 0.0, 0.0, 0.0,
+                wn[-j - 1, 0], wn[-j - 1, 1], wn[-j - 1, 2], True,
+            )  # fmt: skip
+            sign = -1.0  # (on the sphere)
             first[k] = j
             second[k] = i
+        p0, p1, p2 = contact_point(
+            pos[i, 0], pos[i, 1], pos[i, 2], Ri, n0, n1, n2, contacts.overlap[c]
+        )
+        point[k, 0], point[k, 1], point[k, 2] = p0, p1, p2
+        force[k, 0] = sign * (fn * n0 - kt * u[0])
+        force[k, 1] = sign * (fn * n1 - kt * u[1])
+        force[k, 2] = sign * (fn * n2 - kt * u[2])
         k += 1
     return k

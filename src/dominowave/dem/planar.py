@@ -15,11 +15,12 @@ exactly
 drift_body_planar / advance_body_planar, and maps :func:`compute_forces_planar` over the
 Verlet list instead of contact.compute_forces.
 
-:func:`compute_forces_planar` is the general contact law (the same per-pair functions,
-rotate_shear without spin and cundall_strack, in the same order) with the y components
-dropped: the components that are exactly zero, and the round-off that the general kernel
-carries in them (sphere centres ~1e-17 m off the plane, from the y row of R(q); the
-normal's ~1e-15 y component; a spin about the normal of ~1e-19 rad per step).  That
+:func:`compute_forces_planar` is the general contact law (the same per-pair geometry
+and laws of contact.py, rotate_shear without spin, in the same order) with the y
+components passed as zero and dropped from the results: the components that are exactly
+zero, and the round-off that the general kernel carries in them (sphere centres ~1e-17 m
+off the plane, from the y row of R(q); the normal's ~1e-15 y component; a spin about the
+normal of ~1e-19 rad per step).  That
 round-off is far below the last bit of every in-plane quantity: in every scene compared
 (whole 2D chains with frictionless and frictional dominoes, damping, floor friction 0.3
 and 0.6, with and without the energy ledger; the scenes of tests/dem/test_dem_planar.py;
@@ -34,8 +35,6 @@ and operations, and no spin turn of its shear.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numba import njit
 
@@ -43,17 +42,22 @@ from dominowave.dem.contact import (
     END,
     ONSET,
     SHEAR_YADE,
-    _begin,
-    _idle,
-    _log_change,
-    _normal_force,
-    _separate,
+    begin_contact,
+    contact_point,
     cundall_strack,
+    dashpot_velocity,
+    end_contact,
+    idle_pair,
+    linear_normal_force,
+    log_change,
     onset_averaged_overlap,
     rotate_shear,
+    sphere_sphere,
+    sphere_wall,
+    store_normal_force,
     yade_shear_velocity,
 )
-from dominowave.dem.energy import POWER_FRICTION, POWER_VISCOUS
+from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
 from dominowave.dem.integrate import ROT_AXIS, ROT_ISOTROPIC, ROT_NONE
 
 __all__ = ["compute_forces_planar", "contact_power_planar", "planar_violation"]
@@ -118,7 +122,8 @@ def compute_forces_planar(
     bodies, spheres, walls, contacts, dt, ledger, changes, first_step, shear_kinematics
 ):
     """contact.compute_forces for a planar scene (same arguments, same return value,
-    same contact law, both shear kinematics; module docstring)."""
+    same pair geometry and contact law, both shear kinematics; module docstring): the
+    per-pair functions of contact.py with the y components passed as zero."""
     bodies.force[:, :] = 0.0
     bodies.torque[:, :] = 0.0
     pos = spheres.pos
@@ -131,49 +136,43 @@ def compute_forces_planar(
         j = contacts.j[c]
         bi = np.uint64(spheres.body[i])
         Ri = spheres.radius[i]
+        active = contacts.active[c]
         wall = j < 0
         if not wall:
             j = np.uint64(j)
             bj = np.uint64(spheres.body[j])
-            dx = pos[j, 0] - pos[i, 0]
-            dz = pos[j, 2] - pos[i, 2]
             rsum = Ri + spheres.radius[j]
-            d2 = dx * dx + dz * dz
-            if d2 >= rsum * rsum and not contacts.active[c]:
-                _idle(contacts, c)
-                continue
-            dist = math.sqrt(d2)
-            inv_dist = 1.0 / dist  # (one division per normal)
-            n0, n2 = dx * inv_dist, dz * inv_dist
-            overlap = rsum - dist
+            near, n0, _, n2, overlap = sphere_sphere(
+                pos[i, 0], 0.0, pos[i, 2], pos[j, 0], 0.0, pos[j, 2], rsum, active
+            )
         else:
             bj = bi  # (unused)
             w = np.uint64(-j - 1)
-            wn0, wn2 = walls.normal[w, 0], walls.normal[w, 2]
-            dist = (pos[i, 0] - walls.point[w, 0]) * wn0 + (pos[i, 2] - walls.point[w, 2]) * wn2
-            if dist >= Ri and not contacts.active[c]:
-                _idle(contacts, c)
-                continue
-            n0, n2 = -wn0, -wn2
-            overlap = Ri - dist
+            wp, wn = walls.point, walls.normal
+            near, n0, _, n2, overlap = sphere_wall(
+                pos[i, 0], 0.0, pos[i, 2], Ri, wp[w, 0], 0.0, wp[w, 2],
+                wn[w, 0], 0.0, wn[w, 2], active,
+            )  # fmt: skip
             rsum = 2.0 * Ri  # (SHEAR_YADE: a wall takes the sphere's radius)
-        # contact point midway through the overlap (as YADE's ScGeom)
-        reach = Ri - 0.5 * overlap
-        p0, p2 = pos[i, 0] + reach * n0, pos[i, 2] + reach * n2
+        if not near:
+            idle_pair(contacts, c)
+            continue
+        p0, _, p2 = contact_point(pos[i, 0], 0.0, pos[i, 2], Ri, n0, 0.0, n2, overlap)
         if overlap <= 0.0:
-            if not contacts.active[c]:  # (d2 < rsum^2, but |d| rounds to rsum: no contact)
-                _idle(contacts, c)
+            if not active:  # (d2 < rsum^2, but |d| rounds to rsum: no contact)
+                idle_pair(contacts, c)
                 continue
-            # an active contact opened in the last drift
-            ledger[0] += _separate(
+            # an active contact opened in the last drift (its force lies in the plane;
+            # the lever's y component only enters the torque's x and z, which nothing reads)
+            ledger[LEDGER_FRICTION] += end_contact(
                 bodies, contacts, c, bi, bj, wall, n0, 0.0, n2, overlap, dt, p0, pos[i, 1], p2
             )
-            n_changes = _log_change(changes, n_changes, c, END)
+            n_changes = log_change(changes, n_changes, c, END)
             continue
-        new_contact = not contacts.active[c]
+        new_contact = not active
         if new_contact:
-            _begin(contacts, c)
-            n_changes = _log_change(changes, n_changes, c, ONSET)
+            begin_contact(contacts, c)
+            n_changes = log_change(changes, n_changes, c, ONSET)
         # relative velocity of the contact point, j minus i (a wall is fixed);
         # v + omega x r with omega = (0, w, 0): (v_x + w r_z, v_z - w r_x)
         ri0, ri2 = p0 - body_pos[bi, 0], p2 - body_pos[bi, 2]
@@ -212,15 +211,19 @@ def compute_forces_planar(
         increment = 0.0 if first_step else dt
         u0 += (s0 - sn * n0) * increment
         u2 += (s2 - sn * n2) * increment
+        # normal: the linear spring-dashpot, averaged over the kick at an onset
         weight, overlap_kick = onset_averaged_overlap(overlap, vn, dt, new_contact)
-        fn_elastic = contacts.kn[c] * overlap_kick
+        vn_dashpot = dashpot_velocity(contacts, c, vn, new_contact)
         kt = contacts.kt[c]
+        fn_elastic, fn_viscous = linear_normal_force(
+            contacts.kn[c], contacts.cn[c], overlap_kick, vn_dashpot, weight
+        )
         u0, _, u2 = cundall_strack(u0, 0.0, u2, kt, contacts.mu[c], fn_elastic)
         u[c, 0], u[c, 1], u[c, 2] = u0, 0.0, u2
         # friction ledger, part 1: minus the change of the energy stored in the spring
         stored -= u0 * u0 + u2 * u2
-        ledger[0] += 0.5 * kt * stored
-        fn = _normal_force(contacts, c, overlap, vn, weight, fn_elastic, new_contact)
+        ledger[LEDGER_FRICTION] += 0.5 * kt * stored
+        fn = store_normal_force(contacts, c, overlap, fn_elastic, fn_viscous)
         # normal force plus the tangential spring force -kt u, on j (minus on i)
         f0, f2 = fn * n0 + -kt * u0, fn * n2 + -kt * u2
         if not wall:
@@ -246,16 +249,18 @@ def contact_power_planar(bodies, spheres, walls, contacts, out):
         i = contacts.i[c]
         j = contacts.j[c]
         bi = spheres.body[i]
+        Ri = spheres.radius[i]
         if j >= 0:
-            dx = pos[j, 0] - pos[i, 0]
-            dz = pos[j, 2] - pos[i, 2]
-            inv_dist = 1.0 / math.sqrt(dx * dx + dz * dz)  # (as compute_forces_planar)
-            n0, n2 = dx * inv_dist, dz * inv_dist
+            _, n0, _, n2, _ = sphere_sphere(
+                pos[i, 0], 0.0, pos[i, 2], pos[j, 0], 0.0, pos[j, 2], 0.0, True
+            )
         else:
-            w = -j - 1
-            n0, n2 = -walls.normal[w, 0], -walls.normal[w, 2]
-        reach = spheres.radius[i] - 0.5 * contacts.overlap[c]
-        p0, p2 = pos[i, 0] + reach * n0, pos[i, 2] + reach * n2
+            wn = walls.normal
+            _, n0, _, n2, _ = sphere_wall(
+                pos[i, 0], 0.0, pos[i, 2], Ri, 0.0, 0.0, 0.0,
+                wn[-j - 1, 0], 0.0, wn[-j - 1, 2], True,
+            )  # fmt: skip
+        p0, _, p2 = contact_point(pos[i, 0], 0.0, pos[i, 2], Ri, n0, 0.0, n2, contacts.overlap[c])
         ri0, ri2 = p0 - body_pos[bi, 0], p2 - body_pos[bi, 2]
         dv0 = -(vel[bi, 0] + omega[bi, 1] * ri2)
         dv2 = -(vel[bi, 2] - omega[bi, 1] * ri0)
