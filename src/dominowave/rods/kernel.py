@@ -238,6 +238,184 @@ def new_state(p: ChainParams, theta, omega, n_awake, max_events, max_samples, ma
     return st
 
 
+# --------------------------------------------------------------------------- per-step pieces
+# The time loop (:func:`advance`) keeps its loops over dominoes and contact slots in one
+# function; what a loop does for one domino or one contact is a function of scalars
+# (compiled into the loop), and what happens rarely (a contact starting, an energy
+# sample, a frame) a function of the few arrays it writes.
+
+
+@njit(cache=True)
+def _floor_impact(theta, omega, theta_hi, theta_lo, e_floor, inertia, m, g, cm_u, cm_w):
+    """A domino whose drift took it past a floor stop: put it on the stop and reverse its
+    angular velocity times ``e_floor``.  Returns (theta [rad], omega [rad/s], the kinetic
+    + gravitational energy lost [J])."""
+    stop = theta_hi if theta > theta_hi else theta_lo
+    e_before = 0.5 * inertia * omega * omega + m * g * _gravity_height(
+        math.cos(theta), math.sin(theta), cm_u, cm_w
+    )
+    omega = -e_floor * omega
+    e_after = 0.5 * inertia * omega * omega + m * g * _gravity_height(
+        math.cos(stop), math.sin(stop), cm_u, cm_w
+    )
+    return stop, omega, e_before - e_after
+
+
+@njit(cache=True)
+def _open_event(events, ev, lo, up, kind, t_on):
+    """Row ``ev`` of the event table: a contact of dominoes ``lo < up`` in slot ``kind``
+    that started at ``t_on`` [s]."""
+    events[ev, EV_LOWER] = lo
+    events[ev, EV_UPPER] = up
+    events[ev, EV_KIND] = kind
+    events[ev, EV_T_ON] = t_on
+    events[ev, EV_F_MAX] = 0.0
+    events[ev, EV_HV_UP] = 0.0
+    events[ev, EV_STEPS] = 0.0
+    events[ev, EV_DELTA_MAX] = 0.0
+
+
+@njit(cache=True)
+def _head_on_anchor(delta, w, u, ga, dpx, dpy, cb, sb):
+    """Axis and anchor of a head-on contact at its onset: the axis xi along the path of
+    the striking corner (``dp`` its derivative by the striker's angle, ``ga`` that of the
+    overlap), oriented into the face; the anchor at the material point (body
+    coordinates of the struck domino, angle cosine ``cb``, sine ``sb``) where the corner
+    entered along xi, from the corner's face coordinates ``(u, w)`` and overlap ``delta``
+    [m] (a grazing corner, ``|xi . n| < 1/4``, is anchored where it is: a far anchor
+    would inject energy).  Returns (xi_x, xi_y, u_hit [m], w_hit [m])."""
+    norm = math.sqrt(dpx * dpx + dpy * dpy)
+    sgn = 1.0 if ga >= 0.0 else -1.0
+    xi_x = sgn * dpx / norm
+    xi_y = sgn * dpy / norm
+    along = delta * norm / abs(ga) if 4.0 * abs(ga) >= norm else 0.0
+    return xi_x, xi_y, u - along * (xi_x * cb - xi_y * sb), w - along * (xi_x * sb + xi_y * cb)
+
+
+@njit(cache=True)
+def _head_on_overlap(xb, cb, sb, uh, wh, nx, ny, px, py, dpx, dpy):
+    """Overlap [m] of a head-on contact along its fixed axis ``xi = (nx, ny)``: the striking
+    corner ``p`` (``dp`` its derivative by the striker's angle) against the anchor
+    ``(uh, wh)`` (body coordinates) of the struck domino (hinge at ``xb``, angle cosine
+    ``cb``, sine ``sb``).  Returns (delta, g_a, g_b) [m]: the overlap and its derivatives
+    by the two angles (the lever arms of the force along xi)."""
+    cx = xb + uh * cb + wh * sb
+    cy = -uh * sb + wh * cb
+    dcx = -uh * sb + wh * cb
+    dcy = -uh * cb - wh * sb
+    delta = nx * (px - cx) + ny * (py - cy)
+    return delta, nx * dpx + ny * dpy, -(nx * dcx + ny * dcy)
+
+
+@njit(cache=True)
+def _normal_law(law, delta, delta_dot, k, zeta, reduced):
+    """Normal force of a contact (the pure per-pair laws of :mod:`dominowave.rods.contact`):
+    overlap ``delta`` [m] and its rate [m/s], stiffness ``k``, damping ratio ``zeta``,
+    reduced mass ``reduced`` [kg].  Returns (force [N], its elastic part [N], the
+    elastic energy [J])."""
+    if law == LAW_LINEAR:
+        c_d = damping_coefficient(zeta, k, reduced) if zeta > 0.0 else 0.0
+        return linear_force(delta, delta_dot, k, c_d), k * delta, linear_energy(delta, k)
+    sq = math.sqrt(delta)
+    c_d = damping_coefficient(zeta, 1.5 * k * sq, reduced) if zeta > 0.0 else 0.0
+    return hertz_force(delta, delta_dot, k, c_d), k * delta * sq, hertz_energy(delta, k)
+
+
+@njit(cache=True)
+def _elastic_energy(law, delta, k):
+    """Elastic energy [J] of a contact of overlap ``delta`` [m]."""
+    return linear_energy(delta, k) if law == LAW_LINEAR else hertz_energy(delta, k)
+
+
+@njit(cache=True)
+def _base_reaction(c, sn, torque, omega, inertia, m, g, cm_u, cm_w, fx, fy):
+    """Base reaction (H, V) [N] of a domino at the angle of cosine ``c`` and sine ``sn``
+    (generalised force ``torque`` [N m], angular velocity ``omega`` [rad/s], contact
+    forces ``(fx, fy)`` [N] on it): ``R = m a_cm + (0, m g) - F_contact``."""
+    alpha = torque / inertia
+    w2 = omega * omega
+    # r_c = cm_u e_u + cm_w e_w ; t_c = dr_c/dtheta = -cm_u e_w + cm_w e_u
+    rcx = cm_u * c + cm_w * sn
+    rcy = -cm_u * sn + cm_w * c
+    tcx = -cm_u * sn + cm_w * c
+    tcy = -cm_u * c - cm_w * sn
+    h = m * (alpha * tcx - w2 * rcx) - fx
+    v = m * (alpha * tcy - w2 * rcy) + m * g - fy
+    return h, v
+
+
+@njit(cache=True)
+def _remove_gravity_in_contact(
+    act_list, n_act, removed, torque, cos_t, sin_t, l, s, m, g, cm_u, cm_w
+):
+    """The theory's assumption switch (section 2.2): no gravity on a domino while it is in
+    contact (non-physical: the energy ledger no longer closes).  ``act_list[:n_act]`` the
+    active slots; ``removed`` (N,) bool scratch, all False on entry and on return."""
+    for q in range(n_act):
+        slot = act_list[q]
+        i = slot // 3
+        a, b, _, _, _, _ = _slot_geometry(slot - 3 * i, i, l, s)
+        for j in (a, b):
+            if not removed[j]:
+                removed[j] = True
+                torque[j] -= m * g * (cm_u * cos_t[j] + cm_w * sin_t[j])
+    for q in range(n_act):
+        slot = act_list[q]
+        i = slot // 3
+        a, b, _, _, _, _ = _slot_geometry(slot - 3 * i, i, l, s)
+        removed[a] = False
+        removed[b] = False
+
+
+@njit(cache=True)
+def _interpolate_pending(events, pend_ev, pend_end, pend_frac, n_pend, omega_old, omega):
+    """The angular velocities of both dominoes at the onsets and ends of this step
+    (``pend_*[:n_pend]``: event row, end or onset, fraction of the step), interpolated
+    linearly between the full-step values ``omega_old`` and ``omega``."""
+    for q in range(n_pend):
+        ev = pend_ev[q]
+        lo = int(events[ev, EV_LOWER])
+        up = int(events[ev, EV_UPPER])
+        fr = pend_frac[q]
+        w_lo = omega_old[lo] + fr * (omega[lo] - omega_old[lo])
+        w_up = omega_old[up] + fr * (omega[up] - omega_old[up])
+        if pend_end[q]:
+            events[ev, EV_W_LO_OFF] = w_lo
+            events[ev, EV_W_UP_OFF] = w_up
+        else:
+            events[ev, EV_W_LO_ON] = w_lo
+            events[ev, EV_W_UP_ON] = w_up
+
+
+@njit(cache=True)
+def _energy_sample(row, t, theta, omega, inertia, m, g, cm_u, cm_w, e_elastic, e_diss, e_floor):
+    """One row of the energy samples (columns SA_*) at time ``t`` [s] [J]."""
+    e_kin = 0.0
+    e_grav = 0.0
+    for i in range(theta.shape[0]):
+        e_kin += 0.5 * inertia * omega[i] * omega[i]
+        height = _gravity_height(math.cos(theta[i]), math.sin(theta[i]), cm_u, cm_w)
+        e_grav += m * g * height
+    row[SA_T] = t
+    row[SA_KIN] = e_kin
+    row[SA_GRAV] = e_grav
+    row[SA_ELASTIC] = e_elastic
+    row[SA_DISSIPATED] = e_diss
+    row[SA_FLOOR] = e_floor
+
+
+@njit(cache=True)
+def _finite(theta, omega, n_awake):
+    """True if the angles and angular velocities of the dominoes in motion are finite."""
+    for i in range(n_awake):
+        if not math.isfinite(omega[i]) or not math.isfinite(theta[i]):
+            return False
+    return True
+
+
+# --------------------------------------------------------------------------- time loop
+
+
 @njit(cache=True)
 def advance(p, st, n_steps):
     """Integrate up to ``n_steps`` time steps (fewer if the run ends); True when ended.
@@ -263,14 +441,8 @@ def advance(p, st, n_steps):
     active, gap_prev, slot_event = st.active, st.gap_prev, st.slot_event
     xi_x, xi_y, u_hit, w_hit = st.xi_x, st.xi_y, st.u_hit, st.w_hit
     head_on, touched, handover = st.head_on, st.touched, st.handover
-    first_strike_done = st.first_strike_done
-    events, samples = st.events, st.samples
-    frame_t, frame_theta, frame_omega = st.frame_t, st.frame_theta, st.frame_omega
-    arrival, hv_max, lift_steps = st.arrival, st.hv_max, st.lift_steps
+    events, arrival, hv_max = st.events, st.arrival, st.hv_max
     theta_min_after = st.theta_min_after
-    max_events = events.shape[0]
-    max_samples = samples.shape[0]
-    max_frames = frame_t.shape[0]
     step = st.step[0]
     status = st.status[0]
     n_awake = st.n_awake[0]
@@ -292,7 +464,7 @@ def advance(p, st, n_steps):
     fy = np.zeros(n)
     omega_old = omega.copy()
     act_list = np.empty(n_slots, dtype=np.int64)
-    pend_ev = np.empty(n_slots, dtype=np.int64)
+    pend_ev = np.empty(n_slots, dtype=np.int64)  # onsets and ends of this step
     pend_end = np.empty(n_slots, dtype=np.bool_)
     pend_frac = np.empty(n_slots)
     gravity_removed = np.zeros(n, dtype=np.bool_)
@@ -310,16 +482,10 @@ def advance(p, st, n_steps):
                 omega[i] += 0.5 * dt * torque[i] / inertia
                 theta[i] += dt * omega[i]
                 if theta[i] > theta_hi or theta[i] < theta_lo:
-                    stop = theta_hi if theta[i] > theta_hi else theta_lo
-                    e_before = 0.5 * inertia * omega[i] * omega[i] + m * g * _gravity_height(
-                        math.cos(theta[i]), math.sin(theta[i]), cm_u, cm_w
+                    theta[i], omega[i], lost = _floor_impact(
+                        theta[i], omega[i], theta_hi, theta_lo, e_floor, inertia, m, g, cm_u, cm_w
                     )
-                    theta[i] = stop
-                    omega[i] = -e_floor * omega[i]
-                    e_after = 0.5 * inertia * omega[i] * omega[i] + m * g * _gravity_height(
-                        math.cos(stop), math.sin(stop), cm_u, cm_w
-                    )
-                    e_floor_loss += e_before - e_after
+                    e_floor_loss += lost
         # ---------------- forces at the current positions ---------------------------------
         n_eval = min(n, n_awake + 2)
         for i in range(n_eval):
@@ -349,29 +515,20 @@ def advance(p, st, n_steps):
                 inside = w >= 0.0 and w <= l
                 starting = (not active[slot]) and delta > 0.0 and gap_prev[slot] <= 0.0 and inside
                 if starting:
+                    # ---- onset inside the step, located by the overlap's linear interpolation
                     frac = -gap_prev[slot] / (delta - gap_prev[slot])
-                    lo = min(a, b)
+                    t_on = max(t - dt + frac * dt, 0.0)
                     up = max(a, b)
-                    if n_events < max_events:
-                        ev = n_events
-                        events[ev, EV_LOWER] = lo
-                        events[ev, EV_UPPER] = up
-                        events[ev, EV_KIND] = kind
-                        events[ev, EV_T_ON] = max(t - dt + frac * dt, 0.0)
-                        events[ev, EV_F_MAX] = 0.0
-                        events[ev, EV_HV_UP] = 0.0
-                        events[ev, EV_STEPS] = 0.0
-                        events[ev, EV_DELTA_MAX] = 0.0
-                        slot_event[slot] = ev
-                        pend_ev[n_pend] = ev
-                        pend_end[n_pend] = False
-                        pend_frac[n_pend] = frac
+                    if n_events < events.shape[0]:
+                        _open_event(events, n_events, min(a, b), up, kind, t_on)
+                        slot_event[slot] = n_events
+                        pend_ev[n_pend], pend_end[n_pend], pend_frac[n_pend] = n_events, False, frac
                         n_pend += 1
                     else:
                         slot_event[slot] = -1
                     n_events += 1
                     if np.isnan(arrival[up]):
-                        arrival[up] = max(t - dt + frac * dt, 0.0)
+                        arrival[up] = t_on
                         t_last_arrival = t
                     if up >= n_awake:
                         n_awake = up + 1
@@ -387,38 +544,22 @@ def advance(p, st, n_steps):
                         # the geometric contact takes over; its initial elastic energy is
                         # book-kept (as negative dissipation) to keep the energy ledger closed
                         handover[slot] = False
-                        e_diss -= (
-                            linear_energy(delta, k) if law == LAW_LINEAR else hertz_energy(delta, k)
-                        )
+                        e_diss -= _elastic_energy(law, delta, k)
                     if head_on[slot]:
-                        # fix the axis xi along the path of the striking corner, oriented
-                        # into the face; anchor the spring at the material point of b where
-                        # the corner entered along xi (a grazing corner, |xi . n| < 1/4, is
-                        # anchored where it is: a far anchor would inject energy)
-                        norm = math.sqrt(dpx * dpx + dpy * dpy)
-                        sgn = 1.0 if ga >= 0.0 else -1.0
-                        xi_x[slot] = sgn * dpx / norm
-                        xi_y[slot] = sgn * dpy / norm
-                        along = delta * norm / abs(ga) if 4.0 * abs(ga) >= norm else 0.0
-                        u_hit[slot] = u - along * (xi_x[slot] * cos_t[b] - xi_y[slot] * sin_t[b])
-                        w_hit[slot] = w - along * (xi_x[slot] * sin_t[b] + xi_y[slot] * cos_t[b])
+                        xi_x[slot], xi_y[slot], u_hit[slot], w_hit[slot] = _head_on_anchor(
+                            delta, w, u, ga, dpx, dpy, cos_t[b], sin_t[b]
+                        )
                 if not active[slot]:
                     gap_prev[slot] = delta
                     continue
                 # ---- the contact is (or was) on: its overlap, lever arms, force direction
                 delta_geo = delta
                 if head_on[slot]:
-                    uh = u_hit[slot]
-                    wh = w_hit[slot]
-                    cx = xb + uh * cos_t[b] + wh * sin_t[b]
-                    cy = -uh * sin_t[b] + wh * cos_t[b]
-                    dcx = -uh * sin_t[b] + wh * cos_t[b]
-                    dcy = -uh * cos_t[b] - wh * sin_t[b]
                     nx = xi_x[slot]
                     ny = xi_y[slot]
-                    delta = nx * (px - cx) + ny * (py - cy)
-                    ga = nx * dpx + ny * dpy
-                    gb = -(nx * dcx + ny * dcy)
+                    delta, ga, gb = _head_on_overlap(
+                        xb, cos_t[b], sin_t[b], u_hit[slot], w_hit[slot], nx, ny, px, py, dpx, dpy
+                    )
                     touching = delta > 0.0 or starting  # anchored at zero stretch
                 else:
                     nx = -sigma * cos_t[b]  # inward normal of the face: force on b
@@ -430,20 +571,17 @@ def advance(p, st, n_steps):
                     if delta > 0.0:
                         # the corner slid off the end of the face while pressed into it:
                         # the spring's energy is lost with it (book-kept as dissipated)
-                        e_diss += (
-                            linear_energy(delta, k) if law == LAW_LINEAR else hertz_energy(delta, k)
-                        )
+                        e_diss += _elastic_energy(law, delta, k)
                     if ev >= 0:
+                        # ---- end inside the step, located as the onset
                         prev = gap_prev[slot]
                         frac = prev / (prev - delta) if delta <= 0.0 and prev > delta else 1.0
                         events[ev, EV_T_OFF] = t - dt + frac * dt
-                        pend_ev[n_pend] = ev
-                        pend_end[n_pend] = True
-                        pend_frac[n_pend] = frac
+                        pend_ev[n_pend], pend_end[n_pend], pend_frac[n_pend] = ev, True, frac
                         n_pend += 1
                         up = int(events[ev, EV_UPPER])
-                        if not first_strike_done[up]:
-                            first_strike_done[up] = True
+                        if not st.first_strike_done[up]:
+                            st.first_strike_done[up] = True
                             if up == n - 1:
                                 t_stop = min(t_max, t + tail_time)
                     slot_event[slot] = -1
@@ -459,17 +597,8 @@ def advance(p, st, n_steps):
                 # ---- normal force law (pure per-pair function)
                 delta_dot = ga * omega[a] + gb * omega[b]
                 reduced = 1.0 / (ga * ga / inertia + gb * gb / inertia)
-                if law == LAW_LINEAR:
-                    c_d = damping_coefficient(zeta, k, reduced) if zeta > 0.0 else 0.0
-                    f = linear_force(delta, delta_dot, k, c_d)
-                    f_el = k * delta
-                    e_elastic += linear_energy(delta, k)
-                else:
-                    sq = math.sqrt(delta)
-                    c_d = damping_coefficient(zeta, 1.5 * k * sq, reduced) if zeta > 0.0 else 0.0
-                    f = hertz_force(delta, delta_dot, k, c_d)
-                    f_el = k * delta * sq
-                    e_elastic += hertz_energy(delta, k)
+                f, f_el, energy = _normal_law(law, delta, delta_dot, k, zeta, reduced)
+                e_elastic += energy
                 d_power += (f - f_el) * delta_dot
                 torque[a] -= f * ga
                 torque[b] -= f * gb
@@ -497,22 +626,9 @@ def advance(p, st, n_steps):
                     if delta > events[ev, EV_DELTA_MAX]:
                         events[ev, EV_DELTA_MAX] = delta
         if not gravity_in_contact:
-            # assumption switch of the theory (section 2.2): no gravity on a domino while
-            # it is in contact (non-physical: the energy ledger no longer closes)
-            for q in range(n_act):
-                slot = act_list[q]
-                i = slot // 3
-                a, b, _, _, _, _ = _slot_geometry(slot - 3 * i, i, l, s)
-                for j in (a, b):
-                    if not gravity_removed[j]:
-                        gravity_removed[j] = True
-                        torque[j] -= m * g * (cm_u * cos_t[j] + cm_w * sin_t[j])
-            for q in range(n_act):
-                slot = act_list[q]
-                i = slot // 3
-                a, b, _, _, _, _ = _slot_geometry(slot - 3 * i, i, l, s)
-                gravity_removed[a] = False
-                gravity_removed[b] = False
+            _remove_gravity_in_contact(
+                act_list, n_act, gravity_removed, torque, cos_t, sin_t, l, s, m, g, cm_u, cm_w
+            )
         if first:
             first = False
             status = STATUS_RUNNING
@@ -529,39 +645,18 @@ def advance(p, st, n_steps):
                 e_floor_loss += 0.5 * inertia * omega[i] * omega[i]
                 omega[i] = 0.0
         # ---------------- measurements at the end of the step -----------------------------
-        for q in range(n_pend):
-            ev = pend_ev[q]
-            lo = int(events[ev, EV_LOWER])
-            up = int(events[ev, EV_UPPER])
-            fr = pend_frac[q]
-            w_lo = omega_old[lo] + fr * (omega[lo] - omega_old[lo])
-            w_up = omega_old[up] + fr * (omega[up] - omega_old[up])
-            if pend_end[q]:
-                events[ev, EV_W_LO_OFF] = w_lo
-                events[ev, EV_W_UP_OFF] = w_up
-            else:
-                events[ev, EV_W_LO_ON] = w_lo
-                events[ev, EV_W_UP_ON] = w_up
+        _interpolate_pending(events, pend_ev, pend_end, pend_frac, n_pend, omega_old, omega)
         for i in range(min(n_awake, n)):
-            # base reaction R = m a_cm + (0, m g) - sum of contact forces
-            c = cos_t[i]
-            sn = sin_t[i]
-            alpha = torque[i] / inertia
-            w2 = omega[i] * omega[i]
-            # r_c = cm_u e_u + cm_w e_w ; t_c = dr_c/dtheta = -cm_u e_w + cm_w e_u
-            rcx = cm_u * c + cm_w * sn
-            rcy = -cm_u * sn + cm_w * c
-            tcx = -cm_u * sn + cm_w * c
-            tcy = -cm_u * c - cm_w * sn
-            h = m * (alpha * tcx - w2 * rcx) - fx[i]
-            v = m * (alpha * tcy - w2 * rcy) + m * g - fy[i]
+            h, v = _base_reaction(
+                cos_t[i], sin_t[i], torque[i], omega[i], inertia, m, g, cm_u, cm_w, fx[i], fy[i]
+            )
             hv_now[i] = 0.0
             if theta[i] != theta_hi and theta[i] != theta_lo:
                 if v > 0.0:
                     hv_now[i] = abs(h) / v
                     hv_max[i] = max(hv_max[i], hv_now[i])
                 else:
-                    lift_steps[i] += 1
+                    st.lift_steps[i] += 1
             if not np.isnan(theta_min_after[i]) and theta[i] < theta_min_after[i]:
                 theta_min_after[i] = theta[i]
         for q in range(n_act):
@@ -571,31 +666,20 @@ def advance(p, st, n_steps):
                 # peak |H|/V of the struck domino while this contact is on
                 up = int(events[ev, EV_UPPER])
                 events[ev, EV_HV_UP] = max(events[ev, EV_HV_UP], hv_now[up])
-        # ---------------- stop conditions -------------------------------------------------
-        if step % 256 == 0:
-            for i in range(min(n_awake, n)):
-                if not math.isfinite(omega[i]) or not math.isfinite(theta[i]):
-                    status = STATUS_BLOW_UP
-            if status == STATUS_BLOW_UP:
-                break
-        if step % sample_every == 0 and n_samples < max_samples:
-            e_kin = 0.0
-            e_grav = 0.0
-            for i in range(n):
-                e_kin += 0.5 * inertia * omega[i] * omega[i]
-                height = _gravity_height(math.cos(theta[i]), math.sin(theta[i]), cm_u, cm_w)
-                e_grav += m * g * height
-            samples[n_samples, SA_T] = t
-            samples[n_samples, SA_KIN] = e_kin
-            samples[n_samples, SA_GRAV] = e_grav
-            samples[n_samples, SA_ELASTIC] = e_elastic
-            samples[n_samples, SA_DISSIPATED] = e_diss
-            samples[n_samples, SA_FLOOR] = e_floor_loss
+        # ---------------- records and stop conditions -------------------------------------
+        if step % 256 == 0 and not _finite(theta, omega, min(n_awake, n)):
+            status = STATUS_BLOW_UP
+            break
+        if step % sample_every == 0 and n_samples < st.samples.shape[0]:
+            _energy_sample(
+                st.samples[n_samples], t, theta, omega, inertia, m, g, cm_u, cm_w,
+                e_elastic, e_diss, e_floor_loss,
+            )  # fmt: skip
             n_samples += 1
-        if frame_every > 0 and step % frame_every == 0 and n_frames < max_frames:
-            frame_t[n_frames] = t
-            frame_theta[n_frames, :] = theta
-            frame_omega[n_frames, :] = omega
+        if frame_every > 0 and step % frame_every == 0 and n_frames < st.frame_t.shape[0]:
+            st.frame_t[n_frames] = t
+            st.frame_theta[n_frames, :] = theta
+            st.frame_omega[n_frames, :] = omega
             n_frames += 1
         if t >= t_stop:
             status = STATUS_WAVE_PASSED if t_stop < t_max else STATUS_TIME_LIMIT
