@@ -405,6 +405,72 @@ def _energy_sample(row, t, theta, omega, inertia, m, g, cm_u, cm_w, e_elastic, e
 
 
 @njit(cache=True)
+def _start_contact(st, pend, n_pend, slot, kind, a, b, t, dt, frac, normal):
+    """A contact starts in ``slot`` (corner domino ``a``, face domino ``b``) at the
+    fraction ``frac`` of the step that ends at ``t`` [s]: its event row (if there is
+    room) and the onset queued in ``pend`` for the interpolation of the angular
+    velocities, the arrival of the upper domino (waking it), the head-on flag of the slot
+    (the head-on assumption describes the pair collision: the first contact of a slot;
+    later contacts, leaning or re-collisions, are geometric).  Returns the new count of
+    queued onsets and ends."""
+    t_on = max(t - dt + frac * dt, 0.0)
+    up = max(a, b)
+    n_events = st.n_events[0]
+    st.slot_event[slot] = -1
+    if n_events < st.events.shape[0]:
+        _open_event(st.events, n_events, min(a, b), up, kind, t_on)
+        st.slot_event[slot] = n_events
+        n_pend = _queue(pend, n_pend, n_events, False, frac)
+    st.n_events[0] = n_events + 1
+    if np.isnan(st.arrival[up]):
+        st.arrival[up] = t_on
+        st.t_last_arrival[0] = t
+    if up >= st.n_awake[0]:
+        st.n_awake[0] = up + 1
+    if kind == 0 and np.isnan(st.theta_min_after[a]):
+        st.theta_min_after[a] = st.theta[a]
+    st.active[slot] = True
+    st.head_on[slot] = normal == NORMAL_HEAD_ON and kind == 0 and not st.touched[slot]
+    st.touched[slot] = True
+    return n_pend
+
+
+@njit(cache=True)
+def _end_contact(st, pend, n_pend, slot, t, dt, delta, t_max, tail_time):
+    """The contact of ``slot`` ended in the step that ends at ``t`` [s] (overlap now
+    ``delta`` [m]): its end time, located by the linear interpolation of the overlap, the
+    end queued in ``pend``, the end of the upper domino's first strike (at the last
+    domino the run ends ``tail_time`` [s] later, at ``t_max`` at the latest).  Returns the
+    new count of queued onsets and ends."""
+    st.active[slot] = False
+    ev = st.slot_event[slot]
+    st.slot_event[slot] = -1
+    if ev < 0:
+        return n_pend
+    prev = st.gap_prev[slot]
+    frac = prev / (prev - delta) if delta <= 0.0 and prev > delta else 1.0
+    st.events[ev, EV_T_OFF] = t - dt + frac * dt
+    n_pend = _queue(pend, n_pend, ev, True, frac)
+    up = int(st.events[ev, EV_UPPER])
+    if not st.first_strike_done[up]:
+        st.first_strike_done[up] = True
+        if up == st.theta.shape[0] - 1:
+            st.t_stop[0] = min(t_max, t + tail_time)
+    return n_pend
+
+
+@njit(cache=True)
+def _queue(pend, n_pend, ev, end, frac):
+    """Queue event row ``ev`` (its onset, or its ``end``) at fraction ``frac`` of the step
+    in ``pend`` = (rows, ends, fractions); returns the new count."""
+    rows, ends, fractions = pend
+    rows[n_pend] = ev
+    ends[n_pend] = end
+    fractions[n_pend] = frac
+    return n_pend + 1
+
+
+@njit(cache=True)
 def _finite(theta, omega, n_awake):
     """True if the angles and angular velocities of the dominoes in motion are finite."""
     for i in range(n_awake):
@@ -440,15 +506,13 @@ def advance(p, st, n_steps):
     theta, omega, torque = st.theta, st.omega, st.torque
     active, gap_prev, slot_event = st.active, st.gap_prev, st.slot_event
     xi_x, xi_y, u_hit, w_hit = st.xi_x, st.xi_y, st.u_hit, st.w_hit
-    head_on, touched, handover = st.head_on, st.touched, st.handover
+    head_on, handover = st.head_on, st.handover
     events, arrival, hv_max = st.events, st.arrival, st.hv_max
     theta_min_after = st.theta_min_after
     step = st.step[0]
     status = st.status[0]
-    n_awake = st.n_awake[0]
-    t_last_arrival = st.t_last_arrival[0]
-    t_stop = st.t_stop[0]
-    n_events = st.n_events[0]
+    # (the counters that change only at contact onsets and ends, and t_stop, are kept in
+    # st: _start_contact and _end_contact update them)
     n_samples = st.n_samples[0]
     n_frames = st.n_frames[0]
     e_diss = st.e_diss[0]
@@ -467,6 +531,7 @@ def advance(p, st, n_steps):
     pend_ev = np.empty(n_slots, dtype=np.int64)  # onsets and ends of this step
     pend_end = np.empty(n_slots, dtype=np.bool_)
     pend_frac = np.empty(n_slots)
+    pend = (pend_ev, pend_end, pend_frac)
     gravity_removed = np.zeros(n, dtype=np.bool_)
     hv_now = np.zeros(n)  # |H|/V of each domino at the current step (0 if undefined)
 
@@ -477,7 +542,7 @@ def advance(p, st, n_steps):
             # ---------------- first half kick, drift, floor -------------------------------
             step += 1
             t = step * dt
-            for i in range(min(n_awake, n)):
+            for i in range(min(st.n_awake[0], n)):
                 omega_old[i] = omega[i]
                 omega[i] += 0.5 * dt * torque[i] / inertia
                 theta[i] += dt * omega[i]
@@ -487,7 +552,7 @@ def advance(p, st, n_steps):
                     )
                     e_floor_loss += lost
         # ---------------- forces at the current positions ---------------------------------
-        n_eval = min(n, n_awake + 2)
+        n_eval = min(n, st.n_awake[0] + 2)
         for i in range(n_eval):
             c = math.cos(theta[i])
             sn = math.sin(theta[i])
@@ -501,7 +566,7 @@ def advance(p, st, n_steps):
         n_pend = 0
         e_elastic = 0.0
         d_power = 0.0
-        for i in range(min(n_awake, n)):
+        for i in range(min(st.n_awake[0], n)):  # (the range of the dominoes awake now)
             for kind in range(3):
                 a, b, u0, w0, u_face, sigma = _slot_geometry(kind, i, l, s)
                 if b >= n or a >= n:
@@ -517,28 +582,7 @@ def advance(p, st, n_steps):
                 if starting:
                     # ---- onset inside the step, located by the overlap's linear interpolation
                     frac = -gap_prev[slot] / (delta - gap_prev[slot])
-                    t_on = max(t - dt + frac * dt, 0.0)
-                    up = max(a, b)
-                    if n_events < events.shape[0]:
-                        _open_event(events, n_events, min(a, b), up, kind, t_on)
-                        slot_event[slot] = n_events
-                        pend_ev[n_pend], pend_end[n_pend], pend_frac[n_pend] = n_events, False, frac
-                        n_pend += 1
-                    else:
-                        slot_event[slot] = -1
-                    n_events += 1
-                    if np.isnan(arrival[up]):
-                        arrival[up] = t_on
-                        t_last_arrival = t
-                    if up >= n_awake:
-                        n_awake = up + 1
-                    if kind == 0 and np.isnan(theta_min_after[a]):
-                        theta_min_after[a] = theta[a]
-                    active[slot] = True
-                    # the head-on assumption describes the pair collision: the first
-                    # contact of a slot; later contacts (leaning, re-collisions) are geometric
-                    head_on[slot] = normal == NORMAL_HEAD_ON and kind == 0 and not touched[slot]
-                    touched[slot] = True
+                    n_pend = _start_contact(st, pend, n_pend, slot, kind, a, b, t, dt, frac, normal)
                     if handover[slot]:
                         # a head-on spring unloaded with the corner still inside the face:
                         # the geometric contact takes over; its initial elastic energy is
@@ -567,24 +611,11 @@ def advance(p, st, n_steps):
                     touching = delta > 0.0 and inside
                 ev = slot_event[slot]
                 if not touching:
-                    active[slot] = False
                     if delta > 0.0:
                         # the corner slid off the end of the face while pressed into it:
                         # the spring's energy is lost with it (book-kept as dissipated)
                         e_diss += _elastic_energy(law, delta, k)
-                    if ev >= 0:
-                        # ---- end inside the step, located as the onset
-                        prev = gap_prev[slot]
-                        frac = prev / (prev - delta) if delta <= 0.0 and prev > delta else 1.0
-                        events[ev, EV_T_OFF] = t - dt + frac * dt
-                        pend_ev[n_pend], pend_end[n_pend], pend_frac[n_pend] = ev, True, frac
-                        n_pend += 1
-                        up = int(events[ev, EV_UPPER])
-                        if not st.first_strike_done[up]:
-                            st.first_strike_done[up] = True
-                            if up == n - 1:
-                                t_stop = min(t_max, t + tail_time)
-                    slot_event[slot] = -1
+                    n_pend = _end_contact(st, pend, n_pend, slot, t, dt, delta, t_max, tail_time)
                     # a new contact needs the corner to come from outside the face again
                     gap_prev[slot] = delta_geo
                     if head_on[slot] and delta_geo > 0.0 and inside:
@@ -635,7 +666,8 @@ def advance(p, st, n_steps):
             continue
         e_diss += d_power * dt
         # ---------------- second half kick ------------------------------------------------
-        for i in range(min(n_awake, n)):
+        n_move = min(st.n_awake[0], n)
+        for i in range(n_move):
             omega[i] += 0.5 * dt * torque[i] / inertia
             # resting on a floor stop: the support removes velocity into the floor
             if theta[i] == theta_hi and omega[i] > 0.0:
@@ -646,7 +678,7 @@ def advance(p, st, n_steps):
                 omega[i] = 0.0
         # ---------------- measurements at the end of the step -----------------------------
         _interpolate_pending(events, pend_ev, pend_end, pend_frac, n_pend, omega_old, omega)
-        for i in range(min(n_awake, n)):
+        for i in range(n_move):
             h, v = _base_reaction(
                 cos_t[i], sin_t[i], torque[i], omega[i], inertia, m, g, cm_u, cm_w, fx[i], fy[i]
             )
@@ -667,7 +699,7 @@ def advance(p, st, n_steps):
                 up = int(events[ev, EV_UPPER])
                 events[ev, EV_HV_UP] = max(events[ev, EV_HV_UP], hv_now[up])
         # ---------------- records and stop conditions -------------------------------------
-        if step % 256 == 0 and not _finite(theta, omega, min(n_awake, n)):
+        if step % 256 == 0 and not _finite(theta, omega, n_move):
             status = STATUS_BLOW_UP
             break
         if step % sample_every == 0 and n_samples < st.samples.shape[0]:
@@ -681,13 +713,13 @@ def advance(p, st, n_steps):
             st.frame_theta[n_frames, :] = theta
             st.frame_omega[n_frames, :] = omega
             n_frames += 1
-        if t >= t_stop:
-            status = STATUS_WAVE_PASSED if t_stop < t_max else STATUS_TIME_LIMIT
+        if t >= st.t_stop[0]:
+            status = STATUS_WAVE_PASSED if st.t_stop[0] < t_max else STATUS_TIME_LIMIT
             break
-        if t_stop == t_max and not np.isnan(arrival[n - 1]) and theta[n - 1] == theta_hi:
+        if st.t_stop[0] == t_max and not np.isnan(arrival[n - 1]) and theta[n - 1] == theta_hi:
             # the last domino lies flat: its first contact (if still on) is no collision
-            t_stop = min(t_max, t + tail_time)
-        if t - t_last_arrival > stall_time:
+            st.t_stop[0] = min(t_max, t + tail_time)
+        if t - st.t_last_arrival[0] > stall_time:
             # nothing new reached for stall_time: the wave died, or it has passed and
             # the last contact never ended (dominoes leaning on each other)
             status = STATUS_WAVE_PASSED if not np.isnan(arrival[n - 1]) else STATUS_STALLED
@@ -695,10 +727,6 @@ def advance(p, st, n_steps):
         done += 1
     st.step[0] = step
     st.status[0] = status
-    st.n_awake[0] = n_awake
-    st.t_last_arrival[0] = t_last_arrival
-    st.t_stop[0] = t_stop
-    st.n_events[0] = n_events
     st.n_samples[0] = n_samples
     st.n_frames[0] = n_frames
     st.e_diss[0] = e_diss
