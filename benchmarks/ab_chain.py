@@ -7,7 +7,8 @@ in two benchmark runs measures the drift. This script imports the working tree's
 ensemble of perturbed pushes: the ensemble averages out the different chaotic trajectories
 of versions whose floating-point results differ, the alternation the drift.
 
-Run:  python benchmarks/ab_chain.py --base 0984542 [--n 30] [--members 16] [--steps S]
+Run:  python benchmarks/ab_chain.py --base 0984542 [--n 30] [--members 16] [--steps S] [--cpu]
+      [--model 3d]
       (engines only, as bench_chain.py; S defaults to the paper case's steps, scaled per
       domino)
 """
@@ -56,6 +57,10 @@ def main(argv=None) -> int:
     ap.add_argument("--base", required=True, help="git revision to compare the working tree with")
     ap.add_argument("--n", type=int, default=30, help="dominoes")
     ap.add_argument("--members", type=int, default=16)
+    ap.add_argument("--model", default="2d", choices=("2d", "3d"), help="the chain's model")
+    ap.add_argument(
+        "--cpu", action="store_true", help="time the process's CPU time (a shared machine)"
+    )
     ap.add_argument("--steps", type=int, default=0)
     args = ap.parse_args(argv)
     if not args.steps:  # bench_chain.py's cases: the paper chain's steps, scaled per domino
@@ -72,7 +77,9 @@ def main(argv=None) -> int:
             "base": (base_scenario, base_build),
             "new": (scenario, build),
         }.items():
-            params = bu.ChainParams(n_dominoes=args.n, d_over_l=0.4, base="two", held=False)
+            params = bu.ChainParams(
+                n_dominoes=args.n, d_over_l=0.4, base="two", held=False, model=args.model
+            )
             versions[name] = sc.DominoChain(params)
 
         def run(name: str, member: int) -> float:
@@ -81,9 +88,9 @@ def main(argv=None) -> int:
             sim, _ = chain.build(
                 chain.resolve(None).scaled(factor), record=False, track_energy=False
             )
-            start = time.perf_counter()
+            start = time.process_time() if args.cpu else time.perf_counter()
             sim.run(n_steps=steps)
-            return time.perf_counter() - start
+            return (time.process_time() if args.cpu else time.perf_counter()) - start
 
         for name in versions:
             run(name, 0)  # compile / warm up
@@ -94,7 +101,8 @@ def main(argv=None) -> int:
                 times[name][member] = run(name, member)
     base, new = times["base"], times["new"]
     print(
-        f"N = {args.n}, {args.members} members x {steps} steps, engines only: {args.base} "
+        f"N = {args.n} ({args.model}), {args.members} members x {steps} steps, engines only, "
+        f"{'CPU' if args.cpu else 'wall'} time: {args.base} "
         f"{base.mean() / steps * 1e6:.2f} us/step, working tree "
         f"{new.mean() / steps * 1e6:.2f} us/step; speed-up of the means "
         f"{base.mean() / new.mean():.3f}, median of the member ratios "
