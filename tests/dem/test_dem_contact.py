@@ -298,3 +298,39 @@ def test_validate_energy_conserved_clumps_without_friction():
     res = sim.run(until=0.4, energy_every=100)
     assert sim.pairs.n_contacts[0, 1] >= 1
     assert abs(res.energy["total"][-1] - e0) < 1e-6 * e0
+
+
+def test_validate_pair_geometry_against_vector_algebra():
+    """The per-pair geometry functions give the normal, overlap and contact point of
+    NumPy's vector algebra, for spheres and for walls, and resolve a pair that is apart
+    only when asked to (``keep``, an active contact's gap)."""
+    from dominowave.dem.contact import contact_point, sphere_sphere, sphere_wall
+
+    rng = np.random.default_rng(7)
+    for _ in range(50):
+        xi, xj = rng.normal(size=3), rng.normal(size=3)
+        ri, rj = rng.uniform(0.2, 1.5, size=2)
+        d = xj - xi
+        dist = np.linalg.norm(d)
+        near, *n, delta = sphere_sphere(*xi, *xj, ri + rj, False)
+        assert near == (dist < ri + rj)
+        if near:
+            np.testing.assert_allclose(n, d / dist, rtol=1e-14)
+            assert delta == pytest.approx(ri + rj - dist, rel=1e-13, abs=1e-15)
+            p = contact_point(*xi, ri, *n, delta)
+            # on the line of centres, midway through the overlap: equally deep in both
+            np.testing.assert_allclose(np.cross(np.array(p) - xi, d), 0.0, atol=1e-13)
+            depth_i = ri - (np.array(p) - xi) @ d / dist
+            depth_j = rj - (xj - np.array(p)) @ d / dist
+            assert depth_i == pytest.approx(depth_j, abs=1e-13)
+            assert depth_i == pytest.approx(0.5 * (ri + rj - dist), abs=1e-13)
+        else:
+            assert sphere_sphere(*xi, *xj, ri + rj, True)[4] == pytest.approx(ri + rj - dist)
+        wall_normal = rng.normal(size=3)
+        wall_normal /= np.linalg.norm(wall_normal)
+        wall_point = rng.normal(size=3)
+        height = (xi - wall_point) @ wall_normal
+        near, *n, delta = sphere_wall(*xi, ri, *wall_point, *wall_normal, False)
+        assert near == (height < ri)
+        np.testing.assert_array_equal(n, -wall_normal)
+        assert delta == pytest.approx(ri - height, abs=1e-14)

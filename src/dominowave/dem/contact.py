@@ -88,6 +88,11 @@ SHEAR_YADE = 1  # YADE's avoidGranularRatcheting / noRatch rate (yade_shear_velo
 ONSET = 1
 END = 0
 
+# columns of the (C, 2) log of the contacts that started or ended in a step
+# (compute_forces' ``changes``, engine.Recorder.changes)
+CHANGE_CONTACT = 0  # the contact's row in ``contacts``
+CHANGE_KIND = 1  # ONSET or END
+
 
 @njit(cache=True, error_model="numpy")
 def particle_stiffness(modulus, radius, given_kn, rule):
@@ -781,8 +786,8 @@ def idle_pair(contacts, c):
 @njit(cache=True, error_model="numpy", inline="always")
 def log_change(changes, n_changes, c, kind):
     """Append ``(c, kind)`` (ONSET / END) to ``changes``; returns the new count."""
-    changes[n_changes, 0] = c
-    changes[n_changes, 1] = kind
+    changes[n_changes, CHANGE_CONTACT] = c
+    changes[n_changes, CHANGE_KIND] = kind
     return n_changes + 1
 
 

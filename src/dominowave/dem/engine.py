@@ -26,6 +26,8 @@ from numba import njit
 
 from dominowave.dem.boxes import box_energies, box_forces, box_power
 from dominowave.dem.contact import (
+    CHANGE_CONTACT,
+    CHANGE_KIND,
     END,
     ONSET,
     active_contact_forces,
@@ -127,6 +129,7 @@ Recorder = namedtuple(
         "last_onset",  # (1,) time of the last body-body contact onset [s]
         "touched",  # (nb,) uint8: body had a body-body onset in this run
         "changes",  # (C, 2) int64 scratch: contacts that started/ended in this step
+        #   (columns contact.CHANGE_*)
         "pair_count",  # (nb, nb) int32 active sphere contacts per body pair (i < j)
         "wall_count",  # (nb, nw) int32 active sphere contacts per body-wall pair
         "first_contact",  # (nb, nb) [s], nan
@@ -224,8 +227,8 @@ def _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, first_step
     """
     for sweep in (ONSET, END):
         for k in range(n_changes):
-            c = rec.changes[k, 0]
-            kind = rec.changes[k, 1]
+            c = rec.changes[k, CHANGE_CONTACT]
+            kind = rec.changes[k, CHANGE_KIND]
             if kind != sweep:
                 continue
             bi = spheres.body[contacts.i[c]]
