@@ -63,6 +63,8 @@ def test_parameter_class_checks_what_joins_fields():
     with pytest.raises(ValueError, match="give exactly one of them"):
         TheoryParams(stiffness_ratio=10.0)  # the rigid default is still set
     assert TheoryParams(stiffness=None, stiffness_ratio=10.0).spacing == pytest.approx(0.02)
+    with pytest.raises(ValueError, match=r"scenario\.friction_dominoes = 0\.2 needs normal"):
+        parse_study({"scenario": {"kind": "rods", "normal": "head-on", "friction_dominoes": 0.2}})
 
 
 @pytest.mark.parametrize(

@@ -131,3 +131,12 @@ class RodsParams(HingedChainParams):
     restitution_floor: float = parameter(
         0.0, "", "restitution of a domino hitting the floor", ge=0, le=1
     )
+
+    def __post_init__(self):
+        super().__post_init__()
+        if self.friction_dominoes > 0 and self.normal != "geometric":
+            # the head-on force of the theory is frictionless (rods.RodChain refuses it too)
+            raise ValueError(
+                f"friction_dominoes = {self.friction_dominoes!r} needs normal = 'geometric'"
+                f" (normal = {self.normal!r} is the theory's frictionless head-on force)"
+            )
