@@ -26,7 +26,7 @@ from dominowave.sweep.runner import dask_client, run_sweep
 study = parse_study(
     {
         "scenario": {"kind": "theory", "height": 1.0, "mass": 1.0, "n_dominoes": 20},
-        "sweep": {"grid": {"spacing": [0.1, 0.2, 0.4, 0.6, 0.8], "stiffness_ratio": [1e2, 1e4]}},
+        "sweep": {"grid": {"d_over_l": [0.1, 0.2, 0.4, 0.6, 0.8], "stiffness_ratio": [1e2, 1e4]}},
     }
 )
 out = Path(tempfile.mkdtemp()) / "sweep"
@@ -47,7 +47,7 @@ with dask_client(n_workers=1) as client:
 
 # %%
 # The stored points as one dataset: every summary value (SI units) on the
-# (spacing, stiffness_ratio) grid.
+# (d_over_l, stiffness_ratio) grid.
 ds = collect(out)
 print(ds["speed"])
 
@@ -55,6 +55,6 @@ print(ds["speed"])
 fig, ax = plt.subplots(figsize=(6.4, 3.6), layout="constrained")
 for ratio in ds["stiffness_ratio"].values:
     ds["speed"].sel(stiffness_ratio=ratio).plot(ax=ax, marker="o", label=f"k/k* = {ratio:g}")
-ax.set(xlabel="spacing d [m] (l = 1 m)", ylabel="speed [m/s]", title="")
+ax.set(xlabel="spacing d / l", ylabel="speed [m/s]", title="")
 ax.legend()
 shutil.rmtree(out.parent)

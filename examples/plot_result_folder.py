@@ -23,7 +23,7 @@ from dominowave.io.config import parse_study
 from dominowave.io.results import read_events, read_summary
 from dominowave.sweep.runner import run_one
 
-study = parse_study({"scenario": {"kind": "rods", "n_dominoes": 15, "spacing": 0.02}})
+study = parse_study({"scenario": {"kind": "rods", "n_dominoes": 15, "d_over_l": 0.4}})
 folder = Path(tempfile.mkdtemp()) / "run"
 print(run_one(study, folder))
 print(sorted(p.name for p in folder.iterdir()))

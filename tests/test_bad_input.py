@@ -48,7 +48,7 @@ STUDY_CASES = [
     ),
     ("no-scenario", '[output]\ndir = "x"\n', [], ["scenario is required"]),
     ("empty-file", "", [], ["scenario is required"]),
-    ("no-kind", "[scenario]\nspacing = 0.02\n", [], ["scenario.kind = missing", "theory"]),
+    ("no-kind", "[scenario]\nd_over_l = 0.4\n", [], ["scenario.kind = missing", "theory"]),
     (
         "unknown-kind",
         '[scenario]\nkind = "thoery"\n',
@@ -78,9 +78,9 @@ STUDY_CASES = [
     ("zero-mass", GOOD + "mass = 0\n", [], ["scenario.mass = 0", "(0, inf) kg"]),
     (
         "spacing-above-height",
-        GOOD + "spacing = 0.06\n",
+        GOOD + "d_over_l = 1.2\n",
         [],
-        ["study.toml:5", "scenario.spacing", "less than height"],
+        ["study.toml:5", "scenario.d_over_l = 1.2", "valid range (0, 1)"],
     ),
     (
         "thickness-above-height",
@@ -88,7 +88,7 @@ STUDY_CASES = [
         [],
         ["scenario.thickness", "less than height"],
     ),
-    ("nan", GOOD + "spacing = nan\n", [], ["scenario.spacing = nan", "not a finite number"]),
+    ("nan", GOOD + "d_over_l = nan\n", [], ["scenario.d_over_l = nan", "not a finite number"]),
     ("inf-mass", GOOD + "mass = inf\n", [], ["scenario.mass = inf", "not a finite number"]),
     (
         "one-domino",
@@ -108,19 +108,36 @@ STUDY_CASES = [
         [],
         ["scenario.stiffness_convention = 'yade'"],
     ),
-    ("negative-friction", GOOD + "friction = -0.1\n", [], ["scenario.friction = -0.1", "[0, inf)"]),
+    (
+        "negative-friction",
+        GOOD + "friction_floor = -0.1\n",
+        [],
+        ["scenario.friction_floor = -0.1", "[0, inf)"],
+    ),
+    (
+        "renamed-key",
+        GOOD + "spacing = 0.024\n",
+        [],
+        ["study.toml:5", "scenario.spacing was renamed: write d_over_l"],
+    ),
+    (
+        "renamed-swept-key",
+        GOOD + "[sweep.grid]\ngravity = [9.81]\n",
+        [],
+        ["study.toml:6", "sweep.grid.gravity was renamed: write g"],
+    ),
     ("toml-syntax", GOOD + "height = = 1\n", [], ["not valid TOML", "line 5"]),
     ("sweep-empty-grid", GOOD + "[sweep.grid]\n", [], ["sweep.grid is empty"]),
     (
         "sweep-empty-list",
-        GOOD + "[sweep.grid]\nspacing = []\n",
+        GOOD + "[sweep.grid]\nd_over_l = []\n",
         [],
-        ["sweep.grid.spacing", "no points"],
+        ["sweep.grid.d_over_l", "no points"],
     ),
     ("sweep-empty-points", GOOD + "[sweep]\npoints = []\n", [], ["sweep.points", "no points"]),
     (
         "sweep-grid-and-points",
-        GOOD + "[sweep]\ngrid = {spacing = [0.01]}\npoints = [{spacing = 0.02}]\n",
+        GOOD + "[sweep]\ngrid = {d_over_l = [0.2]}\npoints = [{d_over_l = 0.4}]\n",
         [],
         ["exactly one of sweep.grid or sweep.points"],
     ),
@@ -132,10 +149,10 @@ STUDY_CASES = [
     ),
     (
         "sweep-bad-value",
-        GOOD + "[sweep]\npoints = [{spacing = 0.01}, {spacing = 0.02}, "
-        "{spacing = 0.03}, {spacing = -1.0}]\n",
+        GOOD + "[sweep]\npoints = [{d_over_l = 0.2}, {d_over_l = 0.4}, "
+        "{d_over_l = 0.6}, {d_over_l = -1.0}]\n",
         [],
-        ["study.toml:6", "sweep point 3 (spacing=-1.0)", "(0, inf) m"],
+        ["study.toml:6", "sweep point 3 (d_over_l=-1.0)", "(0, 1)"],
     ),
     (
         "sweep-string-value",
@@ -160,13 +177,13 @@ STUDY_CASES = [
     ),
     (
         "scheduler-address",
-        GOOD + "[sweep.grid]\nspacing = [0.01]\n",
+        GOOD + "[sweep.grid]\nd_over_l = [0.2]\n",
         ["sweep", "--scheduler", "not an address"],
         ["is not a scheduler address"],
     ),
     (
         "workers-zero",
-        GOOD + "[sweep.grid]\nspacing = [0.01]\n",
+        GOOD + "[sweep.grid]\nd_over_l = [0.2]\n",
         ["sweep", "--workers", "0"],
         ["--workers = 0", "[1, inf)"],
     ),
@@ -197,7 +214,7 @@ def results(tmp_path_factory):
     study = parse_study(
         {
             "scenario": {"kind": "theory", "n_dominoes": 6, "n_frames": 10},
-            "sweep": {"grid": {"spacing": [0.01, 0.02]}},
+            "sweep": {"grid": {"d_over_l": [0.2, 0.4]}},
         }
     )
     from dominowave.sweep.hashing import point_key
@@ -239,7 +256,7 @@ def test_unwritable_output_folder(results, tmp_path, cli):
     blocker = tmp_path / "a_file"
     blocker.write_text("x")
     study = tmp_path / "s.toml"
-    study.write_text(GOOD + "[sweep.grid]\nspacing = [0.01]\n")
+    study.write_text(GOOD + "[sweep.grid]\nd_over_l = [0.2]\n")
     for command in ("run", "sweep"):
         code, _, err = cli(command, study, "--out", blocker / "out")
         check_one_line(code, err, [str(blocker)])

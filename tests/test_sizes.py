@@ -25,7 +25,7 @@ def eight_gib(monkeypatch):
         (["rods", "--n", "10000000"], ["n = 10000000", "GiB for its state and records"]),
         (
             ["theory", "--d-over-l", "0.01:0.99:10000000"],
-            ["d_over_l (10000000 values) x k_ratio (3 values)", "GiB for a table"],
+            ["d_over_l (10000000 values) x stiffness_ratio (3 values)", "GiB for a table"],
         ),
         (["chain", "--n", "30000"], ["n_dominoes = 30000", "trajectory frames"]),
     ],

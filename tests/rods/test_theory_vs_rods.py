@@ -72,7 +72,7 @@ def test_cli_compare_rods_quick_writes_csv_and_figures(tmp_path):
 def test_cli_compare_rods_resumes_from_its_stored_points(tmp_path):
     """compare-rods is a study on the sweep engine: a second run finds every point stored,
     runs none and writes the same CSV files to the last bit."""
-    args = ["compare-rods", "--d-over-l", "0.5", "--k-ratio", "1e3", "--normal", "head-on"]
+    args = ["compare-rods", "--d-over-l", "0.5", "--stiffness-ratio", "1e3", "--normal", "head-on"]
     args += ["--n", "8", "--workers", "1", "--out", str(tmp_path)]
     first = CliRunner().invoke(app, args)
     assert first.exit_code == 0, first.output

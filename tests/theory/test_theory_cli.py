@@ -27,11 +27,11 @@ def test_theory_json_matches_library():
         "theory",
         "--d-over-l",
         "0.4",
-        "--k-ratio",
+        "--stiffness-ratio",
         "1e4",
         "--s-over-l",
         "0.1",
-        "--mu",
+        "--friction-floor",
         "0.3",
         "--format",
         "json",
@@ -59,7 +59,9 @@ def test_theory_table_accepts_scalars():
 
 
 def test_theory_csv_grid_and_rigid_limit():
-    result = run("theory", "--d-over-l", "0.1:0.8:3", "--k-ratio", "inf,1e8", "--format", "csv")
+    result = run(
+        "theory", "--d-over-l", "0.1:0.8:3", "--stiffness-ratio", "inf,1e8", "--format", "csv"
+    )
     assert result.returncode == 0, result.stderr
     rows = list(csv.DictReader(io.StringIO(result.stdout)))
     assert len(rows) == 6
@@ -83,12 +85,13 @@ def test_theory_table_default():
     [
         (["--d-over-l", "1.2"], "d_over_l = 1.2 is outside the valid range (0, 1)"),
         (["--d-over-l", "0,0.5"], "d_over_l = 0 is outside the valid range (0, 1)"),
-        (["--k-ratio", "-1"], "k_ratio = -1 is outside the valid range (0, inf]"),
-        (["--k-ratio", "0"], "k_ratio = 0 is outside the valid range (0, inf]"),
-        (["--mu", "-0.1"], "mu = -0.1 is outside the valid range [0, inf)"),
+        (["--stiffness-ratio", "-1"], "stiffness_ratio = -1 is outside the valid range (0, inf]"),
+        (["--stiffness-ratio", "0"], "stiffness_ratio = 0 is outside the valid range (0, inf]"),
+        (["--friction-floor", "-0.1"], "friction_floor = -0.1 is outside the valid range [0, inf)"),
         (["--s-over-l", "-0.1"], "s_over_l = -0.1 is outside the valid range [0, 1)"),
         (["--d-over-l", "abc"], "d_over_l = 'abc' is not a list"),
-        (["--k-ratio", "0:1:3"], "k_ratio = 0 is outside the valid range (0, inf)"),
+        (["--stiffness-ratio", "0:1:3"], "stiffness_ratio = 0 is outside the valid range (0, inf)"),
+        (["--k-ratio", "1e4"], "no such option: --k-ratio (renamed: use --stiffness-ratio)"),
         (["--format", "xml"], "format = 'xml' is not one of table, csv, json"),
         (["--convention", "yade"], "convention = 'yade' is not one of paper, contact"),
     ],

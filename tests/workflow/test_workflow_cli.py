@@ -21,7 +21,7 @@ def test_example_study_sweep_collect_plot_animate(dask_client, tmp_path, cli):
     code, stdout, _ = cli("sweep", EXAMPLE, "--out", out, "--scheduler", addr)
     assert "57 already stored, 0 run now" in stdout
     code, stdout, _ = cli("collect", out)
-    assert code == 0 and "spacing: 19, stiffness_ratio: 3" in stdout
+    assert code == 0 and "d_over_l: 19, stiffness_ratio: 3" in stdout
     with xr.open_dataset(out / "collected.nc") as ds:
         assert ds.speed.shape == (19, 3)
     code, stdout, _ = cli("plot", out)

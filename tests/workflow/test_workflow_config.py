@@ -47,26 +47,26 @@ def test_shipped_examples_validate(path):
 
 def test_grid_is_the_cartesian_product_in_order(tmp_path):
     loaded = study(
-        '[scenario]\nkind = "theory"\n[sweep.grid]\nspacing = [0.01, 0.02, 0.03]\n'
+        '[scenario]\nkind = "theory"\n[sweep.grid]\nd_over_l = [0.2, 0.4, 0.6]\n'
         "stiffness_ratio = [1.0, 100]\n",
         tmp_path,
     )
     assert len(loaded.points) == 6
-    assert [(p.spacing, p.stiffness_ratio) for p in loaded.points[:3]] == [
-        (0.01, 1.0),
-        (0.01, 100.0),
-        (0.02, 1.0),
+    assert [(p.d_over_l, p.stiffness_ratio) for p in loaded.points[:3]] == [
+        (0.2, 1.0),
+        (0.2, 100.0),
+        (0.4, 1.0),
     ]
-    assert loaded.swept_keys() == ["spacing", "stiffness_ratio"]
+    assert loaded.swept_keys() == ["d_over_l", "stiffness_ratio"]
 
 
 def test_listed_points_override_only_their_fields(tmp_path):
     loaded = study(
         '[scenario]\nkind = "theory"\nmass = 0.01\n'
-        "[sweep]\npoints = [{spacing = 0.01}, {spacing = 0.02, mass = 0.02}]\n",
+        "[sweep]\npoints = [{d_over_l = 0.2}, {d_over_l = 0.4, mass = 0.02}]\n",
         tmp_path,
     )
-    assert [(p.spacing, p.mass) for p in loaded.points] == [(0.01, 0.01), (0.02, 0.02)]
+    assert [(p.d_over_l, p.mass) for p in loaded.points] == [(0.2, 0.01), (0.4, 0.02)]
 
 
 def test_stiffness_ratio_resolves_against_k_star():
@@ -85,7 +85,7 @@ def test_ints_are_accepted_for_floats_and_hash_like_floats():
 def test_key_changes_with_any_field_and_with_the_version(monkeypatch):
     base = TheoryScenario()
     keys = {point_key(base)}
-    for field, value in [("spacing", 0.0241), ("n_frames", 201), ("stiffness", 1e5)]:
+    for field, value in [("d_over_l", 0.41), ("n_frames", 201), ("stiffness", 1e5)]:
         keys.add(point_key(base.model_copy(update={field: value})))
     assert len(keys) == 4
     assert point_key(TheoryScenario()) == point_key(base)  # deterministic

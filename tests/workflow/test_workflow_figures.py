@@ -20,12 +20,12 @@ def _records(tmp_path, spacings):
     base["scenario"]["n_frames"] = 30
     out = []
     for i, d in enumerate(spacings):
-        data = {"scenario": {**base["scenario"], "spacing": d}}
+        data = {"scenario": {**base["scenario"], "d_over_l": d}}
         folder = tmp_path / f"p{i}"
         assert run_one(parse_study(data), folder) == "ok"
         config = tomllib.loads((folder / "config.toml").read_text())["scenario"]
         summary = read_summary(folder)
-        out.append({"key": f"p{i}", "swept": {"spacing": d}, "config": config,
+        out.append({"key": f"p{i}", "swept": {"d_over_l": d}, "config": config,
                     "summary": summary, "folder": folder})  # fmt: skip
     return out
 
@@ -33,7 +33,7 @@ def _records(tmp_path, spacings):
 def test_speed_figure_keeps_fast_points_and_marks_unsettled_ones(tmp_path):
     """A point at small d/l (v/sqrt(gl) far above the old cap of 8) lies inside the
     axes, and a point whose speed is NaN is an open marker at its d/l, not a gap."""
-    records = _records(tmp_path, [0.001, 0.012, 0.024])  # height 0.048: d/l 0.02 .. 0.5
+    records = _records(tmp_path, [0.02, 0.25, 0.5])
     records[1]["summary"]["speed"] = math.nan  # as a run that did not settle
     fig = _speed_figure(records)
     ax = fig.axes[0]

@@ -17,7 +17,9 @@ L, S = 0.048, 0.0075
 
 @pytest.fixture(scope="module")
 def theory_run():
-    return run_theory(TheoryScenario(n_dominoes=8, n_frames=400, stiffness_ratio=1e4))
+    """A 48 x 7.5 mm, 8 g domino at d = 24 mm."""
+    domino = {"height": L, "thickness": S, "mass": 0.008, "d_over_l": 0.024 / L}
+    return run_theory(TheoryScenario(n_dominoes=8, n_frames=400, stiffness_ratio=1e4, **domino))
 
 
 def test_corners_of_an_upright_and_a_flat_domino():

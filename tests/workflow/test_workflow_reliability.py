@@ -20,7 +20,7 @@ from dominowave.io.config import load_study
 from dominowave.io.results import read_summary
 from dominowave.sweep.runner import run_one
 
-STUDY = '[scenario]\nkind = "slow_theory"\nn_dominoes = 8\nn_frames = 10\nspacing = {spacing}\n'
+STUDY = '[scenario]\nkind = "slow_theory"\nn_dominoes = 8\nn_frames = 10\nd_over_l = {d_over_l}\n'
 
 
 def _strict_load(text: str):
@@ -34,13 +34,13 @@ def _strict_load(text: str):
 
 def test_forced_rerun_that_fails_keeps_the_previous_result(tmp_path):
     good = tmp_path / "good.toml"
-    good.write_text(STUDY.format(spacing=0.01))
+    good.write_text(STUDY.format(d_over_l=0.2))
     out = tmp_path / "run"
     assert run_one(load_study(good), out) == "ok"
     before = {p.name: p.read_bytes() for p in out.iterdir()}
 
     failing = tmp_path / "failing.toml"
-    failing.write_text(STUDY.format(spacing=0.03) + "fail_above = 0.02\n")
+    failing.write_text(STUDY.format(d_over_l=0.6) + "fail_above = 0.02\n")
     with pytest.raises(ValueError, match=r"run failed: .*previous result .* is kept"):
         run_one(load_study(failing), out, force=True)
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
@@ -49,7 +49,7 @@ def test_forced_rerun_that_fails_keeps_the_previous_result(tmp_path):
 
     # a forced re-run that succeeds replaces the result (and the failure stays beside it)
     other = tmp_path / "other.toml"
-    other.write_text(STUDY.format(spacing=0.015))
+    other.write_text(STUDY.format(d_over_l=0.3))
     assert run_one(load_study(other), out, force=True) == "ok"
     assert (out / "summary.json").read_bytes() != before["summary.json"]
 
@@ -66,7 +66,7 @@ def test_json_files_are_strict_and_nan_reads_back_as_nan(tmp_path):
 
 def test_every_json_file_of_a_run_is_strict(tmp_path):
     study = tmp_path / "s.toml"
-    study.write_text(STUDY.format(spacing=0.01))
+    study.write_text(STUDY.format(d_over_l=0.2))
     out = tmp_path / "run"
     run_one(load_study(study), out)
     for path in out.rglob("*.json"):
@@ -93,14 +93,14 @@ def test_study_file_with_byte_order_mark_and_crlf_is_read(tmp_path, cli):
 
 
 SWEEP = (
-    '[scenario]\nkind = "theory"\nn_dominoes = 6\nn_frames = 10\n[sweep.grid]\nspacing = {grid}\n'
+    '[scenario]\nkind = "theory"\nn_dominoes = 6\nn_frames = 10\n[sweep.grid]\nd_over_l = {grid}\n'
 )
 
 
 def test_a_sweep_folder_refuses_another_study_unless_forced(dask_client, tmp_path, cli):
     first, second = tmp_path / "a.toml", tmp_path / "b.toml"
-    first.write_text(SWEEP.format(grid="[0.01, 0.02]"))
-    second.write_text(SWEEP.format(grid="[0.03]"))
+    first.write_text(SWEEP.format(grid="[0.2, 0.4]"))
+    second.write_text(SWEEP.format(grid="[0.6]"))
     out = tmp_path / "sweep"
     addr = dask_client.scheduler.address
     assert cli("sweep", first, "--out", out, "--scheduler", addr, "--quiet")[0] == 0
@@ -123,7 +123,7 @@ def test_a_second_sweep_on_a_folder_in_use_is_refused(tmp_path):
     from dominowave.sweep.store import SweepStore
 
     study = tmp_path / "s.toml"
-    study.write_text(SWEEP.format(grid="[0.01]"))
+    study.write_text(SWEEP.format(grid="[0.2]"))
     store = SweepStore(tmp_path / "sweep").open_for_writing()
     with store.lock(), pytest.raises(ValueError, match="being written by another sweep"):
         run_sweep(load_study(study), store.root, quiet=True)
@@ -171,7 +171,7 @@ def test_a_full_disk_is_said_in_one_line(tmp_path, cli, monkeypatch):
     monkeypatch.setattr(results, "_write_netcdf", hdf_error)
     monkeypatch.setattr(shutil, "disk_usage", lambda path: usage(10**9, 10**9, 4096))
     study = tmp_path / "s.toml"
-    study.write_text(STUDY.format(spacing=0.01))
+    study.write_text(STUDY.format(d_over_l=0.2))
     code, _, err = cli("run", study, "--out", tmp_path / "run")
     assert code == 1
     assert err.startswith("dominowave: error: disk full") and err.count("\n") == 1

@@ -23,11 +23,11 @@ kind = "rods"
 n_dominoes = 30
 height = 0.048
 thickness = 0.0075
-spacing = 0.024
+d_over_l = 0.5
 mass = 0.008
 mass_model = "block"
 damping_ratio = 0.05
-contact_friction = 0.2
+friction_dominoes = 0.2
 steps_per_contact = 1000.0
 """
 EVERY = 50_000
@@ -62,7 +62,7 @@ def test_sigkilled_rods_run_resumes_bit_identically(tmp_path):
 def test_interrupted_rods_run_saves_state_and_partial_results_then_resumes(tmp_path):
     """Ctrl-C (here: raised between chunks) writes the final checkpoint and the partial
     results; running the same config again resumes and ends with the same bits."""
-    cfg = RodsScenario(n_dominoes=12, mass_model="block", contact_friction=0.2)
+    cfg = RodsScenario(n_dominoes=12, mass_model="block", friction_dominoes=0.2)
     reference = run_rods(cfg)
     assert reference.summary["n_steps"] > 5000
 

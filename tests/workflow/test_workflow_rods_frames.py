@@ -29,7 +29,7 @@ kind = "rods"
 n_dominoes = 8
 height = 0.048
 thickness = 0.0075
-spacing = 0.024
+d_over_l = 0.5
 """
 VTK_EVERY = 20
 
@@ -152,7 +152,7 @@ def test_vtk_boxes_of_a_rods_run_follow_the_trajectory(rods_folder):
 def test_frames_survive_an_interrupted_and_resumed_run(tmp_path):
     """The frames are in the checkpoint: a resumed run has the trajectory of an
     uninterrupted one, bit for bit."""
-    cfg = RodsScenario(n_dominoes=12, mass_model="block", contact_friction=0.2)
+    cfg = RodsScenario(n_dominoes=12, mass_model="block", friction_dominoes=0.2)
     reference = run_rods(cfg).trajectory
 
     def interrupt(**progress):

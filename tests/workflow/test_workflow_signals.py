@@ -24,8 +24,8 @@ CLI = [sys.executable, str(HERE / "cli_with_helpers.py")]
 
 STUDY = (
     '[scenario]\nkind = "slow_theory"\nn_dominoes = 6\nn_frames = 10\ndelay = 1.0\n'
-    "[sweep.grid]\nspacing = [0.010, 0.011, 0.012, 0.013, 0.014, 0.015, 0.016, 0.017,"
-    " 0.018, 0.019, 0.020, 0.021]\n"
+    "[sweep.grid]\nd_over_l = [0.20, 0.22, 0.24, 0.26, 0.28, 0.30, 0.32, 0.34,"
+    " 0.36, 0.38, 0.40, 0.42]\n"
 )
 
 

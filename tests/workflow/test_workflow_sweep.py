@@ -55,7 +55,7 @@ def test_sweep_stores_each_point_once_and_skips_them_next_time(dask_client, tmp_
     path = write_study(
         tmp_path,
         '[scenario]\nkind = "theory"\nn_dominoes = 10\nn_frames = 20\n'
-        "[sweep.grid]\nspacing = [0.012, 0.024, 0.036]\nstiffness_ratio = [100.0, 1e4]\n",
+        "[sweep.grid]\nd_over_l = [0.25, 0.5, 0.75]\nstiffness_ratio = [100.0, 1e4]\n",
     )
     out = tmp_path / "sweep"
     report = run_sweep(load_study(path), out, client=dask_client, quiet=True)
@@ -64,7 +64,7 @@ def test_sweep_stores_each_point_once_and_skips_them_next_time(dask_client, tmp_
     index = json.loads((out / "index.json").read_text())
     assert set(index["points"]) == expected_keys(path)
     assert {tuple(e["swept"].values()) for e in index["points"].values()} == {
-        (s, k) for s in (0.012, 0.024, 0.036) for k in (100.0, 1e4)
+        (s, k) for s in (0.25, 0.5, 0.75) for k in (100.0, 1e4)
     }
     mtimes = {p: p.stat().st_mtime_ns for p in (out / "points").rglob("*")}
     again = run_sweep(load_study(path), out, client=dask_client, quiet=True)
@@ -76,7 +76,7 @@ def test_failed_points_are_recorded_and_the_sweep_goes_on(dask_client, tmp_path)
     path = write_study(
         tmp_path,
         '[scenario]\nkind = "slow_theory"\nn_dominoes = 8\nn_frames = 10\nfail_above = 0.02\n'
-        "[sweep.grid]\nspacing = [0.01, 0.015, 0.025, 0.03]\n",
+        "[sweep.grid]\nd_over_l = [0.2, 0.3, 0.5, 0.6]\n",
     )
     out = tmp_path / "sweep"
     report = run_sweep(load_study(path), out, client=dask_client, quiet=True)
@@ -101,16 +101,16 @@ def test_collect_puts_a_grid_on_its_axes(dask_client, tmp_path):
     path = write_study(
         tmp_path,
         '[scenario]\nkind = "theory"\nn_dominoes = 6\nn_frames = 10\n'
-        "[sweep.grid]\nspacing = [0.012, 0.024]\nstiffness_ratio = [10.0, 100.0, 1e3]\n",
+        "[sweep.grid]\nd_over_l = [0.25, 0.5]\nstiffness_ratio = [10.0, 100.0, 1e3]\n",
     )
     out = tmp_path / "sweep"
     run_sweep(load_study(path), out, client=dask_client, quiet=True)
     ds = collect(out)
-    assert dict(ds.sizes) == {"spacing": 2, "stiffness_ratio": 3}
+    assert dict(ds.sizes) == {"d_over_l": 2, "stiffness_ratio": 3}
     for key in expected_keys(path):
         summary = read_summary(out / "points" / key)
         cell = ds.sel(
-            spacing=summary["d_over_l"] * 0.048,
+            d_over_l=summary["d_over_l"],
             stiffness_ratio=round(summary["stiffness_over_kstar"], 6),
             method="nearest",
         )

@@ -14,14 +14,14 @@ from typing import Literal
 
 import numpy as np
 
+from dominowave.io.kinds import register_kind
 from dominowave.io.models import TheoryScenario
 from dominowave.io.results import RunResult
-from dominowave.io.schema import ScenarioModel, quantity, register_scenario_model
-from dominowave.sweep.registry import register_runner, register_stepper
+from dominowave.io.schema import ScenarioModel, quantity
+from dominowave.sweep.registry import register_stepper
 from dominowave.sweep.run_theory import run_theory
 
 
-@register_scenario_model
 class SlowTheory(TheoryScenario):
     """Theory scenario that sleeps ``delay`` s and fails for spacing > ``fail_above``."""
 
@@ -39,10 +39,10 @@ def run_slow_theory(cfg: SlowTheory, ctx=None) -> RunResult:
     return run_theory(cfg, ctx)
 
 
-register_runner("slow_theory", run_slow_theory)
+register_kind(SlowTheory, run_slow_theory)
 
 
-@register_scenario_model
+@register_kind
 class ToyPendulums(ScenarioModel):
     """Coupled pendulums integrated by velocity Verlet (a deterministic long run)."""
 

@@ -93,6 +93,15 @@ for _command in app.registered_commands:
     _command.callback = _stop_on_signals(_command.callback)
 
 
+RENAMED_OPTIONS = {
+    "--k-ratio": "--stiffness-ratio",
+    "--mu": "--friction-floor (theory) or --friction-dominoes (rods)",
+    "--damping": "--damping-ratio (rods)",
+    "--mass": "--mass-model (rods)",
+}
+"""Options of earlier versions -> their names in the one vocabulary (ChainParams')."""
+
+
 def main() -> None:
     """Entry point of the ``dominowave`` console script.
 
@@ -106,6 +115,9 @@ def main() -> None:
         result = app(standalone_mode=False)
     except typer.TyperException as exc:  # click usage errors
         message = exc.format_message().strip()
+        renamed = RENAMED_OPTIONS.get(getattr(exc, "option_name", None))
+        if renamed:
+            message = f"no such option: {exc.option_name} (renamed: use {renamed})"
         if "\n" in message:  # called without arguments: the message is the help text
             typer.echo(message, err=True)
         elif message:  # (an empty message: typer has already shown the help)

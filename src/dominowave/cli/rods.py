@@ -64,15 +64,15 @@ def _print_table(header, rows) -> None:
 
 def rods_command(
     d_over_l: Annotated[float, typer.Option(help="gap / height d/l in [0.001, 1)")] = 0.4,
-    k_ratio: Annotated[float, typer.Option(help="paper's stiffness k/k*")] = 1e4,
+    stiffness_ratio: Annotated[float, typer.Option(help="paper's stiffness k/k*")] = 1e4,
     n: Annotated[int, typer.Option(help="number of dominoes")] = 40,
     push: Annotated[float, typer.Option(help="push of domino 1 [Omega, eq 9], (0, 100]")] = 1.0,
     normal: Normal = "geometric",
-    mass: Mass = "point",
+    mass_model: Mass = "point",
     s_over_l: Annotated[float, typer.Option(help="thickness s/l")] = 0.0,
     law: Annotated[str, typer.Option(help="linear or hertz")] = "linear",
-    damping: Annotated[float, typer.Option(help="damping ratio zeta in [0, 1)")] = 0.0,
-    mu: Annotated[float, typer.Option(help="friction between dominoes")] = 0.0,
+    damping_ratio: Annotated[float, typer.Option(help="damping ratio zeta in [0, 1)")] = 0.0,
+    friction_dominoes: Annotated[float, typer.Option(help="friction between dominoes")] = 0.0,
     gravity_in_contact: Annotated[
         bool, typer.Option(help="gravity acts during contacts (off = theory's assumption)")
     ] = True,
@@ -86,15 +86,15 @@ def rods_command(
     check_in_range("d_over_l", d_over_l, MIN_D_OVER_L, 1.0, lo_inclusive=True)
     chain = tvr.paper_chain(
         d_over_l,
-        k_ratio,
+        stiffness_ratio,
         n,
         normal=normal,
-        mass_model=mass,
+        mass_model=mass_model,
         s_over_l=s_over_l,
         law=law,
         g=1.0,
-        damping_ratio=damping,
-        mu=mu,
+        damping_ratio=damping_ratio,
+        mu=friction_dominoes,
         gravity_in_contact=gravity_in_contact,
     )
     beta = math.asin(d_over_l)
@@ -146,7 +146,7 @@ def rods_command(
         )
         return
     typer.echo(f"steady speed: not settled: {unsettled_reason(run.arrival, run.positions)}")
-    if normal == "geometric" and damping == 0 and mu == 0:
+    if normal == "geometric" and damping_ratio == 0 and friction_dominoes == 0:
         typer.echo(NO_LIMIT_HINT)
 
 
@@ -154,7 +154,7 @@ NO_LIMIT_HINT = (
     "with the face-normal (geometric) contact and neither damping nor friction, each "
     "collision passes on the whole push (f+ -> 1), so the wave has no limit speed "
     "(docs/theory_vs_rods.md); --normal head-on is the theory's collision rule, "
-    "--damping or --mu let the wave settle"
+    "--damping-ratio or --friction-dominoes let the wave settle"
 )
 """Why the default rods run cannot settle, said beside its 'not settled'."""
 
@@ -168,7 +168,9 @@ def compare_rods_command(
         typer.Option(help=f"small grid for CI: d/l {QUICK_D_OVER_L}, k/k* {QUICK_K_RATIO}, n 30"),
     ] = False,
     d_over_l: Annotated[str, typer.Option(help="d/l list or start:stop:count")] = FULL_D_OVER_L,
-    k_ratio: Annotated[str, typer.Option(help="k/k* list or start:stop:count")] = FULL_K_RATIO,
+    stiffness_ratio: Annotated[
+        str, typer.Option(help="k/k* list or start:stop:count")
+    ] = FULL_K_RATIO,
     normal: Annotated[str, typer.Option(help="comma list of normals")] = "geometric,head-on",
     n: Annotated[int, typer.Option(help="dominoes per run")] = 60,
     gravity_in_contact: Annotated[
@@ -189,9 +191,9 @@ def compare_rods_command(
     check_cluster_options(workers, scheduler)
     notice_if_compiling("rods")
     if quick:
-        d_over_l, k_ratio, n = QUICK_D_OVER_L, QUICK_K_RATIO, 30
+        d_over_l, stiffness_ratio, n = QUICK_D_OVER_L, QUICK_K_RATIO, 30
     d_values = parse_values(d_over_l, "d_over_l")
-    k_values = parse_values(k_ratio, "k_ratio", geometric=True)
+    k_values = parse_values(stiffness_ratio, "stiffness_ratio", geometric=True)
     normals = tuple(x.strip() for x in normal.split(","))
     common = {"g": 1.0, "gravity_in_contact": gravity_in_contact}
     grid = study.comparison_points(d_values, k_values, normals, n=n, **common)

@@ -158,15 +158,17 @@ def theory_cmd(
         str,
         typer.Option("--d-over-l", help="Spacing d/l in (0, 1): '0.4', '0.1,0.4' or '0.1:0.9:9'."),
     ] = "0.1,0.4,0.8",
-    k_ratio: Annotated[
+    stiffness_ratio: Annotated[
         str,
         typer.Option(
-            "--k-ratio",
+            "--stiffness-ratio",
             help="Stiffness k/k* in (0, inf] ('inf' = rigid): list, or geometric range '1:1e8:9'.",
         ),
     ] = "inf,1e8,1e4",
     s_over_l: Annotated[float, typer.Option("--s-over-l", help="Thickness s/l in [0, 1).")] = 0.1,
-    mu: Annotated[float, typer.Option(help="Friction coefficient with the floor, >= 0.")] = 0.3,
+    friction_floor: Annotated[
+        float, typer.Option(help="Friction coefficient with the floor, >= 0.")
+    ] = 0.3,
     convention: Annotated[
         str, typer.Option(help="'paper': k per particle, k_r = k/2; 'contact': k_r = k (YADE).")
     ] = "paper",
@@ -176,17 +178,17 @@ def theory_cmd(
     if fmt not in FORMATTERS:
         raise ValueError(f"format = {fmt!r} is not one of {', '.join(FORMATTERS)}")
     d_values = parse_values(d_over_l, "d_over_l")
-    k_values = parse_values(k_ratio, "k_ratio", geometric=True)
+    k_values = parse_values(stiffness_ratio, "stiffness_ratio", geometric=True)
     check_in_range("s_over_l", s_over_l, 0.0, 1.0, lo_inclusive=True)
     # validate before the (d/l, k/k*) grid is formed, so messages name the given values
-    check_positive("k_ratio", k_values)
-    check_nonnegative("mu", mu)
+    check_positive("stiffness_ratio", k_values)
+    check_nonnegative("friction_floor", friction_floor)
     check_memory(
         BYTES_PER_ROW * d_values.size * k_values.size,
         f"a table of {d_values.size * k_values.size} rows",
-        f"d_over_l ({d_values.size} values) x k_ratio ({k_values.size} values)",
+        f"d_over_l ({d_values.size} values) x stiffness_ratio ({k_values.size} values)",
     )
-    rows = theory_table(d_values, k_values, s_over_l, mu, convention)
+    rows = theory_table(d_values, k_values, s_over_l, friction_floor, convention)
     typer.echo(FORMATTERS[fmt](rows))
 
 

@@ -4,20 +4,21 @@ A study file has three tables::
 
     [scenario]            # what to simulate; ``kind`` selects the model
     kind = "theory"
-    spacing = 0.02        # SI units everywhere (m, kg, s, N/m)
+    height = 0.05         # SI units everywhere (m, kg, s, N/m)
+    d_over_l = 0.4
     ...
     [sweep]               # optional: a cartesian grid OR a listed set of points
-    grid = { spacing = [0.01, 0.02], stiffness_ratio = [1.0, 1e4] }
+    grid = { d_over_l = [0.2, 0.4], stiffness_ratio = [1.0, 1e4] }
     [output]              # optional
     dir = "results/my_study"
 
-Every scenario kind registers its pydantic model in :data:`SCENARIO_MODELS`
-(:mod:`dominowave.io.schema`; the package's own kinds are in
-:mod:`dominowave.io.models`). Everything is validated before anything
+Every scenario kind has its pydantic model in the registry of kinds
+(:data:`dominowave.io.kinds.KINDS`, read here through :data:`SCENARIO_MODELS`; the
+package's own models are in :mod:`dominowave.io.models`). Everything is validated before anything
 runs -- every sweep point too -- and the first problem is reported as one line
 naming the file, the line, the key, the value and the valid range::
 
-    study.toml:4: scenario.spacing = -0.02 is outside the valid range (0, inf) m
+    study.toml:5: scenario.d_over_l = -0.4 is outside the valid range (0, 1)
 """
 
 from __future__ import annotations
@@ -32,14 +33,8 @@ from typing import Any
 import annotated_types
 from pydantic import BaseModel, Field, ValidationError, model_validator
 
-import dominowave.io.models  # noqa: F401  (the package's scenario kinds register themselves)
-from dominowave.io.schema import (
-    SCENARIO_MODELS,
-    ScenarioModel,
-    StrictModel,
-    quantity,
-    register_scenario_model,
-)
+from dominowave.io.kinds import SCENARIO_MODELS, register_scenario_model
+from dominowave.io.schema import ScenarioModel, StrictModel, quantity
 from dominowave.io.toml_text import dumps, line_of_key, loads_file
 
 __all__ = [
@@ -200,6 +195,9 @@ def _describe(err: dict, model: type[BaseModel] | None, prefix: str) -> tuple[st
     value = err.get("input")
     kind = err["type"]
     if kind == "extra_forbidden":
+        renamed = getattr(model, "RENAMED", {}).get(loc[-1]) if len(loc) == 1 else None
+        if renamed:
+            return key, f"{key} was renamed: write {renamed}"
         valid = sorted(model.model_fields) if model is not None else []
         parent = _field_info(model, loc[:-1]) if len(loc) > 1 else None
         if parent is not None and isinstance(parent.annotation, type):
@@ -310,6 +308,9 @@ def _point(base: dict, model, override, index, sweep, path, text) -> ScenarioMod
             table = "grid" if sweep.grid is not None else f"points[{index}]"
             line = line_of_key(text, f"sweep.{table.split('[')[0]}.{key}") if text else None
             loc = f"{path}:{line}" if (path and line) else str(path or "<study>")
+            if head in model.RENAMED:
+                new = model.RENAMED[head]
+                raise ValueError(f"{loc}: sweep.{table}.{key} was renamed: write {new}")
             valid = ", ".join(k for k in model.model_fields if k != "kind")
             raise ValueError(f"{loc}: sweep.{table}.{key} is not a scenario field (valid: {valid})")
         for other in _alternatives(model, key):  # a swept field replaces its alternatives
@@ -373,7 +374,7 @@ def example_toml(name: str) -> str:
     """A complete, commented study file with every field at its default.
 
     ``name`` is a scenario kind (single run) or ``"sweep"`` (a theory sweep over
-    spacing and stiffness).
+    the spacing ratio d/l and the stiffness).
     """
     kind = "theory" if name == "sweep" else name
     if kind not in SCENARIO_MODELS:

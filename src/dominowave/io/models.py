@@ -1,8 +1,10 @@
 """Config models of the scenarios a study can run (SI units, every field documented).
 
-Each model registers itself under its ``kind``; the matching run function is in
-:mod:`dominowave.sweep.scenarios`. Defaults describe a standard domino
-(48 mm tall, 7.5 mm thick, 8 g) at spacing ``d/l = 0.5``.
+The registry of kinds (:data:`dominowave.io.kinds.KINDS`) names each model with its run
+function. Each model's physical fields are derived from its scenario's parameter class
+(:class:`~dominowave.chain.ChainParams`, :class:`~dominowave.chain.params.TheoryParams`,
+:class:`~dominowave.chain.params.RodsParams`): one vocabulary and one default domino
+(50 mm tall, 5 mm thick, at ``d/l = 0.4``) for every kind.
 """
 
 from __future__ import annotations
@@ -14,20 +16,18 @@ import numpy as np
 from pydantic import create_model, model_validator
 
 from dominowave.chain.build import ChainParams
-from dominowave.io.schema import (
-    ScenarioModel,
-    fields_from_parameters,
-    quantity,
-    register_scenario_model,
-)
+from dominowave.chain.params import RodsParams, TheoryParams
+from dominowave.io.schema import ScenarioModel, fields_from_parameters, quantity
 from dominowave.params import parameter_specs
-from dominowave.units import G_STANDARD, k_star
+from dominowave.units import k_star
 
-__all__ = ["ChainScenario", "DominoChainBase", "RodsScenario", "TheoryScenario"]
+__all__ = ["ChainScenario", "RodsScenario", "TheoryScenario"]
 
 
-class DominoChainBase(ScenarioModel):
-    """Fields shared by every domino-chain scenario (not registered itself).
+class _HingedRun(ScenarioModel):
+    """What the theory and rods scenarios share besides their physical fields (which are
+    added from :class:`~dominowave.chain.params.TheoryParams` / ``RodsParams``): the push,
+    the stiffness alternatives and the quantities derived from the fields.
 
     The contact stiffness is given once: ``stiffness`` [N/m] or ``stiffness_ratio``
     (k/k*); giving one unsets the other's default. Both follow the paper's
@@ -35,30 +35,14 @@ class DominoChainBase(ScenarioModel):
     spring is ``k_r = k/2`` (eqs 22-24).
     """
 
-    height: float = quantity(0.048, "m", "domino height l", gt=0)
-    thickness: float = quantity(0.0075, "m", "domino thickness s (eq 34)", ge=0)
-    spacing: float = quantity(
-        0.024, "m", "gap d between neighbouring dominoes (pitch is d + s)", gt=0
-    )
-    mass: float = quantity(0.008, "kg", "domino mass m", gt=0)
-    gravity: float = quantity(G_STANDARD, "m/s^2", "gravitational acceleration g", gt=0)
-    n_dominoes: int = quantity(30, "", "number of dominoes in the chain", ge=2, le=100_000)
-    stiffness: float | None = quantity(
-        math.inf,
-        "N/m",
-        "contact stiffness k per particle (inf = rigid dominoes, eq 14)",
-        gt=0,
-        allow_inf_nan=True,
-    )
-    stiffness_ratio: float | None = quantity(
-        None, "", "contact stiffness as k / k* with k* = m g / l (Fig 4); replaces stiffness", gt=0
-    )
-    push_omega: float = quantity(
-        5.0, "rad/s", "angular velocity Omega_1 given to the first domino", gt=0
-    )
-
+    PARAMS: ClassVar[type]
+    """The parameter dataclass the physical fields are derived from."""
     ALTERNATIVES: ClassVar = (("stiffness", "stiffness_ratio"),)
     """Groups of fields that give the same quantity: giving one unsets the others."""
+    RENAMED: ClassVar = {
+        "spacing": "d_over_l (the spacing ratio d/l = spacing / height)",
+        "gravity": "g",
+    }
 
     @model_validator(mode="before")
     @classmethod
@@ -71,32 +55,24 @@ class DominoChainBase(ScenarioModel):
         return data
 
     @model_validator(mode="after")
-    def _geometry(self):
-        if self.spacing >= self.height:
-            raise ValueError(
-                f"spacing = {self.spacing!r} m must be less than height = {self.height!r} m"
-                " (d/l in (0, 1): otherwise a falling domino misses the next one)"
-            )
-        if self.thickness >= self.height:
-            raise ValueError(
-                f"thickness = {self.thickness!r} m must be less than height = {self.height!r} m"
-            )
-        if (self.stiffness is None) == (self.stiffness_ratio is None):
-            raise ValueError(
-                f"stiffness = {self.stiffness!r} and stiffness_ratio = {self.stiffness_ratio!r}:"
-                " give exactly one of them"
-            )
+    def _valid_params(self):
+        self.params()  # the parameter class checks the rules that join fields
         return self
 
+    def params(self, **changes):
+        """The parameter dataclass (``PARAMS``) of this config."""
+        fields = {name: getattr(self, name) for name in parameter_specs(self.PARAMS)}
+        return self.PARAMS(**{**fields, **changes})
+
     @property
-    def d_over_l(self) -> float:
-        """Spacing ratio d/l [-]."""
-        return self.spacing / self.height
+    def spacing(self) -> float:
+        """Clear gap ``d`` between neighbouring dominoes [m]."""
+        return self.d_over_l * self.height
 
     @property
     def k_star(self) -> float:
         """Reference stiffness k* = m g / l [N/m]."""
-        return float(k_star(self.mass, self.height, self.gravity))
+        return float(k_star(self.mass, self.height, self.g))
 
     @property
     def contact_stiffness(self) -> float:
@@ -108,7 +84,7 @@ class DominoChainBase(ScenarioModel):
     @property
     def speed_scale(self) -> float:
         """McLachlan's speed scale sqrt(g l) [m/s] (eq 1)."""
-        return math.sqrt(self.gravity * self.height)
+        return math.sqrt(self.g * self.height)
 
     def theory_speed(self, d_over_l):
         """Theory wave speed v^s [m/s] (eq 34) of these dominoes at spacing ``d_over_l``."""
@@ -117,7 +93,7 @@ class DominoChainBase(ScenarioModel):
         beta = np.arcsin(np.asarray(d_over_l, dtype=float))
         k, conv = self.contact_stiffness, getattr(self, "stiffness_convention", "paper")
         return theory.wave_speed_thick(
-            beta, self.height, self.mass, k, self.thickness, self.gravity, conv
+            beta, self.height, self.mass, k, self.thickness, self.g, conv
         )
 
     def theory_valid(self, d_over_l):
@@ -126,64 +102,81 @@ class DominoChainBase(ScenarioModel):
 
         beta = np.arcsin(np.asarray(d_over_l, dtype=float))
         k, conv = self.contact_stiffness, getattr(self, "stiffness_convention", "paper")
-        return theory.pair_regime_holds(beta, self.height, self.mass, k, self.gravity, conv)
+        return theory.pair_regime_holds(beta, self.height, self.mass, k, self.g, conv)
 
 
-@register_scenario_model
-class TheoryScenario(DominoChainBase):
-    """Closed-form wave of the paper (EJ rigid limit + finite collision time, eqs 2-42)."""
+_PUSH_OMEGA = (
+    float,
+    quantity(5.0, "rad/s", "angular velocity Omega_1 given to the first domino", gt=0),
+)
 
+
+class _TheoryRun(_HingedRun):
     kind: Literal["theory"] = "theory"
+    PARAMS: ClassVar = TheoryParams
     RECORDS_FRAMES: ClassVar = True
-    stiffness_convention: Literal["paper", "contact"] = quantity(
-        "paper",
-        "",
-        "paper: k per particle, contact spring k_r = k/2 (eqs 22-24); contact: k_r = k (YADE)",
-    )
-    friction: float = quantity(0.3, "", "domino-foundation friction coefficient mu", ge=0)
-    n_frames: int = quantity(
-        200, "", "frames of the drawn trajectory (kinematics for `animate`)", ge=2, le=100_000
-    )
+    RENAMED: ClassVar = {**_HingedRun.RENAMED, "friction": "friction_floor"}
 
     @classmethod
     def example_grid(cls) -> dict[str, list]:
-        return {"spacing": [0.012, 0.024, 0.036], "stiffness_ratio": [100.0, 1e4]}
+        return {"d_over_l": [0.2, 0.4, 0.6], "stiffness_ratio": [100.0, 1e4]}
 
 
-@register_scenario_model
-class RodsScenario(DominoChainBase):
-    """Hinged compliant dominoes simulated with Newton's laws (dominowave.rods, issue 5)."""
+TheoryScenario = create_model(
+    "TheoryScenario",
+    __base__=_TheoryRun,
+    __doc__=(
+        "Closed-form wave of the paper (EJ rigid limit + finite collision time, eqs 2-42)."
+        "\n\nThe physical fields are those of :class:`dominowave.chain.params.TheoryParams`"
+        " (names, defaults, units, ranges), plus ``push_omega`` and ``n_frames``."
+    ),
+    __module__=__name__,
+    **fields_from_parameters(TheoryParams),
+    push_omega=_PUSH_OMEGA,
+    n_frames=(
+        int,
+        quantity(
+            200,
+            "",
+            "frames of the drawn trajectory (kinematics for `animate`)",
+            ge=2,
+            le=100_000,
+        ),
+    ),
+)
 
+
+class _RodsRun(_HingedRun):
     kind: Literal["rods"] = "rods"
+    PARAMS: ClassVar = RodsParams
     RECORDS_FRAMES: ClassVar = True  # interval: dominowave.sweep.run_rods.frame_schedule
-    stiffness: float | None = quantity(
-        None, "N/m", "contact stiffness k per particle; the contact spring is k/2 (eq 24)", gt=0
-    )
-    stiffness_ratio: float | None = quantity(
-        1e4, "", "contact stiffness as k / k* with k* = m g / l (Fig 4); replaces stiffness", gt=0
-    )
-    mass_model: Literal["point", "rod", "block"] = quantity(
-        "point", "", "mass distribution: point mass at the tip (the paper's), thin rod, block"
-    )
-    normal: Literal["geometric", "head-on"] = quantity(
-        "geometric", "", "contact normal: from the geometry, or head-on as in the theory"
-    )
-    damping_ratio: float = quantity(
-        0.0, "", "dashpot damping ratio zeta of a contact (0 = elastic)", ge=0, lt=1
-    )
-    contact_friction: float = quantity(
-        0.0, "", "Coulomb friction between dominoes (needs normal = geometric)", ge=0
-    )
-    floor_restitution: float = quantity(
-        0.0, "", "restitution of a domino hitting the floor", ge=0, le=1
-    )
-    steps_per_contact: float = quantity(
-        50.0, "", "time steps per shortest possible contact (>= 50 is standard)", ge=20
-    )
+    RENAMED: ClassVar = {
+        **_HingedRun.RENAMED,
+        "contact_friction": "friction_dominoes",
+        "floor_restitution": "restitution_floor",
+    }
 
     @classmethod
     def example_grid(cls) -> dict[str, list]:
-        return {"spacing": [0.012, 0.024, 0.036], "stiffness_ratio": [1e3, 1e4]}
+        return {"d_over_l": [0.2, 0.4, 0.6], "stiffness_ratio": [1e3, 1e4]}
+
+
+RodsScenario = create_model(
+    "RodsScenario",
+    __base__=_RodsRun,
+    __doc__=(
+        "Hinged compliant dominoes simulated with Newton's laws (dominowave.rods, issue 5)."
+        "\n\nThe physical fields are those of :class:`dominowave.chain.params.RodsParams`"
+        " (names, defaults, units, ranges), plus ``push_omega`` and ``steps_per_contact``."
+    ),
+    __module__=__name__,
+    **fields_from_parameters(RodsParams),
+    push_omega=_PUSH_OMEGA,
+    steps_per_contact=(
+        float,
+        quantity(50.0, "", "time steps per shortest possible contact (>= 50 is standard)", ge=20),
+    ),
+)
 
 
 class _ChainRun(ScenarioModel):
@@ -196,7 +189,7 @@ class _ChainRun(ScenarioModel):
     @model_validator(mode="before")
     @classmethod
     def _given_field_unsets_its_alternatives(cls, data):
-        return DominoChainBase._given_field_unsets_its_alternatives.__func__(cls, data)
+        return _HingedRun._given_field_unsets_its_alternatives.__func__(cls, data)
 
     @model_validator(mode="after")
     def _valid_chain(self):
@@ -243,25 +236,23 @@ class _ChainRun(ScenarioModel):
         return {"d_over_l": [0.3, 0.5, 0.7], "stiffness_ratio": [1e3, 1e4]}
 
 
-ChainScenario = register_scenario_model(
-    create_model(
-        "ChainScenario",
-        __base__=_ChainRun,
-        __doc__=(
-            "DEM chain of sphere clumps (dominowave.chain on dominowave.dem, paper section 3)."
-            "\n\nThe physical fields are those of :class:`dominowave.chain.ChainParams`, derived"
-            " from its declarations (names, defaults, units, ranges), plus how the run is"
-            " driven: ``push_omega`` and ``steps_per_collision``."
-        ),
-        __module__=__name__,
-        **fields_from_parameters(ChainParams),
-        push_omega=(
-            float | None,
-            quantity(None, "rad/s", "push of domino 0 about its base (not set: sqrt(g/l))", gt=0),
-        ),
-        steps_per_collision=(
-            int,
-            quantity(50, "", "time steps per theory collision time T_c (sets dt)", ge=10),
-        ),
-    )
+ChainScenario = create_model(
+    "ChainScenario",
+    __base__=_ChainRun,
+    __doc__=(
+        "DEM chain of sphere clumps (dominowave.chain on dominowave.dem, paper section 3)."
+        "\n\nThe physical fields are those of :class:`dominowave.chain.ChainParams`, derived"
+        " from its declarations (names, defaults, units, ranges), plus how the run is"
+        " driven: ``push_omega`` and ``steps_per_collision``."
+    ),
+    __module__=__name__,
+    **fields_from_parameters(ChainParams),
+    push_omega=(
+        float | None,
+        quantity(None, "rad/s", "push of domino 0 about its base (not set: sqrt(g/l))", gt=0),
+    ),
+    steps_per_collision=(
+        int,
+        quantity(50, "", "time steps per theory collision time T_c (sets dt)", ge=10),
+    ),
 )

@@ -1,28 +1,21 @@
-"""The building blocks of scenario models: a strict pydantic base, documented physical
-fields and the registry of scenario kinds.
+"""The building blocks of scenario models: a strict pydantic base and documented physical
+fields, derived from a scenario's parameter class.
 
-Each scenario kind declares its model with these (:mod:`dominowave.io.models`) and
-registers it under its ``kind``; :mod:`dominowave.io.config` reads study files against
-the registry. (Kept apart from both so that neither imports the other back.)
+Each scenario kind declares its model with these (:mod:`dominowave.io.models`); the
+registry of kinds is :mod:`dominowave.io.kinds`, against which :mod:`dominowave.io.config`
+reads study files. (Kept apart from both so that neither imports the other back.)
 """
 
 from __future__ import annotations
 
 import typing
-from typing import Any
+from typing import Any, ClassVar
 
 from pydantic import BaseModel, ConfigDict, Field
 
 from dominowave.params import parameter_specs
 
-__all__ = [
-    "SCENARIO_MODELS",
-    "ScenarioModel",
-    "StrictModel",
-    "fields_from_parameters",
-    "quantity",
-    "register_scenario_model",
-]
+__all__ = ["ScenarioModel", "StrictModel", "fields_from_parameters", "quantity"]
 
 
 class StrictModel(BaseModel):
@@ -36,9 +29,14 @@ class StrictModel(BaseModel):
 
 
 class ScenarioModel(StrictModel):
-    """Base of scenario models; ``kind`` is the registry key."""
+    """Base of scenario models; ``kind`` is the key in :data:`dominowave.io.kinds.KINDS`.
+
+    ``RENAMED`` maps the keys a kind no longer has to the key that replaced them: a study
+    file that still writes one is refused with an error naming the new key.
+    """
 
     kind: str
+    RENAMED: ClassVar[dict[str, str]] = {}
 
 
 def quantity(default: Any, unit: str, doc: str, **constraints) -> Any:
@@ -66,14 +64,3 @@ def fields_from_parameters(params_cls) -> dict[str, tuple[Any, Any]]:
             quantity(field.default, spec.unit, spec.doc, **spec.pydantic_constraints),
         )
     return out
-
-
-SCENARIO_MODELS: dict[str, type[ScenarioModel]] = {}
-"""kind -> pydantic model of that scenario."""
-
-
-def register_scenario_model(model: type[ScenarioModel]) -> type[ScenarioModel]:
-    """Class decorator: make ``model`` selectable by ``kind = "<its kind>"``."""
-    kind = model.model_fields["kind"].default
-    SCENARIO_MODELS[kind] = model
-    return model

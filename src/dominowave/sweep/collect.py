@@ -4,7 +4,8 @@ Every stored point becomes one entry along the dimension ``point`` (coordinate:
 its key), with its summary values, its status and every field of its resolved
 config (prefixed ``config_``). If the swept values form a complete cartesian
 grid, the dataset is reshaped onto one dimension per swept field, so that
-``ds.speed.sel(spacing=0.024)`` works.
+``ds.speed.sel(d_over_l=0.4)`` works. A summary value that is also swept (``d_over_l``)
+is that coordinate (or ``summary_<name>`` if the run changed it).
 """
 
 from __future__ import annotations
@@ -57,6 +58,15 @@ def _column(values: list):
     return np.array(["" if v is None else str(v) for v in values], dtype=object)
 
 
+def _same_where_given(column: np.ndarray, swept: np.ndarray) -> bool:
+    """True if ``column`` equals ``swept`` wherever ``column`` has a value (a point that
+    failed has no summary: NaN or "")."""
+    if column.dtype == object or swept.dtype == object:
+        return all(c == "" or c == w for c, w in zip(column, swept, strict=True))
+    given = ~np.isnan(column)
+    return bool(np.array_equal(column[given], swept[given]))
+
+
 def collect(folder: str | Path):
     """The sweep in ``folder`` as an ``xarray.Dataset`` (see the module docstring)."""
     import xarray as xr
@@ -65,17 +75,22 @@ def collect(folder: str | Path):
     if not records:
         raise ValueError(f"{folder}: the sweep has no stored points yet")
     keys = [r["key"] for r in records]
-    data = {"status": ("point", np.array([r["status"] for r in records], dtype=object))}
-    summary_names = sorted({k for r in records for k in r["summary"]})
-    for name in summary_names:
-        data[name] = ("point", _column([r["summary"].get(name) for r in records]))
-    config_names = sorted({k for r in records for k in r["config"]})
-    for name in config_names:
-        data[f"config_{name}"] = ("point", _column([r["config"].get(name) for r in records]))
     swept = sorted({k for r in records for k in r["swept"]})
     coords = {"point": keys}
     for name in swept:
         coords[name] = ("point", _column([r["swept"].get(name) for r in records]))
+    data = {"status": ("point", np.array([r["status"] for r in records], dtype=object))}
+    summary_names = sorted({k for r in records for k in r["summary"]})
+    for name in summary_names:
+        column = _column([r["summary"].get(name) for r in records])
+        if name in coords:  # a summary value that is also swept (e.g. d_over_l)
+            if _same_where_given(column, coords[name][1]):
+                continue  # the coordinate holds it
+            name = f"summary_{name}"
+        data[name] = ("point", column)
+    config_names = sorted({k for r in records for k in r["config"]})
+    for name in config_names:
+        data[f"config_{name}"] = ("point", _column([r["config"].get(name) for r in records]))
     ds = xr.Dataset(data, coords=coords, attrs={"source": str(folder)})
     return _as_grid(ds, swept)
 

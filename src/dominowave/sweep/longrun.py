@@ -1,7 +1,8 @@
 """Long runs with checkpoints: advance in chunks, save the state, resume bit-identically.
 
-A scenario that supports checkpoints provides a *stepper* (registered in
-:data:`dominowave.sweep.registry.STEPPERS`): an object with
+A scenario that supports checkpoints (a steppable kind of
+:data:`dominowave.io.kinds.KINDS`, see :func:`dominowave.sweep.registry.register_stepper`)
+provides a *stepper*: an object with
 
 * ``advance(n_steps) -> bool`` -- integrate up to ``n_steps`` time steps; True when done;
 * ``time`` [s], ``end_time`` [s], ``steps``, ``toppled`` -- where the run is;

@@ -79,10 +79,10 @@ def rods_chain(cfg: RodsScenario) -> RodChain:
         s_over_l=cfg.thickness / cfg.height,
         l=cfg.height,
         m=cfg.mass,
-        g=cfg.gravity,
+        g=cfg.g,
         damping_ratio=cfg.damping_ratio,
-        mu=cfg.contact_friction,
-        floor_restitution=cfg.floor_restitution,
+        mu=cfg.friction_dominoes,
+        floor_restitution=cfg.restitution_floor,
     )
 
 
@@ -159,10 +159,10 @@ def speed_note(cfg: RodsScenario, run: RodRun) -> str:
     each collision (f+ -> 1): that wave has no limit speed at any chain length.
     """
     reason = unsettled_reason(run.arrival, run.positions)
-    elastic = cfg.damping_ratio == 0 and cfg.contact_friction == 0
+    elastic = cfg.damping_ratio == 0 and cfg.friction_dominoes == 0
     if reason and cfg.normal == "geometric" and elastic:
         reason += (
-            "; with normal = geometric and neither damping_ratio nor contact_friction, each"
+            "; with normal = geometric and neither damping_ratio nor friction_dominoes, each"
             " collision passes on the whole push (f+ -> 1) and the wave has no limit speed:"
             ' normal = "head-on" is the theory\'s collision rule'
         )
@@ -173,7 +173,7 @@ def rods_result(cfg: RodsScenario, run: RodRun, warned: list[str]) -> RunResult:
     """Summary, per-domino events, energy/contact time series and trajectory of ``run``."""
     import xarray as xr
 
-    l, m, s, g = cfg.height, cfg.mass, cfg.thickness, cfg.gravity
+    l, m, s, g = cfg.height, cfg.mass, cfg.thickness, cfg.g
     positions = run.positions
     fit = steady_speed(run.arrival, positions)
     beta = float(np.arcsin(cfg.d_over_l))

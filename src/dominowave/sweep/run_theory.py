@@ -51,7 +51,7 @@ def theory_trajectory(cfg: TheoryScenario, start, omega, t_c, n_frames) -> Chain
     bounce back (eq 9a), which matters for the next wave, not for the primary one
     this picture shows. The last domino falls to the floor.
     """
-    l, s, g = cfg.height, cfg.thickness, cfg.gravity
+    l, s, g = cfg.height, cfg.thickness, cfg.g
     pitch = cfg.spacing + s
     beta = np.arcsin(cfg.d_over_l)
     n = start.size
@@ -84,12 +84,12 @@ def theory_trajectory(cfg: TheoryScenario, start, omega, t_c, n_frames) -> Chain
 
 def run_theory(cfg: TheoryScenario, ctx: RunContext | None = None) -> RunResult:
     """Evaluate the theory for the chain ``cfg`` (SI units in and out)."""
-    l, m, s, g = cfg.height, cfg.mass, cfg.thickness, cfg.gravity
+    l, m, s, g = cfg.height, cfg.mass, cfg.thickness, cfg.g
     d, k, conv = cfg.spacing, cfg.contact_stiffness, cfg.stiffness_convention
     beta = float(np.arcsin(cfg.d_over_l))
     t_c = float(theory.collision_time(k, m, beta, conv))
     fm = float(theory.peak_contact_force(beta, l, m, k, g, conv))
-    regime = theory.classify_regime(beta, fm / (m * g), cfg.friction, s / l)
+    regime = theory.classify_regime(beta, fm / (m * g), cfg.friction_floor, s / l)
     n_dom = cfg.n_dominoes
     start = theory.arrival_times(n_dom, cfg.push_omega, beta, l, g, collision_time=t_c)
     omega = np.sqrt(theory.omega_n_squared(np.arange(1, n_dom + 1), cfg.push_omega, beta, l, g))

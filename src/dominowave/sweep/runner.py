@@ -31,7 +31,7 @@ from dominowave.io.toml_text import dumps
 from dominowave.io.vtk import write_result_vtk
 from dominowave.sweep.execute import PointOutcome, execute_point
 from dominowave.sweep.hashing import config_dict, point_key
-from dominowave.sweep.registry import STEPPABLE, RunContext, get_runner, is_steppable
+from dominowave.sweep.registry import RunContext, get_runner, is_steppable, steppable_kinds
 from dominowave.sweep.store import SweepStore
 
 __all__ = ["SweepReport", "run_one", "run_sweep", "store_outcome", "study_toml"]
@@ -164,7 +164,7 @@ def _check_checkpointing(config, checkpoint_dir: Path, key: str) -> None:
     if not is_steppable(config.kind):
         raise ValueError(
             f"--checkpoint: scenario {config.kind!r} has no time loop to checkpoint"
-            f" (steppable: {', '.join(sorted(STEPPABLE)) or 'none yet'})"
+            f" (steppable: {', '.join(steppable_kinds()) or 'none yet'})"
         )
     state = checkpoint_dir / "state.npz"
     if state.exists():
