@@ -50,6 +50,13 @@ from dominowave.dem.contact import (
     viscous_coefficient,
 )
 from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
+from dominowave.dem.hertz import (
+    LAW_HERTZ,
+    LAW_LINEAR,
+    hertz_coefficient,
+    hertz_modulus,
+    hertz_normal,
+)
 from dominowave.dem.integrate import ROT_AXIS, ROT_FREE, ROT_ISOTROPIC
 from dominowave.dem.shapes.cuboid import MAX_POINTS, box_box, box_plane
 from dominowave.dem.shapes.rectangle import PLANAR_MULTIPLICITY, rect_plane, rect_rect
@@ -71,10 +78,11 @@ Boxes = namedtuple(
         "m_key",  # (MAX_POINTS,) int64
         "work",  # (2, 9, 4) clipping buffers
         "used",  # (K,) uint8 scratch: old rows matched this step
-        "props",  # (4,) scratch: kn, kt, mu, restitution of a new point
+        "props",  # (5,) scratch: kn (Hertz: K), kt, mu, restitution, Tsuji alpha of a new point
         "n_changes",  # (1,) int64: body pairs whose contact started or ended this step
         "changes",  # (K, 3) int64: body i, body j or -(wall + 1), ONSET / END
         "change_lag",  # (K,) how long before this step's time it happened [s], in [0, dt]
+        "normal_law",  # (1,) int: hertz.LAW_LINEAR or hertz.LAW_HERTZ
     ],
 )
 
@@ -124,8 +132,9 @@ def _empty_rows(capacity):
     )
 
 
-def empty_boxes(body=(), half=(), radius=(), material=()):
-    """The box state of a scene (no box: zero-length arrays)."""
+def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR):
+    """The box state of a scene (no box: zero-length arrays); ``normal_law`` one of
+    hertz.NORMAL_LAWS' values."""
     body = np.asarray(body, np.int64).reshape(-1)
     nx = body.shape[0]
     capacity = 32 * nx + 32
@@ -142,10 +151,11 @@ def empty_boxes(body=(), half=(), radius=(), material=()):
         m_key=np.zeros(MAX_POINTS, np.int64),
         work=np.zeros((2, 9, 4)),
         used=np.zeros(capacity, np.uint8),
-        props=np.zeros(4),
+        props=np.zeros(5),
         n_changes=np.zeros(1, np.int64),
         changes=np.zeros((capacity, 3), np.int64),
         change_lag=np.zeros(capacity),
+        normal_law=np.array([normal_law], np.int64),
     )
 
 
@@ -212,7 +222,8 @@ def _pair_code(i, j, nx, nw):
 
 @njit(cache=True, error_model="numpy")
 def _point_properties(bodies, boxes, walls, mats, a, j, out):
-    """kn, kt, mu, restitution of box a with partner j into ``out[0:4]``."""
+    """kn (Hertz: K), kt, mu, restitution, Tsuji alpha of a point of box a with partner j
+    into ``out[0:5]``."""
     rule = mats.rule[0]
     ma = boxes.material[a]
     ra = boxes.radius[a]
@@ -228,6 +239,22 @@ def _point_properties(bodies, boxes, walls, mats, a, j, out):
     out[0] = pair_stiffness(ka, kb, given, rule)
     out[1] = pair_stiffness(ka * mats.kt_ratio[ma], kb * mats.kt_ratio[mb], given, rule)
     out[2], out[3] = pair_friction_restitution(mats, ma, mb)
+    if boxes.normal_law[0] == LAW_HERTZ:
+        modulus = hertz_modulus(
+            mats.stiffness[ma], mats.poisson[ma], mats.stiffness[mb], mats.poisson[mb]
+        )
+        out[0] = hertz_coefficient(modulus, _hertz_radius(ra, rb, j < 0))
+        out[4] = mats.hertz_damping[ma, mb]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _hertz_radius(ra, rb, wall):
+    """R* [m] of a Hertz contact point (hertz.py): ``r_a`` on a wall, ``2 r_a r_b / (r_a +
+    r_b)`` between two boxes (= r for equal radii: a rounded vertex on a face, or two
+    rounded edges crossing at a right angle)."""
+    if wall:
+        return ra
+    return 2.0 * ra * rb / (ra + rb)
 
 
 @njit(cache=True, error_model="numpy")
@@ -261,10 +288,13 @@ def _relative_velocity(bodies, vel, omega, bi, bj, wall, p):
 
 
 @njit(cache=True, error_model="numpy")
-def _end(bodies, old, q, gap, dt, bi, bj, wall, ledger):
+def _end(bodies, old, q, gap, dt, bi, bj, wall, ledger, hertz):
     """Old row q opened in the last drift (now ``gap <= 0``): the end impulse the last kick
-    missed (contact.end_impulse), and the release of its shear spring."""
-    f_el, f_visc = end_impulse(old.overlap[q], gap, old.kn[q], old.cn[q], dt)
+    missed (contact.end_impulse; none for the Hertz law, whose force vanishes smoothly),
+    and the release of its shear spring."""
+    f_el, f_visc = 0.0, 0.0
+    if not hertz:
+        f_el, f_visc = end_impulse(old.overlap[q], gap, old.kn[q], old.cn[q], dt)
     fn = (f_el + f_visc) * old.mult[q]
     if fn != 0.0:
         n = old.normal[q]
@@ -312,6 +342,7 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     used = boxes.used
     used[: old.n[0]] = 0
     props = boxes.props
+    hertz = boxes.normal_law[0] == LAW_HERTZ
     o = 0
     n_new = 0
     for a in range(nx):
@@ -363,7 +394,7 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
                 if overlap <= 0.0:
                     if q >= 0:
                         used[q] = 1
-                        _end(bodies, old, q, overlap, dt, ba, bj, wall, ledger)
+                        _end(bodies, old, q, overlap, dt, ba, bj, wall, ledger, hertz)
                         if old.overlap[q] - overlap > end_speed * dt:
                             end_depth, end_speed = overlap, (old.overlap[q] - overlap) / dt
                     continue
@@ -395,7 +426,10 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
                         )  # fmt: skip
                     # (each point its own dashpot, as for a single-point impact; a planar
                     # row stands for mult such points)
-                    new.cn[c] = viscous_coefficient(props[3], 1.0 / inv, new.kn[c])
+                    if hertz:  # (Tsuji 1992: c = alpha sqrt(m_eff K), hertz.py)
+                        new.cn[c] = props[4] * math.sqrt(new.kn[c] / inv)
+                    else:
+                        new.cn[c] = viscous_coefficient(props[3], 1.0 / inv, new.kn[c])
                     u0 = u1 = u2 = 0.0
                     vn_old = 0.0
                 else:
@@ -419,15 +453,18 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
                 u0 += (dv0 - vn * n0) * increment
                 u1 += (dv1 - vn * n1) * increment
                 u2 += (dv2 - vn * n2) * increment
-                weight, overlap_kick = onset_averaged_overlap(overlap, vn, dt, fresh)
                 kn, kt = new.kn[c], new.kt[c]
-                fn_elastic = kn * overlap_kick
+                vn_dashpot = vn if fresh else 1.5 * vn - 0.5 * vn_old
+                if hertz:  # (no onset correction: force and dashpot vanish at zero overlap)
+                    fn_elastic, fn_viscous = hertz_normal(kn, new.cn[c], overlap, vn_dashpot)
+                else:
+                    weight, overlap_kick = onset_averaged_overlap(overlap, vn, dt, fresh)
+                    fn_elastic = kn * overlap_kick
+                    fn_viscous = -new.cn[c] * vn_dashpot * weight
                 u0, u1, u2 = cundall_strack(u0, u1, u2, kt, new.mu[c], fn_elastic)
                 new.shear[c, 0], new.shear[c, 1], new.shear[c, 2] = u0, u1, u2
                 stored -= u0 * u0 + u1 * u1 + u2 * u2
                 ledger[LEDGER_FRICTION] += 0.5 * mult * kt * stored
-                vn_dashpot = vn if fresh else 1.5 * vn - 0.5 * vn_old
-                fn_viscous = -new.cn[c] * vn_dashpot * weight
                 fn = fn_elastic + fn_viscous
                 new.overlap[c] = overlap
                 new.vn[c] = vn
@@ -518,14 +555,18 @@ def box_power(bodies, boxes, out):
 @njit(cache=True, error_model="numpy")
 def box_energies(boxes, out):
     """Add the elastic energies [J] of the box contacts to ``out`` (ENERGY_NAMES vector:
-    normal ``k_n delta^2 / 2`` to entry 3, tangential ``k_t |u|^2 / 2`` to 4, both to the
-    total, 8)."""
+    normal ``k_n delta^2 / 2`` (Hertz: ``2/5 K delta^{5/2}``) to entry 3, tangential
+    ``k_t |u|^2 / 2`` to 4, both to the total, 8)."""
     rows = boxes.rows
+    hertz = boxes.normal_law[0] == LAW_HERTZ
     en = 0.0
     es = 0.0
     for c in range(rows.n[0]):
         u = rows.shear[c]
-        en += 0.5 * rows.mult[c] * rows.kn[c] * rows.overlap[c] ** 2
+        if hertz:  # 2/5 K delta^{5/2}
+            en += 0.4 * rows.mult[c] * rows.kn[c] * rows.overlap[c] ** 2.5
+        else:
+            en += 0.5 * rows.mult[c] * rows.kn[c] * rows.overlap[c] ** 2
         es += 0.5 * rows.mult[c] * rows.kt[c] * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
     out[3] += en
     out[4] += es

@@ -17,7 +17,7 @@ from dominowave.dem.energy import ENERGY_NAMES, energies
 from dominowave.dem.engine import Recorder, Settings, run_loop
 from dominowave.dem.integrate import update_sphere_positions
 from dominowave.dem.planar import planar_violation
-from dominowave.dem.state import Bodies, Contacts, MaterialTable, Spheres, Walls
+from dominowave.dem.state import Bodies, Contacts, Material, MaterialTable, Spheres, Walls
 
 __all__ = [
     "ContactEvents",
@@ -38,6 +38,8 @@ STOP_REASONS = {
 
 # the material-pair tables (state.MaterialTable); files written before they existed lack them
 _PAIR_TABLES = ("mats.pair_friction", "mats.pair_restitution")
+# the Hertz law's material data, with the value older files (linear contacts only) get
+_HERTZ_TABLES = {"mats.poisson": Material.poisson, "mats.hertz_damping": 0.0}
 
 
 @dataclass(frozen=True)
@@ -613,6 +615,8 @@ class Simulation:
                     fields[name] = np.array([SHEAR_CONTACT_POINT], np.int64)
                 elif key in _PAIR_TABLES:  # (older files lack them: the min rule)
                     fields[name] = np.full_like(value, np.nan)
+                elif key in _HERTZ_TABLES:  # (older files lack them: linear contacts only)
+                    fields[name] = np.full_like(value, _HERTZ_TABLES[key])
                 elif not (prefix == "rec" and name in self._PER_RUN):
                     raise ValueError(f"state is missing {key!r}")
             new[prefix] = tup._replace(**fields)
@@ -650,6 +654,8 @@ class Simulation:
             "settings.planar": np.array(False),
             "mats.shear_kinematics": np.array([SHEAR_CONTACT_POINT], np.int64),
             **{key: np.full((nm, nm), np.nan) for key in _PAIR_TABLES},
+            "mats.poisson": np.full(nm, _HERTZ_TABLES["mats.poisson"]),
+            "mats.hertz_damping": np.zeros((nm, nm)),
             **state,
         }
         s = group("settings", Settings)
