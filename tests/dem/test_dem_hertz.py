@@ -224,3 +224,26 @@ def test_hertz_scenes_that_cannot_be_built_say_why(setup, fragment):
     with pytest.raises(ValueError) as err:
         scene.build(impact_speed=-1.0 if setup == "speed" else None)
     assert fragment in str(err.value)
+
+
+def test_validate_hertz_planar_path_equals_general_path():
+    """A thin box tipping over its edge onto the floor (Hertz, friction, dashpot), run
+    with the planar kernels and with the general 3D ones: the same trajectory to
+    round-off."""
+    a, b, c, r = 0.005, 0.005, 0.025, 2e-4
+    R = Rotation.from_rotvec([0.0, math.atan2(a, c) + 0.02, 0.0]).as_matrix()
+    out = []
+    for kernels in (True, False):
+        scene = Scene(gravity=(0.0, 0.0, -9.81), normal_law="hertz")
+        m = scene.add_material(Material(density=RHO, young=1e7, friction=2.0, restitution=0.5))
+        scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), m)
+        centre = np.array([0.0, 0.0, r]) - R @ np.array([a - r, 0.0, -(c - r)])
+        scene.add_box(centre, (a, b, c), r, m, orientation=R, blocked="y rx rz")
+        sim = scene.build(safety=0.05)
+        sim.planar_kernels = kernels
+        res = sim.run(until=0.3, trajectory_every=2000)
+        assert sim.settings.planar == kernels
+        out.append((res.positions[:, 0].copy(), res.quaternions[:, 0].copy()))
+    assert abs(out[0][1][-1, 2]) > 0.5  # it fell
+    np.testing.assert_allclose(out[0][0], out[1][0], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(out[0][1], out[1][1], rtol=0, atol=1e-10)
