@@ -70,6 +70,7 @@ Boxes = namedtuple(
         "half",  # (nx, 3) core half-extents in the body frame [m]
         "radius",  # (nx,) rounding radius [m]
         "material",  # (nx,) int material id
+        "normal_law",  # (1,) int: hertz.LAW_LINEAR or hertz.LAW_HERTZ
         "rows",  # BoxContacts of the last step
         "next",  # BoxContacts being built (scratch)
         "m_normal",  # (MAX_POINTS, 3) scratch: the manifold of one pair (shapes.cuboid)
@@ -82,7 +83,6 @@ Boxes = namedtuple(
         "n_changes",  # (1,) int64: body pairs whose contact started or ended this step
         "changes",  # (K, 3) int64: body i, body j or -(wall + 1), ONSET / END
         "change_lag",  # (K,) how long before this step's time it happened [s], in [0, dt]
-        "normal_law",  # (1,) int: hertz.LAW_LINEAR or hertz.LAW_HERTZ
     ],
 )
 
@@ -143,6 +143,7 @@ def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR)
         half=np.asarray(half, float).reshape(nx, 3),
         radius=np.asarray(radius, float).reshape(nx),
         material=np.asarray(material, np.int64).reshape(nx),
+        normal_law=np.array([normal_law], np.int64),
         rows=_empty_rows(capacity),
         next=_empty_rows(capacity),
         m_normal=np.zeros((MAX_POINTS, 3)),
@@ -155,7 +156,6 @@ def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR)
         n_changes=np.zeros(1, np.int64),
         changes=np.zeros((capacity, 3), np.int64),
         change_lag=np.zeros(capacity),
-        normal_law=np.array([normal_law], np.int64),
     )
 
 
