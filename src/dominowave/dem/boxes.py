@@ -233,11 +233,10 @@ def _point_properties(bodies, boxes, walls, mats, a, j, out):
     else:
         mb = walls.material[-j - 1]
         rb = ra  # a wall takes the radius of the body touching it (as for spheres)
-    given = mats.given_kn[ma] == 1
-    ka = particle_stiffness(mats.stiffness[ma], ra, given, rule)
-    kb = particle_stiffness(mats.stiffness[mb], rb, given, rule)
-    out[0] = pair_stiffness(ka, kb, given, rule)
-    out[1] = pair_stiffness(ka * mats.kt_ratio[ma], kb * mats.kt_ratio[mb], given, rule)
+    ka = particle_stiffness(mats.stiffness[ma], ra, rule)
+    kb = particle_stiffness(mats.stiffness[mb], rb, rule)
+    out[0] = pair_stiffness(ka, kb, rule)
+    out[1] = pair_stiffness(ka * mats.kt_ratio[ma], kb * mats.kt_ratio[mb], rule)
     out[2], out[3] = pair_friction_restitution(mats, ma, mb)
     if boxes.normal_law[0] == LAW_HERTZ:
         modulus = hertz_modulus(

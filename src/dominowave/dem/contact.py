@@ -42,6 +42,7 @@ from numba import njit
 from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
 
 __all__ = [
+    "RULE_GIVEN",
     "RULE_PAPER",
     "RULE_YADE",
     "SHEAR_CONTACT_POINT",
@@ -57,8 +58,10 @@ __all__ = [
     "viscous_coefficient",
 ]
 
-RULE_PAPER = 0
-RULE_YADE = 1
+# the rule that turns the materials' stiffness into a contact's k_n (MaterialTable.rule)
+RULE_PAPER = 0  # Young's moduli, the paper's pi R E per particle in series
+RULE_YADE = 1  # Young's moduli, YADE's E R per particle
+RULE_GIVEN = 2  # contact stiffnesses k_n given per material
 
 # shear kinematics: what drives the shear displacement (module docstring)
 SHEAR_CONTACT_POINT = 0  # relative velocity of the material points at the contact point
@@ -69,9 +72,11 @@ END = 0
 
 
 @njit(cache=True, error_model="numpy")
-def particle_stiffness(modulus, radius, given_kn, rule):
-    """Stiffness of one particle [N/m]: pi R E ("paper", eq. 23), E R ("yade") or kn."""
-    if given_kn:
+def particle_stiffness(modulus, radius, rule):
+    """Stiffness of one particle [N/m] from its material's ``stiffness`` (``modulus``, E
+    [Pa] or k_n [N/m]) and radius [m]: pi R E (RULE_PAPER, eq. 23), E R (RULE_YADE) or
+    the k_n given (RULE_GIVEN)."""
+    if rule == RULE_GIVEN:
         return modulus
     if rule == RULE_PAPER:
         return math.pi * radius * modulus
@@ -79,16 +84,17 @@ def particle_stiffness(modulus, radius, given_kn, rule):
 
 
 @njit(cache=True, error_model="numpy")
-def pair_stiffness(k1, k2, given_kn, rule):
+def pair_stiffness(k1, k2, rule):
     """Contact stiffness of two particles [N/m].
 
-    "paper": springs in series ``k1 k2 / (k1 + k2)`` (eq. 22; equal spheres: pi R E / 2, eq. 24);
-    "yade" and given kn: ``2 k1 k2 / (k1 + k2)`` (Ip2_FrictMat_FrictMat_FrictPhys).
+    RULE_PAPER: springs in series ``k1 k2 / (k1 + k2)`` (eq. 22; equal spheres: pi R E / 2,
+    eq. 24); RULE_YADE and RULE_GIVEN: ``2 k1 k2 / (k1 + k2)``
+    (Ip2_FrictMat_FrictMat_FrictPhys; equal given k_n: that k_n).
     """
     if k1 <= 0.0 or k2 <= 0.0:
         return 0.0
     series = k1 * k2 / (k1 + k2)
-    if rule == RULE_PAPER and not given_kn:
+    if rule == RULE_PAPER:
         return series
     return 2.0 * series
 
@@ -143,11 +149,10 @@ def pair_properties(si, sj_or_wall, spheres, walls, bodies, mats, out):
         mj = walls.material[-sj_or_wall - 1]
         Rj = Ri  # a wall takes the radius of the sphere touching it
         m_eff = bodies.mass[bi]
-    given = mats.given_kn[mi] == 1
-    ki = particle_stiffness(mats.stiffness[mi], Ri, given, rule)
-    kj = particle_stiffness(mats.stiffness[mj], Rj, given, rule)
-    kn = pair_stiffness(ki, kj, given, rule)
-    kt = pair_stiffness(ki * mats.kt_ratio[mi], kj * mats.kt_ratio[mj], given, rule)
+    ki = particle_stiffness(mats.stiffness[mi], Ri, rule)
+    kj = particle_stiffness(mats.stiffness[mj], Rj, rule)
+    kn = pair_stiffness(ki, kj, rule)
+    kt = pair_stiffness(ki * mats.kt_ratio[mi], kj * mats.kt_ratio[mj], rule)
     mu, e = pair_friction_restitution(mats, mi, mj)
     out[0] = kn
     out[1] = kt

@@ -39,6 +39,7 @@ largest force ``K delta_max^{3/2}``, the contact duration ``2.943 delta_max / v 
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -109,28 +110,27 @@ def hertz_restitution(alpha):
 
 def hertz_damping_ratio(restitution):
     """Tsuji dashpot ratio ``alpha`` giving the restitution ``e`` in (0, 1] (module
-    docstring); 0 for e = 1."""
+    docstring); 0 for e = 1.  (About a second per value: each is solved once per process.)"""
     check_in_range("restitution", restitution, 0.0, 1.0, hi_inclusive=True)
+    return _damping_ratio(float(restitution))
+
+
+@functools.lru_cache(maxsize=256)
+def _damping_ratio(restitution):
     if restitution >= 1.0:
         return 0.0
     hi = 1.0
     while hertz_restitution(hi) > restitution:
         hi *= 2.0
         if hi > 1e3:
-            raise ValueError(
-                f"restitution = {restitution} is too small for the Tsuji dashpot; "
-                "valid range (0.001, 1]"
-            )
+            raise ValueError(f"no Tsuji dashpot ratio up to 1e3 gives restitution = {restitution}")
     return brentq(lambda a: hertz_restitution(a) - restitution, 0.0, hi, xtol=1e-13, rtol=1e-12)
 
 
 def hertz_damping_table(restitution):
     """``alpha`` (nm, nm) for the restitution (nm, nm) of every material pair."""
     restitution = np.asarray(restitution, float)
-    cache = {}
     out = np.empty_like(restitution)
     for index, e in np.ndenumerate(restitution):
-        if e not in cache:
-            cache[e] = hertz_damping_ratio(e)
-        out[index] = cache[e]
+        out[index] = hertz_damping_ratio(e)
     return out

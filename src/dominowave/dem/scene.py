@@ -8,7 +8,13 @@ import numpy as np
 
 from dominowave.checks import check_finite, check_in_range, check_nonnegative, check_positive
 from dominowave.dem.boxes import empty_boxes
-from dominowave.dem.contact import RULE_PAPER, RULE_YADE, SHEAR_CONTACT_POINT, SHEAR_YADE
+from dominowave.dem.contact import (
+    RULE_GIVEN,
+    RULE_PAPER,
+    RULE_YADE,
+    SHEAR_CONTACT_POINT,
+    SHEAR_YADE,
+)
 from dominowave.dem.hertz import LAW_HERTZ, NORMAL_LAWS, hertz_damping_table
 from dominowave.dem.integrate import (
     ROT_AXIS,
@@ -316,7 +322,6 @@ class Scene:
             hertz_damping = hertz_damping_table(e)
         return MaterialTable(
             stiffness=np.array([m.kn if m.kn is not None else m.young for m in self.materials]),
-            given_kn=np.array(given, np.uint8),
             kt_ratio=np.array([m.kt_ratio for m in self.materials], float),
             friction=np.array([m.friction for m in self.materials], float),
             restitution=restitution,
@@ -324,7 +329,7 @@ class Scene:
             pair_restitution=pair["restitution"],
             poisson=np.array([m.poisson for m in self.materials], float),
             hertz_damping=hertz_damping,
-            rule=np.array([RULES[self.stiffness_rule]], np.int64),
+            rule=np.array([RULE_GIVEN if all(given) else RULES[self.stiffness_rule]], np.int64),
             shear_kinematics=np.array([SHEAR_KINEMATICS[self.shear_kinematics]], np.int64),
         )
 

@@ -12,7 +12,12 @@ import numpy as np
 from dominowave.checks import check_finite, check_in_range, check_positive
 from dominowave.dem import engine
 from dominowave.dem.boxes import box_energies, box_forces, empty_boxes
-from dominowave.dem.contact import SHEAR_CONTACT_POINT, build_verlet_list, compute_forces
+from dominowave.dem.contact import (
+    RULE_GIVEN,
+    SHEAR_CONTACT_POINT,
+    build_verlet_list,
+    compute_forces,
+)
 from dominowave.dem.energy import ENERGY_NAMES, energies
 from dominowave.dem.engine import Recorder, Settings, run_loop
 from dominowave.dem.integrate import update_sphere_positions
@@ -38,8 +43,21 @@ STOP_REASONS = {
 
 # the material-pair tables (state.MaterialTable); files written before they existed lack them
 _PAIR_TABLES = ("mats.pair_friction", "mats.pair_restitution")
+
 # the Hertz law's material data, with the value older files (linear contacts only) get
 _HERTZ_TABLES = {"mats.poisson": Material.poisson, "mats.hertz_damping": 0.0}
+
+
+def _upgraded(state):
+    """A state of an older file in today's layout: its per-material flag
+    ``mats.given_kn`` (materials giving k_n) is the stiffness rule RULE_GIVEN now."""
+    if "mats.given_kn" not in state:
+        return state
+    state = dict(state)
+    given = np.asarray(state.pop("mats.given_kn")).reshape(-1)
+    if given.size and given[0] == 1:
+        state["mats.rule"] = np.array([RULE_GIVEN], np.int64)
+    return state
 
 
 @dataclass(frozen=True)
@@ -591,6 +609,7 @@ class Simulation:
 
     def set_state(self, state: dict):
         """Restore a state from :meth:`get_state` (the scene layout must match)."""
+        state = _upgraded(state)
         groups = self._groups()
         new = {}
         for prefix, tup in groups.items():
@@ -642,6 +661,7 @@ class Simulation:
     @classmethod
     def from_state(cls, state: dict) -> Simulation:
         """A Simulation restored from a :meth:`get_state` dict."""
+        state = _upgraded(state)
 
         def group(prefix, kind):
             missing = [n for n in kind._fields if f"{prefix}.{n}" not in state]

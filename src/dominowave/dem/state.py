@@ -84,8 +84,7 @@ Walls = namedtuple("Walls", ["point", "normal", "material"])
 MaterialTable = namedtuple(
     "MaterialTable",
     [
-        "stiffness",  # (nm,) E [Pa] (rules paper/yade) or kn [N/m] (given)
-        "given_kn",  # (nm,) uint8: 1 if `stiffness` is a contact stiffness kn
+        "stiffness",  # (nm,) E [Pa] (rules paper, yade) or k_n [N/m] (rule given)
         "kt_ratio",  # (nm,)
         "friction",  # (nm,)
         "restitution",  # (nm,)  1 = elastic
@@ -93,7 +92,7 @@ MaterialTable = namedtuple(
         "pair_restitution",  # (nm, nm) symmetric: a pair's own e, nan: min rule
         "poisson",  # (nm,) Poisson ratio (Hertz law)
         "hertz_damping",  # (nm, nm) Tsuji dashpot ratio alpha of each pair's restitution (hertz.py)
-        "rule",  # (1,) int: 0 paper, 1 yade
+        "rule",  # (1,) int: how `stiffness` gives k_n: contact.RULE_PAPER, _YADE, _GIVEN
         "shear_kinematics",  # (1,) int: 0 contact point, 1 yade (contact.py docstring)
     ],
 )

@@ -46,7 +46,6 @@ def critical_timestep(bodies, spheres, walls, mats, boxes=None, impact_speed=0.0
     cuboids: :func:`_box_omega2`, whose Hertz contacts are taken at the overlap of an
     impact at ``impact_speed`` [m/s] or of resting under ``gravity`` [m/s^2])."""
     rule = int(mats.rule[0])
-    given = bool(mats.given_kn[0])
     omega2_boxes = 0.0
     if boxes is not None:
         omega2_boxes = _box_omega2(bodies, boxes, walls, mats, impact_speed, gravity)
@@ -54,7 +53,7 @@ def critical_timestep(bodies, spheres, walls, mats, boxes=None, impact_speed=0.0
         return float(1.0 / np.sqrt(omega2_boxes))
 
     def particle(material, radius, tangential):
-        k = particle_stiffness(mats.stiffness[material], radius, given, rule)
+        k = particle_stiffness(mats.stiffness[material], radius, rule)
         return k * mats.kt_ratio[material] if tangential else k
 
     n_bodies = bodies.mass.shape[0]
@@ -65,11 +64,11 @@ def critical_timestep(bodies, spheres, walls, mats, boxes=None, impact_speed=0.0
             [particle(m, r, t) for m, r in zip(spheres.material, spheres.radius, strict=True)]
         )
         k_partner = float(k_sphere.max())
-        k_max = np.array([pair_stiffness(k, k_partner, given, rule) for k in k_sphere])
+        k_max = np.array([pair_stiffness(k, k_partner, rule) for k in k_sphere])
         for w_mat in walls.material:
             k_wall = np.array(
                 [
-                    pair_stiffness(k, particle(w_mat, r, t), given, rule)
+                    pair_stiffness(k, particle(w_mat, r, t), rule)
                     for k, r in zip(k_sphere, spheres.radius, strict=True)
                 ]
             )
@@ -93,7 +92,6 @@ def critical_timestep(bodies, spheres, walls, mats, boxes=None, impact_speed=0.0
             pair_stiffness(
                 particle(spheres.material[i], spheres.radius[i], t),
                 particle(partner, r_j, t),
-                given,
                 rule,
             )
             for t in (0, 1)
@@ -119,16 +117,15 @@ def _box_omega2(bodies, boxes, walls, mats, impact_speed=0.0, gravity=0.0):
     if boxes.body.size == 0:
         return 0.0
     rule = int(mats.rule[0])
-    given = bool(mats.given_kn[0])
     hertz = boxes.normal_law[0] == LAW_HERTZ
 
     def particle(material, radius, tangential):
-        k = particle_stiffness(mats.stiffness[material], radius, given, rule)
+        k = particle_stiffness(mats.stiffness[material], radius, rule)
         return k * mats.kt_ratio[material] if tangential else k
 
     def normal(m, r, pm, pr, mass):
         if not hertz:
-            return pair_stiffness(particle(m, r, False), particle(pm, pr, False), given, rule)
+            return pair_stiffness(particle(m, r, False), particle(pm, pr, False), rule)
         E = hertz_modulus(mats.stiffness[m], mats.poisson[m], mats.stiffness[pm], mats.poisson[pm])
         K = hertz_coefficient(E, 2.0 * r * pr / (r + pr))  # (the largest R* of the pair)
         impact = (1.25 * mass * impact_speed**2 / K) ** 0.4
@@ -143,7 +140,7 @@ def _box_omega2(bodies, boxes, walls, mats, impact_speed=0.0, gravity=0.0):
         k = max(
             max(
                 normal(m, r, pm, pr, bodies.mass[b]),
-                pair_stiffness(particle(m, r, True), particle(pm, pr, True), given, rule),
+                pair_stiffness(particle(m, r, True), particle(pm, pr, True), rule),
             )
             for pm, pr in partners
         )
