@@ -247,3 +247,41 @@ def test_validate_hertz_planar_path_equals_general_path():
     assert abs(out[0][1][-1, 2]) > 0.5  # it fell
     np.testing.assert_allclose(out[0][0], out[1][0], rtol=0, atol=1e-12)
     np.testing.assert_allclose(out[0][1], out[1][1], rtol=0, atol=1e-10)
+
+
+def test_validate_hertz_box_box_corner_on_face_matches_the_closed_forms():
+    """Box A's corner hits the middle of box B's face, both centres on the line of
+    impact (no rotation): a Hertz contact of ``R* = r`` (a rounded vertex on a face,
+    equal roundings) and ``E*`` of two materials, with ``m_eff = m_A m_B / (m_A + m_B)``:
+    largest overlap and force to 1e-6, contact duration to two steps of the quadrature,
+    relative velocity reversed (elastic)."""
+    core = HALF - R_ROUND
+    corner = core * np.array([-1.0, -1.0, -1.0])  # the corner that leads along -x
+    R = Rotation.align_vectors([[-1.0, 0.0, 0.0]], [corner])[0].as_matrix()
+    scene = Scene(gravity=(0.0, 0.0, 0.0), normal_law="hertz")
+    a = scene.add_material(Material(density=RHO, young=E, poisson=NU))
+    b = scene.add_material(Material(density=2 * RHO, young=3 * E, poisson=0.25))
+    hb = 0.01
+    v = 0.4
+    centre = np.array([hb + 1e-6 + R_ROUND, 0.0, 0.0]) - R @ corner
+    scene.add_box(centre, HALF, R_ROUND, a, orientation=R, velocity=(-v, 0.0, 0.0))
+    scene.add_box((0.0, 0.0, 0.0), (hb, hb, hb), R_ROUND, b)
+    sim = scene.build(safety=0.02)
+    m_a, m_b = sim.bodies.mass
+    m_eff = m_a * m_b / (m_a + m_b)
+    K = hertz_coefficient(hertz_modulus(E, NU, 3 * E, 0.25), R_ROUND)
+    delta_max = (1.25 * m_eff * v**2 / K) ** 0.4
+    seen = {"overlap": 0.0, "force": 0.0}
+
+    def watch():
+        seen["overlap"] = max(seen["overlap"], sim.boxes.rows.overlap[0])
+        seen["force"] = max(seen["force"], abs(sim.boxes.rows.fn[0]))
+
+    t_on, t_off = _impact(sim, watch)
+    assert seen["overlap"] == pytest.approx(delta_max, rel=1e-6)
+    assert seen["force"] == pytest.approx(K * delta_max**1.5, rel=1e-6)
+    shape = quad(lambda s: 1.0 / math.sqrt(1.0 - s**2.5), 0.0, 1.0)[0]
+    assert abs((t_off - t_on) - 2.0 * delta_max / v * shape) < 2 * sim.dt
+    relative = sim.bodies.vel_full[0, 0] - sim.bodies.vel_full[1, 0]
+    assert relative == pytest.approx(v, rel=1e-6)
+    assert np.abs(sim.bodies.omega_full).max() < 1e-6
