@@ -176,6 +176,39 @@ def test_validate_sphere_slides_on_the_floor_with_the_friction_of_its_pair():
     assert sim.bodies.vel_full[0, 0] == pytest.approx(5 / 7 * v0, rel=1e-3)
 
 
+def test_validate_sphere_slides_over_a_sphere_with_the_friction_of_its_pair():
+    """A small sphere launched without spin from the top of a fixed sphere of 1 m slides
+    down it under the pair's mu (0.1; the min rule would give 0.6): its polar angle
+    follows ``(R + r) theta'' = g sin theta - mu (g cos theta - (R + r) theta'^2)``
+    (solve_ivp) while it slides, to 1e-4."""
+    from scipy.integrate import solve_ivp
+
+    mu, kn, big, r, v0 = 0.1, 1e5, 1.0, 0.005, 0.5
+    scene = Scene(gravity=(0.0, 0.0, -G))
+    ball = scene.add_material(Material(density=RHO, kn=kn, friction=0.6, restitution=0.5))
+    hill = scene.add_material(Material(density=RHO, kn=kn, friction=0.8, restitution=0.5))
+    scene.set_pair(ball, hill, friction=mu)
+    scene.add_sphere((0.0, 0.0, 0.0), big, hill, blocked="x y z rx ry rz")
+    mass = RHO * 4 / 3 * math.pi * r**3
+    top = big + r - mass * G / kn  # resting on its static overlap
+    scene.add_sphere((0.0, 0.0, top), r, ball, velocity=(v0, 0.0, 0.0))
+    sim = scene.build(safety=0.05, overlap_tolerance=1e-4)
+    t_end = 0.1  # (it rolls from about 2 v0 / (7 mu g) = 0.146 s on)
+    sim.run(until=t_end)
+    x, z = sim.bodies.pos[1, 0], sim.bodies.pos[1, 2]
+    theta = math.atan2(x, z)
+    rate = (sim.bodies.vel_full[1, 0] * z - sim.bodies.vel_full[1, 2] * x) / (x * x + z * z)
+    arm = big + r
+
+    def rhs(_, y):
+        return [y[1], (G * math.sin(y[0]) - mu * (G * math.cos(y[0]) - arm * y[1] ** 2)) / arm]
+
+    ref = solve_ivp(rhs, (0.0, sim.time), [0.0, v0 / arm], rtol=1e-12, atol=1e-14)
+    assert sim.bodies.omega_full[1, 1] * r < rate * arm  # still sliding
+    assert theta == pytest.approx(ref.y[0, -1], rel=1e-4)
+    assert rate == pytest.approx(ref.y[1, -1], rel=1e-4)
+
+
 def test_sphere_pair_properties_take_the_pair_values_and_the_min_rule_elsewhere():
     """pair_properties: the set pair's mu, the min rule for the pairs not set, and the
     dashpot of the set restitution (contact.viscous_coefficient with the reduced mass)."""
