@@ -189,8 +189,8 @@ def test_linear_law_step_estimate_ignores_the_impact_speed():
     assert scene.build(impact_speed=0.1).dt == scene.build(impact_speed=10.0).dt
 
 
-def _hertz_scene(material=None):
-    scene = Scene(normal_law="hertz")
+def _hertz_scene(material=None, gravity=(0.0, 0.0, -9.81)):
+    scene = Scene(gravity=gravity, normal_law="hertz")
     scene.add_material(material or Material(density=RHO, young=E))
     return scene
 
@@ -214,10 +214,15 @@ def test_bad_hertz_input_is_refused_with_its_name(make, fragment):
         ("kn", "normal_law = 'hertz' needs Young's moduli"),
         ("sphere", "normal_law = 'hertz' is implemented for box and wall contacts only"),
         ("speed", "impact_speed = -1 is outside the valid range [0, inf)"),
+        ("still", "the step estimate is unbounded"),
     ],
 )
 def test_hertz_scenes_that_cannot_be_built_say_why(setup, fragment):
-    scene = _hertz_scene(Material(density=RHO, kn=1e5) if setup == "kn" else None)
+    material = {
+        "kn": Material(density=RHO, kn=1e5),
+        "still": Material(density=RHO, young=E, kt_ratio=0.0),
+    }.get(setup)
+    scene = _hertz_scene(material, gravity=(0.0, 0.0, 0.0) if setup == "still" else (0, 0, -9.81))
     scene.add_box((0.0, 0.0, 0.0), HALF, R_ROUND, 0)
     if setup == "sphere":
         scene.add_sphere((0.1, 0.0, 0.0), 0.01, 0)

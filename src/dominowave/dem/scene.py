@@ -516,7 +516,14 @@ class Scene:
             impact_speed = self._expected_impact_speed(bodies, boxes)
         check_in_range("impact_speed", impact_speed, 0.0, math.inf, lo_inclusive=True)
         g = float(np.linalg.norm(self.gravity))
-        dt_crit = critical_timestep(bodies, spheres, walls, mats, boxes, impact_speed, g)
+        with np.errstate(divide="ignore"):
+            dt_crit = critical_timestep(bodies, spheres, walls, mats, boxes, impact_speed, g)
+        if not math.isfinite(dt_crit):
+            raise ValueError(
+                "the step estimate is unbounded: no contact of this scene has a stiffness "
+                "(Hertz contacts at rest without gravity and without a tangential spring); "
+                "give impact_speed > 0"
+            )
         if dt is None:
             dt = safety * dt_crit
         check_positive("dt", dt)
