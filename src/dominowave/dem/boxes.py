@@ -9,7 +9,9 @@ of a cuboid edge along y) and applies to every point the contact law of the sphe
 from the same per-pair functions of contact.py:
 
 * normal ``F_n = k_n delta - c_n v_n`` (linear), with the onset average of the overlap
-  (contact.onset_averaged_overlap) and the end impulse (contact.end_impulse);
+  (contact.onset_averaged_overlap) and the end impulse (contact.end_impulse); or, in a
+  scene with ``normal_law="hertz"``, ``K delta^{3/2} - c_n delta^{1/4} v_n`` (hertz.py:
+  the rounding radius as curvature, the Tsuji dashpot);
 * tangential Cundall-Strack (contact.rotate_shear, contact.cundall_strack), one shear
   history per contact point, carried from step to step by the point's feature key;
 * the dashpot ``c_n`` from the pair's restitution (contact.pair_friction_restitution: its own
@@ -99,10 +101,10 @@ BoxContacts = namedtuple(
         "vn",  # (K,) normal relative velocity at the last half step [m/s]
         "fn",  # (K,) normal force (elastic + dashpot) per point [N]
         "fn_viscous",  # (K,) dashpot part [N]
-        "kn",  # (K,) [N/m]
+        "kn",  # (K,) k_n [N/m]; Hertz: K of F = K delta^{3/2} [N/m^{3/2}]
         "kt",  # (K,) [N/m]
         "mu",  # (K,)
-        "cn",  # (K,) [N s/m]
+        "cn",  # (K,) [N s/m]; Hertz: c of -c delta^{1/4} v_n [N s/m^{5/4}]
         "point",  # (K, 3) contact point [m]
         "normal",  # (K, 3) unit normal from box i to its partner
     ],
