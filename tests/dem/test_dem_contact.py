@@ -6,6 +6,9 @@ from dem_scenes import RHO, R, column, sphere_mass
 
 from dominowave.dem import ONSET, Material, Scene
 from dominowave.dem.contact import (
+    RULE_GIVEN,
+    RULE_PAPER,
+    RULE_YADE,
     end_impulse,
     pair_stiffness,
     particle_stiffness,
@@ -67,18 +70,18 @@ def test_validate_stiffness_rules():
     E1, R1, E2, R2 = 2e7, 0.004, 5e7, 0.006
     k1, k2 = np.pi * R1 * E1, np.pi * R2 * E2
     paper = pair_stiffness(
-        particle_stiffness(E1, R1, False, 0), particle_stiffness(E2, R2, False, 0), False, 0
+        particle_stiffness(E1, R1, RULE_PAPER), particle_stiffness(E2, R2, RULE_PAPER), RULE_PAPER
     )
     assert paper == pytest.approx(k1 * k2 / (k1 + k2), rel=1e-14)
     same = pair_stiffness(
-        particle_stiffness(E1, R1, False, 0), particle_stiffness(E1, R1, False, 0), False, 0
+        particle_stiffness(E1, R1, RULE_PAPER), particle_stiffness(E1, R1, RULE_PAPER), RULE_PAPER
     )
     assert same == pytest.approx(np.pi * R1 * E1 / 2, rel=1e-14)
     yade = pair_stiffness(
-        particle_stiffness(E1, R1, False, 1), particle_stiffness(E2, R2, False, 1), False, 1
+        particle_stiffness(E1, R1, RULE_YADE), particle_stiffness(E2, R2, RULE_YADE), RULE_YADE
     )
     assert yade == pytest.approx(2 * E1 * R1 * E2 * R2 / (E1 * R1 + E2 * R2), rel=1e-14)
-    assert pair_stiffness(3e3, 3e3, True, 0) == pytest.approx(3e3, rel=1e-14)
+    assert pair_stiffness(3e3, 3e3, RULE_GIVEN) == pytest.approx(3e3, rel=1e-14)
 
 
 def test_validate_young_modulus_collision_time():

@@ -9,17 +9,21 @@ of a cuboid edge along y) and applies to every point the contact law of the sphe
 from the same per-pair functions of contact.py:
 
 * normal ``F_n = k_n delta - c_n v_n`` (linear), with the onset average of the overlap
-  (contact.onset_averaged_overlap) and the end impulse (contact.end_impulse);
+  (contact.onset_averaged_overlap) and the end impulse (contact.end_impulse); or, in a
+  scene with ``normal_law="hertz"``, ``K delta^{3/2} - c_n delta^{1/4} v_n`` (hertz.py:
+  the rounding radius as curvature, the Tsuji dashpot);
 * tangential Cundall-Strack (contact.rotate_shear, contact.cundall_strack), one shear
   history per contact point, carried from step to step by the point's feature key;
-* the dashpot ``c_n`` from the restitution ``e = min(e_i, e_j)`` (contact.viscous_coefficient)
+* the dashpot ``c_n`` from the pair's restitution (contact.pair_friction_restitution: its own
+  value, or ``min(e_i, e_j)``; contact.viscous_coefficient)
   and the effective mass AT THE CONTACT POINT along the normal,
   ``1/m_eff = 1/m_i + 1/m_j + (r_i x n) . I_i^-1 (r_i x n) + (r_j x n) . I_j^-1 (r_j x n)``
   (the impulse-response of two rigid bodies at a point, e.g. Brach, Mechanical Impact
   Dynamics (1991); Stronge, Impact Mechanics (2000) ch. 5), fixed at the point's onset;
   so a single-point impact has the restitution set, eccentric or not;
 * stiffness from the materials as for spheres, with the rounding radius as the sphere
-  radius (contact.particle_stiffness, contact.pair_stiffness); friction ``min(mu_i, mu_j)``.
+  radius (contact.particle_stiffness, contact.pair_stiffness); friction the pair's own
+  value or ``min(mu_i, mu_j)`` (contact.pair_friction_restitution).
 
 Contact rows are kept in pair order (box i, then partner: boxes j > i, then walls) and
 rebuilt every step; pairs within reach are found by bounding spheres (all pairs: O(N^2)
@@ -41,12 +45,20 @@ from dominowave.dem.contact import (
     cundall_strack,
     end_impulse,
     onset_averaged_overlap,
+    pair_friction_restitution,
     pair_stiffness,
     particle_stiffness,
     rotate_shear,
     viscous_coefficient,
 )
 from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
+from dominowave.dem.hertz import (
+    LAW_HERTZ,
+    LAW_LINEAR,
+    hertz_coefficient,
+    hertz_modulus,
+    hertz_normal,
+)
 from dominowave.dem.integrate import ROT_AXIS, ROT_FREE, ROT_ISOTROPIC
 from dominowave.dem.shapes.cuboid import MAX_POINTS, box_box, box_plane
 from dominowave.dem.shapes.rectangle import PLANAR_MULTIPLICITY, rect_plane, rect_rect
@@ -60,6 +72,7 @@ Boxes = namedtuple(
         "half",  # (nx, 3) core half-extents in the body frame [m]
         "radius",  # (nx,) rounding radius [m]
         "material",  # (nx,) int material id
+        "normal_law",  # (1,) int: hertz.LAW_LINEAR or hertz.LAW_HERTZ
         "rows",  # BoxContacts of the last step
         "next",  # BoxContacts being built (scratch)
         "m_normal",  # (MAX_POINTS, 3) scratch: the manifold of one pair (shapes.cuboid)
@@ -68,7 +81,7 @@ Boxes = namedtuple(
         "m_key",  # (MAX_POINTS,) int64
         "work",  # (2, 9, 4) clipping buffers
         "used",  # (K,) uint8 scratch: old rows matched this step
-        "props",  # (4,) scratch: kn, kt, mu, restitution of a new point
+        "props",  # (5,) scratch: kn (Hertz: K), kt, mu, restitution, Tsuji alpha of a new point
         "n_changes",  # (1,) int64: body pairs whose contact started or ended this step
         "changes",  # (K, 3) int64: body i, body j or -(wall + 1), ONSET / END
         "change_lag",  # (K,) how long before this step's time it happened [s], in [0, dt]
@@ -88,10 +101,10 @@ BoxContacts = namedtuple(
         "vn",  # (K,) normal relative velocity at the last half step [m/s]
         "fn",  # (K,) normal force (elastic + dashpot) per point [N]
         "fn_viscous",  # (K,) dashpot part [N]
-        "kn",  # (K,) [N/m]
+        "kn",  # (K,) k_n [N/m]; Hertz: K of F = K delta^{3/2} [N/m^{3/2}]
         "kt",  # (K,) [N/m]
         "mu",  # (K,)
-        "cn",  # (K,) [N s/m]
+        "cn",  # (K,) [N s/m]; Hertz: c of -c delta^{1/4} v_n [N s/m^{5/4}]
         "point",  # (K, 3) contact point [m]
         "normal",  # (K, 3) unit normal from box i to its partner
     ],
@@ -121,8 +134,9 @@ def _empty_rows(capacity):
     )
 
 
-def empty_boxes(body=(), half=(), radius=(), material=()):
-    """The box state of a scene (no box: zero-length arrays)."""
+def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR):
+    """The box state of a scene (no box: zero-length arrays); ``normal_law`` one of
+    hertz.NORMAL_LAWS' values."""
     body = np.asarray(body, np.int64).reshape(-1)
     nx = body.shape[0]
     capacity = 32 * nx + 32
@@ -131,6 +145,7 @@ def empty_boxes(body=(), half=(), radius=(), material=()):
         half=np.asarray(half, float).reshape(nx, 3),
         radius=np.asarray(radius, float).reshape(nx),
         material=np.asarray(material, np.int64).reshape(nx),
+        normal_law=np.array([normal_law], np.int64),
         rows=_empty_rows(capacity),
         next=_empty_rows(capacity),
         m_normal=np.zeros((MAX_POINTS, 3)),
@@ -139,7 +154,7 @@ def empty_boxes(body=(), half=(), radius=(), material=()):
         m_key=np.zeros(MAX_POINTS, np.int64),
         work=np.zeros((2, 9, 4)),
         used=np.zeros(capacity, np.uint8),
-        props=np.zeros(4),
+        props=np.zeros(5),
         n_changes=np.zeros(1, np.int64),
         changes=np.zeros((capacity, 3), np.int64),
         change_lag=np.zeros(capacity),
@@ -209,7 +224,8 @@ def _pair_code(i, j, nx, nw):
 
 @njit(cache=True, error_model="numpy")
 def _point_properties(bodies, boxes, walls, mats, a, j, out):
-    """kn, kt, mu, restitution of box a with partner j into ``out[0:4]``."""
+    """kn (Hertz: K), kt, mu, restitution, Tsuji alpha of a point of box a with partner j
+    into ``out[0:5]``."""
     rule = mats.rule[0]
     ma = boxes.material[a]
     ra = boxes.radius[a]
@@ -219,13 +235,27 @@ def _point_properties(bodies, boxes, walls, mats, a, j, out):
     else:
         mb = walls.material[-j - 1]
         rb = ra  # a wall takes the radius of the body touching it (as for spheres)
-    given = mats.given_kn[ma] == 1
-    ka = particle_stiffness(mats.stiffness[ma], ra, given, rule)
-    kb = particle_stiffness(mats.stiffness[mb], rb, given, rule)
-    out[0] = pair_stiffness(ka, kb, given, rule)
-    out[1] = pair_stiffness(ka * mats.kt_ratio[ma], kb * mats.kt_ratio[mb], given, rule)
-    out[2] = min(mats.friction[ma], mats.friction[mb])
-    out[3] = min(mats.restitution[ma], mats.restitution[mb])
+    ka = particle_stiffness(mats.stiffness[ma], ra, rule)
+    kb = particle_stiffness(mats.stiffness[mb], rb, rule)
+    out[0] = pair_stiffness(ka, kb, rule)
+    out[1] = pair_stiffness(ka * mats.kt_ratio[ma], kb * mats.kt_ratio[mb], rule)
+    out[2], out[3] = pair_friction_restitution(mats, ma, mb)
+    if boxes.normal_law[0] == LAW_HERTZ:
+        modulus = hertz_modulus(
+            mats.stiffness[ma], mats.poisson[ma], mats.stiffness[mb], mats.poisson[mb]
+        )
+        out[0] = hertz_coefficient(modulus, _hertz_radius(ra, rb, j < 0))
+        out[4] = mats.hertz_damping[ma, mb]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _hertz_radius(ra, rb, wall):
+    """R* [m] of a Hertz contact point (hertz.py): ``r_a`` on a wall, ``2 r_a r_b / (r_a +
+    r_b)`` between two boxes (= r for equal radii: a rounded vertex on a face, or two
+    rounded edges crossing at a right angle)."""
+    if wall:
+        return ra
+    return 2.0 * ra * rb / (ra + rb)
 
 
 @njit(cache=True, error_model="numpy")
@@ -259,10 +289,13 @@ def _relative_velocity(bodies, vel, omega, bi, bj, wall, p):
 
 
 @njit(cache=True, error_model="numpy")
-def _end(bodies, old, q, gap, dt, bi, bj, wall, ledger):
+def _end(bodies, old, q, gap, dt, bi, bj, wall, ledger, hertz):
     """Old row q opened in the last drift (now ``gap <= 0``): the end impulse the last kick
-    missed (contact.end_impulse), and the release of its shear spring."""
-    f_el, f_visc = end_impulse(old.overlap[q], gap, old.kn[q], old.cn[q], dt)
+    missed (contact.end_impulse; none for the Hertz law, whose force vanishes smoothly),
+    and the release of its shear spring."""
+    f_el, f_visc = 0.0, 0.0
+    if not hertz:
+        f_el, f_visc = end_impulse(old.overlap[q], gap, old.kn[q], old.cn[q], dt)
     fn = (f_el + f_visc) * old.mult[q]
     if fn != 0.0:
         n = old.normal[q]
@@ -310,6 +343,7 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     used = boxes.used
     used[: old.n[0]] = 0
     props = boxes.props
+    hertz = boxes.normal_law[0] == LAW_HERTZ
     o = 0
     n_new = 0
     for a in range(nx):
@@ -361,7 +395,7 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
                 if overlap <= 0.0:
                     if q >= 0:
                         used[q] = 1
-                        _end(bodies, old, q, overlap, dt, ba, bj, wall, ledger)
+                        _end(bodies, old, q, overlap, dt, ba, bj, wall, ledger, hertz)
                         if old.overlap[q] - overlap > end_speed * dt:
                             end_depth, end_speed = overlap, (old.overlap[q] - overlap) / dt
                     continue
@@ -393,7 +427,10 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
                         )  # fmt: skip
                     # (each point its own dashpot, as for a single-point impact; a planar
                     # row stands for mult such points)
-                    new.cn[c] = viscous_coefficient(props[3], 1.0 / inv, new.kn[c])
+                    if hertz:  # (Tsuji 1992: c = alpha sqrt(m_eff K), hertz.py)
+                        new.cn[c] = props[4] * math.sqrt(new.kn[c] / inv)
+                    else:
+                        new.cn[c] = viscous_coefficient(props[3], 1.0 / inv, new.kn[c])
                     u0 = u1 = u2 = 0.0
                     vn_old = 0.0
                 else:
@@ -417,15 +454,18 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
                 u0 += (dv0 - vn * n0) * increment
                 u1 += (dv1 - vn * n1) * increment
                 u2 += (dv2 - vn * n2) * increment
-                weight, overlap_kick = onset_averaged_overlap(overlap, vn, dt, fresh)
                 kn, kt = new.kn[c], new.kt[c]
-                fn_elastic = kn * overlap_kick
+                vn_dashpot = vn if fresh else 1.5 * vn - 0.5 * vn_old
+                if hertz:  # (no onset correction: force and dashpot vanish at zero overlap)
+                    fn_elastic, fn_viscous = hertz_normal(kn, new.cn[c], overlap, vn_dashpot)
+                else:
+                    weight, overlap_kick = onset_averaged_overlap(overlap, vn, dt, fresh)
+                    fn_elastic = kn * overlap_kick
+                    fn_viscous = -new.cn[c] * vn_dashpot * weight
                 u0, u1, u2 = cundall_strack(u0, u1, u2, kt, new.mu[c], fn_elastic)
                 new.shear[c, 0], new.shear[c, 1], new.shear[c, 2] = u0, u1, u2
                 stored -= u0 * u0 + u1 * u1 + u2 * u2
                 ledger[LEDGER_FRICTION] += 0.5 * mult * kt * stored
-                vn_dashpot = vn if fresh else 1.5 * vn - 0.5 * vn_old
-                fn_viscous = -new.cn[c] * vn_dashpot * weight
                 fn = fn_elastic + fn_viscous
                 new.overlap[c] = overlap
                 new.vn[c] = vn
@@ -516,14 +556,18 @@ def box_power(bodies, boxes, out):
 @njit(cache=True, error_model="numpy")
 def box_energies(boxes, out):
     """Add the elastic energies [J] of the box contacts to ``out`` (ENERGY_NAMES vector:
-    normal ``k_n delta^2 / 2`` to entry 3, tangential ``k_t |u|^2 / 2`` to 4, both to the
-    total, 8)."""
+    normal ``k_n delta^2 / 2`` (Hertz: ``2/5 K delta^{5/2}``) to entry 3, tangential
+    ``k_t |u|^2 / 2`` to 4, both to the total, 8)."""
     rows = boxes.rows
+    hertz = boxes.normal_law[0] == LAW_HERTZ
     en = 0.0
     es = 0.0
     for c in range(rows.n[0]):
         u = rows.shear[c]
-        en += 0.5 * rows.mult[c] * rows.kn[c] * rows.overlap[c] ** 2
+        if hertz:  # 2/5 K delta^{5/2}
+            en += 0.4 * rows.mult[c] * rows.kn[c] * rows.overlap[c] ** 2.5
+        else:
+            en += 0.5 * rows.mult[c] * rows.kn[c] * rows.overlap[c] ** 2
         es += 0.5 * rows.mult[c] * rows.kt[c] * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
     out[3] += en
     out[4] += es

@@ -47,6 +47,7 @@ from numba import njit
 from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
 
 __all__ = [
+    "RULE_GIVEN",
     "RULE_PAPER",
     "RULE_YADE",
     "SHEAR_CONTACT_POINT",
@@ -68,6 +69,7 @@ __all__ = [
     "log_change",
     "needs_rebuild",
     "onset_averaged_overlap",
+    "pair_friction_restitution",
     "pair_stiffness",
     "point_velocity",
     "rotate_shear",
@@ -78,8 +80,10 @@ __all__ = [
     "yade_shear_velocity",
 ]
 
-RULE_PAPER = 0
-RULE_YADE = 1
+# the rule that turns the materials' stiffness into a contact's k_n (MaterialTable.rule)
+RULE_PAPER = 0  # Young's moduli, the paper's pi R E per particle in series
+RULE_YADE = 1  # Young's moduli, YADE's E R per particle
+RULE_GIVEN = 2  # contact stiffnesses k_n given per material
 
 # shear kinematics: what drives the shear displacement (module docstring)
 SHEAR_CONTACT_POINT = 0  # relative velocity of the material points at the contact point
@@ -95,9 +99,11 @@ CHANGE_KIND = 1  # ONSET or END
 
 
 @njit(cache=True, error_model="numpy")
-def particle_stiffness(modulus, radius, given_kn, rule):
-    """Stiffness of one particle [N/m]: pi R E ("paper", eq. 23), E R ("yade") or kn."""
-    if given_kn:
+def particle_stiffness(modulus, radius, rule):
+    """Stiffness of one particle [N/m] from its material's ``stiffness`` (``modulus``, E
+    [Pa] or k_n [N/m]) and radius [m]: pi R E (RULE_PAPER, eq. 23), E R (RULE_YADE) or
+    the k_n given (RULE_GIVEN)."""
+    if rule == RULE_GIVEN:
         return modulus
     if rule == RULE_PAPER:
         return math.pi * radius * modulus
@@ -105,18 +111,36 @@ def particle_stiffness(modulus, radius, given_kn, rule):
 
 
 @njit(cache=True, error_model="numpy")
-def pair_stiffness(k1, k2, given_kn, rule):
+def pair_stiffness(k1, k2, rule):
     """Contact stiffness of two particles [N/m].
 
-    "paper": springs in series ``k1 k2 / (k1 + k2)`` (eq. 22; equal spheres: pi R E / 2, eq. 24);
-    "yade" and given kn: ``2 k1 k2 / (k1 + k2)`` (Ip2_FrictMat_FrictMat_FrictPhys).
+    RULE_PAPER: springs in series ``k1 k2 / (k1 + k2)`` (eq. 22; equal spheres: pi R E / 2,
+    eq. 24); RULE_YADE and RULE_GIVEN: ``2 k1 k2 / (k1 + k2)``
+    (Ip2_FrictMat_FrictMat_FrictPhys; equal given k_n: that k_n).
     """
     if k1 <= 0.0 or k2 <= 0.0:
         return 0.0
     series = k1 * k2 / (k1 + k2)
-    if rule == RULE_PAPER and not given_kn:
+    if rule == RULE_PAPER:
         return series
     return 2.0 * series
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def pair_friction_restitution(mats, m1, m2):
+    """Friction coefficient and restitution of a contact between materials m1 and m2.
+
+    The pair's own values where set (``Scene.set_pair``, e.g. domino-domino apart from
+    domino-floor), otherwise the min rule ``min(mu_1, mu_2)`` (paper, section 3) and
+    ``min(e_1, e_2)``; a table entry of nan means "not set".
+    """
+    mu = mats.pair_friction[m1, m2]
+    if math.isnan(mu):
+        mu = min(mats.friction[m1], mats.friction[m2])
+    e = mats.pair_restitution[m1, m2]
+    if math.isnan(e):
+        e = min(mats.restitution[m1], mats.restitution[m2])
+    return mu, e
 
 
 @njit(cache=True, error_model="numpy")
@@ -152,15 +176,15 @@ def pair_properties(si, sj_or_wall, spheres, walls, bodies, mats, out):
         mj = walls.material[-sj_or_wall - 1]
         Rj = Ri  # a wall takes the radius of the sphere touching it
         m_eff = bodies.mass[bi]
-    given = mats.given_kn[mi] == 1
-    ki = particle_stiffness(mats.stiffness[mi], Ri, given, rule)
-    kj = particle_stiffness(mats.stiffness[mj], Rj, given, rule)
-    kn = pair_stiffness(ki, kj, given, rule)
-    kt = pair_stiffness(ki * mats.kt_ratio[mi], kj * mats.kt_ratio[mj], given, rule)
+    ki = particle_stiffness(mats.stiffness[mi], Ri, rule)
+    kj = particle_stiffness(mats.stiffness[mj], Rj, rule)
+    kn = pair_stiffness(ki, kj, rule)
+    kt = pair_stiffness(ki * mats.kt_ratio[mi], kj * mats.kt_ratio[mj], rule)
+    mu, e = pair_friction_restitution(mats, mi, mj)
     out[0] = kn
     out[1] = kt
-    out[2] = min(mats.friction[mi], mats.friction[mj])
-    out[3] = viscous_coefficient(min(mats.restitution[mi], mats.restitution[mj]), m_eff, kn)
+    out[2] = mu
+    out[3] = viscous_coefficient(e, m_eff, kn)
 
 
 # --------------------------------------------------------------------------- neighbours

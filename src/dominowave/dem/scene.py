@@ -6,9 +6,16 @@ import math
 
 import numpy as np
 
-from dominowave.checks import check_finite, check_in_range, check_positive
+from dominowave.checks import check_finite, check_in_range, check_nonnegative, check_positive
 from dominowave.dem.boxes import empty_boxes
-from dominowave.dem.contact import RULE_PAPER, RULE_YADE, SHEAR_CONTACT_POINT, SHEAR_YADE
+from dominowave.dem.contact import (
+    RULE_GIVEN,
+    RULE_PAPER,
+    RULE_YADE,
+    SHEAR_CONTACT_POINT,
+    SHEAR_YADE,
+)
+from dominowave.dem.hertz import LAW_HERTZ, NORMAL_LAWS, hertz_damping_table
 from dominowave.dem.integrate import (
     ROT_AXIS,
     ROT_FREE,
@@ -71,6 +78,11 @@ class Scene:
         velocity times ``(R_i + R_j) / (R_i + R_j - delta)`` plus the spins on the full
         radii -- for equal spheres and walls a tangential spring stiffer by that factor
         while it sticks (contact.py, docs/dem.md).
+    normal_law : normal force of the box contacts: "linear" (default) ``k_n delta`` with
+        the stiffness rule above, or "hertz" ``4/3 E* sqrt(R*) delta^{3/2}`` with the
+        rounding radius as curvature and a Tsuji dashpot that gives the restitution set
+        (hertz.py); "hertz" needs every material to give ``young`` and a scene of boxes
+        and walls (sphere contacts are linear).
     """
 
     def __init__(
@@ -78,6 +90,7 @@ class Scene:
         gravity=(0.0, 0.0, -9.81),
         stiffness_rule: str = "paper",
         shear_kinematics: str = "contact_point",
+        normal_law: str = "linear",
     ):
         if stiffness_rule not in RULES:
             raise ValueError(f"stiffness_rule = {stiffness_rule!r} is not one of {tuple(RULES)}")
@@ -85,13 +98,17 @@ class Scene:
             raise ValueError(
                 f"shear_kinematics = {shear_kinematics!r} is not one of {tuple(SHEAR_KINEMATICS)}"
             )
+        if normal_law not in NORMAL_LAWS:
+            raise ValueError(f"normal_law = {normal_law!r} is not one of {tuple(NORMAL_LAWS)}")
         self.gravity = _vector("gravity", gravity)
         self.stiffness_rule = stiffness_rule
+        self.normal_law = normal_law
         self.shear_kinematics = shear_kinematics
         self.materials: list[Material] = []
         self._spheres: list[tuple] = []  # (body, centre, radius, material)
         self._bodies: list[dict] = []
         self._walls: list[tuple] = []  # (point, normal, material)
+        self._pairs: dict[tuple[int, int], dict] = {}  # (a <= b) -> friction, restitution
 
     # ------------------------------------------------------------------ contents
     def add_material(self, material: Material) -> int:
@@ -100,6 +117,35 @@ class Scene:
             raise ValueError(f"material = {material!r} is not a Material")
         self.materials.append(material)
         return len(self.materials) - 1
+
+    def set_pair(self, material_a: int, material_b: int, *, friction=None, restitution=None):
+        """Give the contacts between two materials their own friction and/or restitution.
+
+        Without it a contact uses ``min(mu_a, mu_b)`` and ``min(e_a, e_b)`` of the two
+        materials; with it, e.g., dominoes and floor of one material can still have their
+        own domino-domino and domino-floor values.  Symmetric (the pair (b, a) is the same
+        pair); ``material_a == material_b`` sets the contacts of a material with itself;
+        a later call overrides the values it gives and keeps the others.
+
+        Parameters
+        ----------
+        material_a, material_b : material ids (:meth:`add_material`).
+        friction : Coulomb coefficient of the pair, >= 0; None keeps the current value.
+        restitution : normal restitution coefficient of the pair in (0, 1] (1: elastic);
+            None keeps the current value.
+        """
+        a = self._material_id("material_a", material_a)
+        b = self._material_id("material_b", material_b)
+        if friction is not None:
+            check_finite("friction", friction)
+            check_nonnegative("friction", friction)
+        if restitution is not None:
+            check_in_range("restitution", restitution, 0.0, 1.0, hi_inclusive=True)
+        entry = self._pairs.setdefault((min(a, b), max(a, b)), {})
+        if friction is not None:
+            entry["friction"] = float(friction)
+        if restitution is not None:
+            entry["restitution"] = float(restitution)
 
     def _material_id(self, name, value):
         k = int(value)
@@ -252,15 +298,38 @@ class Scene:
             raise ValueError(
                 "materials mix kn and young; give every material the same kind of stiffness"
             )
+        nm = len(self.materials)
+        pair = {"friction": np.full((nm, nm), np.nan), "restitution": np.full((nm, nm), np.nan)}
+        for (a, b), values in self._pairs.items():
+            for name, value in values.items():
+                pair[name][a, b] = pair[name][b, a] = value
+        restitution = np.array(
+            [1.0 if m.restitution is None else m.restitution for m in self.materials]
+        )
+        hertz_damping = np.zeros((nm, nm))
+        if NORMAL_LAWS[self.normal_law] == LAW_HERTZ:
+            if any(given):
+                raise ValueError(
+                    "normal_law = 'hertz' needs Young's moduli: give every material young, not kn"
+                )
+            # the dashpot ratio of each pair's restitution (its own, else the min rule,
+            # as contact.pair_friction_restitution)
+            e = np.where(
+                np.isnan(pair["restitution"]),
+                np.minimum.outer(restitution, restitution),
+                pair["restitution"],
+            )
+            hertz_damping = hertz_damping_table(e)
         return MaterialTable(
             stiffness=np.array([m.kn if m.kn is not None else m.young for m in self.materials]),
-            given_kn=np.array(given, np.uint8),
             kt_ratio=np.array([m.kt_ratio for m in self.materials], float),
             friction=np.array([m.friction for m in self.materials], float),
-            restitution=np.array(
-                [1.0 if m.restitution is None else m.restitution for m in self.materials]
-            ),
-            rule=np.array([RULES[self.stiffness_rule]], np.int64),
+            restitution=restitution,
+            pair_friction=pair["friction"],
+            pair_restitution=pair["restitution"],
+            poisson=np.array([m.poisson for m in self.materials], float),
+            hertz_damping=hertz_damping,
+            rule=np.array([RULE_GIVEN if all(given) else RULES[self.stiffness_rule]], np.int64),
             shear_kinematics=np.array([SHEAR_KINEMATICS[self.shear_kinematics]], np.int64),
         )
 
@@ -393,6 +462,7 @@ class Scene:
         check_every: int = 100,
         overlap_tolerance: float = 1e-9,
         track_energy: bool = True,
+        impact_speed: float | None = None,
     ):
         """Freeze the scene into a :class:`~dominowave.dem.simulation.Simulation`.
 
@@ -418,6 +488,11 @@ class Scene:
             the contact forces (~10 % of a domino-chain step), the dissipated energies and
             the total read nan, and a blow-up is detected as growth of the mechanical
             energy instead.  The trajectory is the same either way.
+        impact_speed : the largest normal speed [m/s] at which Hertz contacts are expected
+            to close (``normal_law="hertz"``): the step estimate takes their stiffness
+            ``3/2 K delta^{1/2}`` at the overlap such an impact reaches (timestep.py).
+            Default: the fastest point of any body at start plus the free-fall speed
+            ``sqrt(2 g H)`` over the height H the boxes span.
         """
         from dominowave.dem.timestep import critical_timestep
 
@@ -432,7 +507,23 @@ class Scene:
         if spheres.radius.size:
             _check_initial_overlaps(spheres, walls, overlap_tolerance)
         boxes = self._boxes_arrays()
-        dt_crit = critical_timestep(bodies, spheres, walls, mats, boxes)
+        if NORMAL_LAWS[self.normal_law] == LAW_HERTZ and spheres.radius.size:
+            raise ValueError(
+                "normal_law = 'hertz' is implemented for box and wall contacts only; "
+                "this scene has spheres (use normal_law = 'linear')"
+            )
+        if impact_speed is None:
+            impact_speed = self._expected_impact_speed(bodies, boxes)
+        check_in_range("impact_speed", impact_speed, 0.0, math.inf, lo_inclusive=True)
+        g = float(np.linalg.norm(self.gravity))
+        with np.errstate(divide="ignore"):
+            dt_crit = critical_timestep(bodies, spheres, walls, mats, boxes, impact_speed, g)
+        if not math.isfinite(dt_crit):
+            raise ValueError(
+                "the step estimate is unbounded: no contact of this scene has a stiffness "
+                "(Hertz contacts at rest without gravity and without a tangential spring); "
+                "give impact_speed > 0"
+            )
         if dt is None:
             dt = safety * dt_crit
         check_positive("dt", dt)
@@ -467,6 +558,21 @@ class Scene:
             boxes=boxes,
         )
 
+    def _expected_impact_speed(self, bodies, boxes):
+        """Default ``impact_speed`` [m/s] of :meth:`build`: the fastest point of any body
+        at start (``|v| + |omega| extent``) plus ``sqrt(2 |g| H)``, H the height the
+        boxes' bounding spheres span along gravity."""
+        speed = np.linalg.norm(bodies.vel_full, axis=1)
+        speed += np.linalg.norm(bodies.omega_full, axis=1) * bodies.extent
+        g = float(np.linalg.norm(self.gravity))
+        height = 0.0
+        if boxes.body.size and g > 0.0:
+            up = -self.gravity / g
+            reach = np.linalg.norm(boxes.half, axis=1) + boxes.radius
+            z = bodies.pos[boxes.body] @ up
+            height = float((z + reach).max() - (z - reach).min())
+        return float(speed.max(initial=0.0) + math.sqrt(2.0 * g * height))
+
     def _boxes_arrays(self):
         specs = [(b, spec["box"]) for b, spec in enumerate(self._bodies) if "box" in spec]
         return empty_boxes(
@@ -474,6 +580,7 @@ class Scene:
             half=[box["core"] for _, box in specs],
             radius=[box["rounding"] for _, box in specs],
             material=[box["material"] for _, box in specs],
+            normal_law=NORMAL_LAWS[self.normal_law],
         )
 
 

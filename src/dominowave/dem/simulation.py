@@ -12,12 +12,17 @@ import numpy as np
 from dominowave.checks import check_finite, check_in_range, check_positive
 from dominowave.dem import engine
 from dominowave.dem.boxes import box_energies, box_forces, empty_boxes
-from dominowave.dem.contact import SHEAR_CONTACT_POINT, build_verlet_list, compute_forces
+from dominowave.dem.contact import (
+    RULE_GIVEN,
+    SHEAR_CONTACT_POINT,
+    build_verlet_list,
+    compute_forces,
+)
 from dominowave.dem.energy import E_TOTAL, ENERGY_NAMES, N_ENERGIES, N_MECHANICAL, energies
 from dominowave.dem.engine import Recorder, Settings, run_loop
 from dominowave.dem.integrate import update_sphere_positions
 from dominowave.dem.planar import planar_violation
-from dominowave.dem.state import Bodies, Contacts, MaterialTable, Spheres, Walls
+from dominowave.dem.state import Bodies, Contacts, Material, MaterialTable, Spheres, Walls
 
 __all__ = [
     "ContactEvents",
@@ -35,6 +40,24 @@ STOP_REASONS = {
     engine.STOP_TOUCHED: "touched",
     engine.STOP_KINETIC: "kinetic",
 }
+
+# the material-pair tables (state.MaterialTable); files written before they existed lack them
+_PAIR_TABLES = ("mats.pair_friction", "mats.pair_restitution")
+
+# the Hertz law's material data, with the value older files (linear contacts only) get
+_HERTZ_TABLES = {"mats.poisson": Material.poisson, "mats.hertz_damping": 0.0}
+
+
+def _upgraded(state):
+    """A state of an older file in today's layout: its per-material flag
+    ``mats.given_kn`` (materials giving k_n) is the stiffness rule RULE_GIVEN now."""
+    if "mats.given_kn" not in state:
+        return state
+    state = dict(state)
+    given = np.asarray(state.pop("mats.given_kn")).reshape(-1)
+    if given.size and given[0] == 1:
+        state["mats.rule"] = np.array([RULE_GIVEN], np.int64)
+    return state
 
 
 @dataclass(frozen=True)
@@ -588,6 +611,7 @@ class Simulation:
 
     def set_state(self, state: dict):
         """Restore a state from :meth:`get_state` (the scene layout must match)."""
+        state = _upgraded(state)
         groups = self._groups()
         new = {}
         for prefix, tup in groups.items():
@@ -610,6 +634,10 @@ class Simulation:
                     fields[name] = False
                 elif key == "mats.shear_kinematics":  # (older files lack it: the default)
                     fields[name] = np.array([SHEAR_CONTACT_POINT], np.int64)
+                elif key in _PAIR_TABLES:  # (older files lack them: the min rule)
+                    fields[name] = np.full_like(value, np.nan)
+                elif key in _HERTZ_TABLES:  # (older files lack them: linear contacts only)
+                    fields[name] = np.full_like(value, _HERTZ_TABLES[key])
                 elif not (prefix == "rec" and name in self._PER_RUN):
                     raise ValueError(f"state is missing {key!r}")
             new[prefix] = tup._replace(**fields)
@@ -635,6 +663,7 @@ class Simulation:
     @classmethod
     def from_state(cls, state: dict) -> Simulation:
         """A Simulation restored from a :meth:`get_state` dict."""
+        state = _upgraded(state)
 
         def group(prefix, kind):
             missing = [n for n in kind._fields if f"{prefix}.{n}" not in state]
@@ -642,9 +671,13 @@ class Simulation:
                 raise ValueError(f"state is missing {prefix}.{missing[0]}")
             return kind(**{n: np.array(state[f"{prefix}.{n}"]) for n in kind._fields})
 
+        nm = np.shape(state.get("mats.friction", ()))[0]
         state = {  # (older files lack them)
             "settings.planar": np.array(False),
             "mats.shear_kinematics": np.array([SHEAR_CONTACT_POINT], np.int64),
+            **{key: np.full((nm, nm), np.nan) for key in _PAIR_TABLES},
+            "mats.poisson": np.full(nm, _HERTZ_TABLES["mats.poisson"]),
+            "mats.hertz_damping": np.zeros((nm, nm)),
             **state,
         }
         s = group("settings", Settings)

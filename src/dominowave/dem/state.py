@@ -84,12 +84,15 @@ Walls = namedtuple("Walls", ["point", "normal", "material"])
 MaterialTable = namedtuple(
     "MaterialTable",
     [
-        "stiffness",  # (nm,) E [Pa] (rules paper/yade) or kn [N/m] (given)
-        "given_kn",  # (nm,) uint8: 1 if `stiffness` is a contact stiffness kn
+        "stiffness",  # (nm,) E [Pa] (rules paper, yade) or k_n [N/m] (rule given)
         "kt_ratio",  # (nm,)
         "friction",  # (nm,)
         "restitution",  # (nm,)  1 = elastic
-        "rule",  # (1,) int: 0 paper, 1 yade
+        "pair_friction",  # (nm, nm) symmetric: a pair's own mu (Scene.set_pair), nan: min rule
+        "pair_restitution",  # (nm, nm) symmetric: a pair's own e, nan: min rule
+        "poisson",  # (nm,) Poisson ratio (Hertz law)
+        "hertz_damping",  # (nm, nm) Tsuji dashpot ratio alpha of each pair's restitution (hertz.py)
+        "rule",  # (1,) int: how `stiffness` gives k_n: contact.RULE_PAPER, _YADE, _GIVEN
         "shear_kinematics",  # (1,) int: 0 contact point, 1 yade (contact.py docstring)
     ],
 )
@@ -130,9 +133,14 @@ class Material:
     kt_ratio : float
         Tangential to normal stiffness ratio k_t / k_n.
     friction : float
-        Coulomb coefficient mu >= 0; a contact uses min(mu_1, mu_2) (paper, section 3).
+        Coulomb coefficient mu >= 0; a contact uses min(mu_1, mu_2) (paper, section 3)
+        unless the pair has its own value (Scene.set_pair).
     restitution : float, optional
-        Normal restitution coefficient in (0, 1]; None means elastic (1).
+        Normal restitution coefficient in (0, 1]; None means elastic (1).  A contact uses
+        min(e_1, e_2) unless the pair has its own value (Scene.set_pair).
+    poisson : float
+        Poisson ratio nu in (-1, 0.5]; used by the Hertz normal law only
+        (``Scene(normal_law="hertz")``: ``1/E* = (1 - nu_1^2)/E_1 + (1 - nu_2^2)/E_2``).
     """
 
     density: float = 1000.0
@@ -141,6 +149,7 @@ class Material:
     kt_ratio: float = 1.0
     friction: float = 0.0
     restitution: float | None = None
+    poisson: float = 0.3
 
     def __post_init__(self):
         check_positive("density", self.density)
@@ -159,6 +168,7 @@ class Material:
         check_nonnegative("friction", self.friction)
         if self.restitution is not None:
             check_in_range("restitution", self.restitution, 0.0, 1.0, hi_inclusive=True)
+        check_in_range("poisson", self.poisson, -1.0, 0.5, hi_inclusive=True)
 
 
 def sphere_mass(density, radius):

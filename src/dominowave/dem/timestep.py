@@ -35,22 +35,25 @@ from __future__ import annotations
 import numpy as np
 
 from dominowave.dem.contact import pair_stiffness, particle_stiffness
+from dominowave.dem.hertz import LAW_HERTZ, hertz_coefficient, hertz_modulus
 from dominowave.dem.integrate import ROT_AXIS, ROT_NONE
 
 __all__ = ["critical_timestep"]
 
 
-def critical_timestep(bodies, spheres, walls, mats, boxes=None):
+def critical_timestep(bodies, spheres, walls, mats, boxes=None, impact_speed=0.0, gravity=0.0):
     """Critical time step estimate [s] of the scene (see module docstring; rounded
-    cuboids: :func:`_box_omega2`)."""
+    cuboids: :func:`_box_omega2`, whose Hertz contacts are taken at the overlap of an
+    impact at ``impact_speed`` [m/s] or of resting under ``gravity`` [m/s^2])."""
     rule = int(mats.rule[0])
-    given = bool(mats.given_kn[0])
-    omega2_boxes = 0.0 if boxes is None else _box_omega2(bodies, boxes, walls, mats)
+    omega2_boxes = 0.0
+    if boxes is not None:
+        omega2_boxes = _box_omega2(bodies, boxes, walls, mats, impact_speed, gravity)
     if spheres.radius.size == 0:
         return float(1.0 / np.sqrt(omega2_boxes))
 
     def particle(material, radius, tangential):
-        k = particle_stiffness(mats.stiffness[material], radius, given, rule)
+        k = particle_stiffness(mats.stiffness[material], radius, rule)
         return k * mats.kt_ratio[material] if tangential else k
 
     n_bodies = bodies.mass.shape[0]
@@ -61,11 +64,11 @@ def critical_timestep(bodies, spheres, walls, mats, boxes=None):
             [particle(m, r, t) for m, r in zip(spheres.material, spheres.radius, strict=True)]
         )
         k_partner = float(k_sphere.max())
-        k_max = np.array([pair_stiffness(k, k_partner, given, rule) for k in k_sphere])
+        k_max = np.array([pair_stiffness(k, k_partner, rule) for k in k_sphere])
         for w_mat in walls.material:
             k_wall = np.array(
                 [
-                    pair_stiffness(k, particle(w_mat, r, t), given, rule)
+                    pair_stiffness(k, particle(w_mat, r, t), rule)
                     for k, r in zip(k_sphere, spheres.radius, strict=True)
                 ]
             )
@@ -89,7 +92,6 @@ def critical_timestep(bodies, spheres, walls, mats, boxes=None):
             pair_stiffness(
                 particle(spheres.material[i], spheres.radius[i], t),
                 particle(partner, r_j, t),
-                given,
                 rule,
             )
             for t in (0, 1)
@@ -101,20 +103,34 @@ def critical_timestep(bodies, spheres, walls, mats, boxes=None):
     return float(1.0 / np.sqrt(max(omega2.max(), omega2_boxes)))
 
 
-def _box_omega2(bodies, boxes, walls, mats):
+def _box_omega2(bodies, boxes, walls, mats, impact_speed=0.0, gravity=0.0):
     """Largest ``omega^2`` [1/s^2] of the rounded cuboids: a face resting on a face or
     wall, its 4 corners in contact at once (Gershgorin, as above:
     ``omega^2 <= 4 k (1/m + rho^2/I)``), with ``k`` the stiffest normal or tangential
     point stiffness the box can form (another box's material or a wall's), ``rho`` its
-    outer half-diagonal and ``I`` its smallest moment (planar: about the axis)."""
+    outer half-diagonal and ``I`` its smallest moment (planar: about the axis).
+
+    A Hertz point (hertz.py) has the tangent stiffness ``3/2 K delta^{1/2}``, largest at
+    the largest overlap: that of an impact at ``impact_speed`` v with the box's whole
+    mass, ``(5 m v^2 / (4 K))^{2/5}``, or of resting on 4 points, ``(m g / (4 K))^{2/3}``.
+    """
     if boxes.body.size == 0:
         return 0.0
     rule = int(mats.rule[0])
-    given = bool(mats.given_kn[0])
+    hertz = boxes.normal_law[0] == LAW_HERTZ
 
     def particle(material, radius, tangential):
-        k = particle_stiffness(mats.stiffness[material], radius, given, rule)
+        k = particle_stiffness(mats.stiffness[material], radius, rule)
         return k * mats.kt_ratio[material] if tangential else k
+
+    def normal(m, r, pm, pr, mass):
+        if not hertz:
+            return pair_stiffness(particle(m, r, False), particle(pm, pr, False), rule)
+        E = hertz_modulus(mats.stiffness[m], mats.poisson[m], mats.stiffness[pm], mats.poisson[pm])
+        K = hertz_coefficient(E, 2.0 * r * pr / (r + pr))  # (the largest R* of the pair)
+        impact = (1.25 * mass * impact_speed**2 / K) ** 0.4
+        rest = (0.25 * mass * gravity / K) ** (2.0 / 3.0)
+        return 1.5 * K * np.sqrt(max(impact, rest))
 
     omega2 = 0.0
     for x, b in enumerate(boxes.body):
@@ -122,8 +138,10 @@ def _box_omega2(bodies, boxes, walls, mats):
         partners = list(zip(boxes.material, boxes.radius, strict=True))
         partners += [(w, r) for w in walls.material]  # (a wall takes the box's radius)
         k = max(
-            pair_stiffness(particle(m, r, t), particle(pm, pr, t), given, rule)
-            for t in (False, True)
+            max(
+                normal(m, r, pm, pr, bodies.mass[b]),
+                pair_stiffness(particle(m, r, True), particle(pm, pr, True), rule),
+            )
             for pm, pr in partners
         )
         rho = np.linalg.norm(boxes.half[x]) + r
