@@ -22,8 +22,14 @@ from the same per-pair functions of contact.py:
   radius (contact.particle_stiffness, contact.pair_stiffness); friction ``min(mu_i, mu_j)``.
 
 Contact rows are kept in pair order (box i, then partner: boxes j > i, then walls) and
-rebuilt every step; pairs within reach are found by bounding spheres (all pairs: O(N^2)
-tests per step).
+rebuilt every step.  Pairs within reach are found in two stages, as for spheres: a
+neighbour (Verlet) list of candidate pairs whose bounding spheres come closer than the
+skin (:func:`build_box_candidates`, the linked-cell search of contact.py, rebuilt with the
+spheres' list when a body may have moved by half the skin), and each step the bounding
+tests of :func:`box_forces` on the candidates only.  The candidates are a superset of the
+pairs that pass those tests, visited in the same order, so the forces do not depend on
+when the list was built.  Held boxes (engine.py) have no rows with walls or with other
+held boxes (:func:`_held_pair`).
 """
 
 from __future__ import annotations
@@ -37,6 +43,7 @@ from numba import njit
 from dominowave.dem.contact import (
     END,
     ONSET,
+    _candidate_pairs,
     apply_at_lever,
     cundall_strack,
     end_impulse,
@@ -50,8 +57,17 @@ from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
 from dominowave.dem.integrate import ROT_AXIS, ROT_FREE, ROT_ISOTROPIC
 from dominowave.dem.shapes.cuboid import MAX_POINTS, box_box, box_plane
 from dominowave.dem.shapes.rectangle import PLANAR_MULTIPLICITY, rect_plane, rect_rect
+from dominowave.dem.state import Spheres
 
-__all__ = ["BoxContacts", "Boxes", "box_energies", "box_forces", "box_power", "empty_boxes"]
+__all__ = [
+    "BoxContacts",
+    "Boxes",
+    "box_energies",
+    "box_forces",
+    "box_power",
+    "build_box_candidates",
+    "empty_boxes",
+]
 
 Boxes = namedtuple(
     "Boxes",
@@ -72,6 +88,9 @@ Boxes = namedtuple(
         "n_changes",  # (1,) int64: body pairs whose contact started or ended this step
         "changes",  # (K, 3) int64: body i, body j or -(wall + 1), ONSET / END
         "change_lag",  # (K,) how long before this step's time it happened [s], in [0, dt]
+        "cand",  # (P,) int64 candidate pairs (_pair_code), ascending (build_box_candidates)
+        "n_cand",  # (1,) int64 candidates listed; -1: no list, every pair is a candidate
+        "cand_start",  # (nx + 1,) int64 first candidate of each box (CSR of cand)
     ],
 )
 
@@ -143,6 +162,9 @@ def empty_boxes(body=(), half=(), radius=(), material=()):
         n_changes=np.zeros(1, np.int64),
         changes=np.zeros((capacity, 3), np.int64),
         change_lag=np.zeros(capacity),
+        cand=np.zeros(8 * nx + 16, np.int64),
+        n_cand=np.full(1, -1, np.int64),
+        cand_start=np.zeros(nx + 1, np.int64),
     )
 
 
@@ -173,6 +195,75 @@ def _reach_of(boxes, x):
     """Bounding radius [m] of box x: its core's half-diagonal plus the rounding."""
     h = boxes.half[x]
     return math.sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]) + boxes.radius[x]
+
+
+# (allocates: compiled with numba's reference counting even when called from the
+# run loop, which is compiled without it and whose callees inherit that setting)
+@njit(cache=True, error_model="numpy", _nrt=True)
+def build_box_candidates(bodies, boxes, walls, skin):
+    """The neighbour list of the box contacts: every box-box and box-wall pair whose
+    bounding spheres come closer than ``skin`` [m], into ``boxes.cand`` (ascending
+    :func:`_pair_code`) and ``boxes.cand_start``.  Returns their number, or ``-needed``
+    if ``boxes.cand`` is too short (then ``n_cand`` is -1: every pair is a candidate
+    until the caller grows it and builds again).
+
+    The bounding sphere of box x has the radius ``reach_x + r_x`` (core half-diagonal plus
+    twice the rounding), which covers the tests of :func:`box_forces` with their margins:
+    two boxes pass them only closer than ``reach_a + reach_b + (r_a + r_b) / 2``, a box
+    and a wall only closer than its support plus ``r``, at most ``reach + r``.  Between
+    builds no core point moves more than skin/2 (contact.needs_rebuild, with the core
+    half-diagonal as the body's extent), so no pair outside the list can pass them.
+    """
+    nx = boxes.body.shape[0]
+    pos = np.empty((nx, 3))
+    radius = np.empty(nx)
+    for x in range(nx):
+        for d in range(3):
+            pos[x, d] = bodies.pos[boxes.body[x], d]
+        radius[x] = _reach_of(boxes, x) + boxes.radius[x]
+    # (the bounding spheres as the spheres of the sphere search: one per body)
+    bound = Spheres(
+        body=boxes.body,
+        radius=radius,
+        local=pos,
+        material=boxes.material,
+        pos=pos,
+        listed=boxes.body,
+        n_listed=boxes.n_cand,
+    )
+    keys, _ = _candidate_pairs(bound, walls, skin)
+    n = keys.shape[0]
+    if n > boxes.cand.shape[0]:
+        boxes.n_cand[0] = -1
+        return -n
+    stride = nx + walls.point.shape[0]
+    start = boxes.cand_start
+    start[:] = 0
+    for k in range(n):
+        boxes.cand[k] = keys[k]
+        start[keys[k] // stride + 1] += 1
+    for x in range(nx):
+        start[x + 1] += start[x]
+    boxes.n_cand[0] = n
+    return n
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _partner_range(boxes, a, nx, nw):
+    """Range of the partners of box a to visit: its candidates (:func:`_partner`), or,
+    without a list, every box after it and every wall."""
+    if boxes.n_cand[0] < 0:
+        return a + 1, nx + nw
+    return boxes.cand_start[a], boxes.cand_start[a + 1]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _partner(boxes, a, k, nx, nw):
+    """Partner index ``jj`` (box ``jj`` < nx, wall ``jj - nx``) of entry k of box a's
+    :func:`_partner_range`."""
+    if boxes.n_cand[0] < 0:
+        return k
+    return boxes.cand[k] - a * (nx + nw)
 
 
 @njit(cache=True, error_model="numpy")
@@ -326,7 +417,9 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     for a in range(nx):
         ba = boxes.body[a]
         reach_a = _reach_of(boxes, a)
-        for jj in range(a + 1, nx + nw):
+        lo, hi = _partner_range(boxes, a, nx, nw)
+        for kk in range(lo, hi):
+            jj = _partner(boxes, a, kk, nx, nw)
             j = jj if jj < nx else -(jj - nx) - 1
             wall = j < 0
             if _held_pair(bodies, ba, boxes.body[j] if not wall else ba, wall):

@@ -7,7 +7,8 @@ being untouched by the interrupted step), or when the run must be aborted.
 
 One step (see integrate.py for the scheme):
 rebuild the Verlet list if a body's spheres may have moved more than skin/2 (then place
-every sphere; between builds only the listed ones are moved) -> contact forces -> contact
+every sphere; between builds only the listed ones are moved; the candidate pairs of the
+boxes are rebuilt with it) -> contact forces -> contact
 onset/end bookkeeping (held bodies, events, pair statistics) -> stop conditions at t_n ->
 kick -> recorders and checks at t_n -> drift -> place the listed spheres.  In the steps
 where no recorder, check or energy ledger reads the state between kick and drift, kick
@@ -24,7 +25,7 @@ from collections import namedtuple
 
 from numba import njit
 
-from dominowave.dem.boxes import box_energies, box_forces, box_power
+from dominowave.dem.boxes import box_energies, box_forces, box_power, build_box_candidates
 from dominowave.dem.contact import (
     END,
     ONSET,
@@ -71,6 +72,7 @@ GROW_EVENTS = 11
 GROW_TRAJECTORY = 12
 GROW_ENERGY = 13
 GROW_CONTACT_FORCES = 14
+GROW_BOX_CANDIDATES = 15
 ABORT_NAN = 20
 ABORT_RUNAWAY = 21
 
@@ -437,13 +439,16 @@ def run_loop(
         forces_due = traj_due and rec.cf_on[0] == 1
         if forces_due and rec.cf_first.shape[0] - rec.cf_n[0] < contacts.i.shape[0]:
             return GROW_CONTACT_FORCES, done
-        if rebuild_due:
+        if rebuild_due or (has_boxes and boxes.n_cand[0] < 0):
             if not _finite(bodies):
                 return ABORT_NAN, done
             update_sphere_positions(bodies, spheres, planar)  # the search sees every sphere
             if build_verlet_list(spheres, walls, bodies, mats, contacts, settings.skin) < 0:
                 return GROW_CONTACTS, done
             rec.n_rebuilds[0] += 1
+            # (the box list with the spheres': both rely on the same displacement test)
+            if has_boxes and build_box_candidates(bodies, boxes, walls, settings.skin) < 0:
+                return GROW_BOX_CANDIDATES, done
         if planar:
             n_changes = compute_forces_planar(
                 bodies,
