@@ -49,3 +49,15 @@ def test_box_neighbour_list_does_not_change_the_trajectory(planar):
             getattr(large.boxes.rows, name)[: large.boxes.rows.n[0]],
         )
     np.testing.assert_array_equal(a.events.time, b.events.time)
+
+
+def test_box_neighbour_list_grows_when_full():
+    """A list longer than its array: the run hands back, the array grows, the same run."""
+    full = _chain(True, skin=10.0)
+    short = _chain(True, skin=10.0)
+    short.boxes = short.boxes._replace(cand=np.zeros(1, np.int64))
+    a = full.run(until=0.05)
+    b = short.run(until=0.05)
+    assert short.boxes.cand.shape[0] >= short.boxes.n_cand[0] == full.boxes.n_cand[0]
+    np.testing.assert_array_equal(short.bodies.pos, full.bodies.pos)
+    assert a.n_steps == b.n_steps

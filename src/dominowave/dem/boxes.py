@@ -59,6 +59,13 @@ from dominowave.dem.shapes.cuboid import MAX_POINTS, box_box, box_plane
 from dominowave.dem.shapes.rectangle import PLANAR_MULTIPLICITY, rect_plane, rect_rect
 from dominowave.dem.state import Spheres
 
+# The per-step kernels are compiled without numba's reference counting (``_nrt=False``),
+# as those of contact.py: they allocate nothing.  Numba compiles a function once per
+# signature, with the flags of its first caller unless they are given: box_forces is
+# first called from Python (Simulation's energies at the start), and with the counting
+# every access to a field of the box state cost atomic increments and decrements (a box
+# chain step took 2-3 times as long).
+
 __all__ = [
     "BoxContacts",
     "Boxes",
@@ -266,7 +273,7 @@ def _partner(boxes, a, k, nx, nw):
     return boxes.cand[k] - a * (nx + nw)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _manifold(bodies, boxes, walls, a, j, planar, margin):
     """Contact points of box a with partner j (box, or -(wall + 1)) into boxes.m_*;
     returns their number."""
@@ -304,6 +311,41 @@ def _held_pair(bodies, ba, bj, wall):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _within_reach(bodies, boxes, walls, a, j):
+    """The margin [m] of the manifold of box a with partner j (box, or -(wall + 1)) if the
+    pair may touch, else -1: the held test (:func:`_held_pair`), then for a wall the
+    support of the box along the wall normal, ``r + sum_m h_m |n . R_m|``, against its
+    distance; for two boxes their bounding spheres."""
+    ba = boxes.body[a]
+    wall = j < 0
+    if _held_pair(bodies, ba, boxes.body[j] if not wall else ba, wall):
+        return -1.0
+    if wall:
+        w = -j - 1
+        nw_ = walls.normal[w]
+        ha = boxes.half[a]
+        R = bodies.rot[ba]
+        support = boxes.radius[a]
+        for m in range(3):
+            support += ha[m] * abs(nw_[0] * R[0, m] + nw_[1] * R[1, m] + nw_[2] * R[2, m])
+        dist = 0.0
+        for d in range(3):
+            dist += (bodies.pos[ba, d] - walls.point[w, d]) * nw_[d]
+        margin = boxes.radius[a]
+        if dist - support >= margin:
+            return -1.0
+    else:
+        bj = boxes.body[j]
+        margin = 0.5 * (boxes.radius[a] + boxes.radius[j])
+        d2 = 0.0
+        for d in range(3):
+            d2 += (bodies.pos[bj, d] - bodies.pos[ba, d]) ** 2
+        if d2 >= (_reach_of(boxes, a) + _reach_of(boxes, j) + margin) ** 2:
+            return -1.0
+    return margin
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _pair_code(i, j, nx, nw):
     """Sort key of the pair (box i, partner j): boxes j > i first, then the walls."""
     return i * (nx + nw) + (j if j >= 0 else nx - j - 1)
@@ -330,7 +372,7 @@ def _point_properties(bodies, boxes, walls, mats, a, j, out):
     out[3] = min(mats.restitution[ma], mats.restitution[mb])
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _release(old, q, ledger):
     """Old row q is gone without an end step (its feature left the manifold): the energy
     of its shear spring is released by slip (booked as friction)."""
@@ -360,7 +402,7 @@ def _relative_velocity(bodies, vel, omega, bi, bj, wall, p):
     return v0, v1, v2
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _end(bodies, old, q, gap, dt, bi, bj, wall, ledger):
     """Old row q opened in the last drift (now ``gap <= 0``): the end impulse the last kick
     missed (contact.end_impulse), and the release of its shear spring."""
@@ -397,7 +439,7 @@ def _log(boxes, a, j, kind, lag):
     boxes.n_changes[0] = k + 1
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     """Add the forces and torques of every box contact to the bodies (after
     contact.compute_forces, which zeroes them), rebuild the contact rows, book the change
@@ -416,37 +458,15 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     n_new = 0
     for a in range(nx):
         ba = boxes.body[a]
-        reach_a = _reach_of(boxes, a)
         lo, hi = _partner_range(boxes, a, nx, nw)
         for kk in range(lo, hi):
             jj = _partner(boxes, a, kk, nx, nw)
             j = jj if jj < nx else -(jj - nx) - 1
             wall = j < 0
-            if _held_pair(bodies, ba, boxes.body[j] if not wall else ba, wall):
+            margin = _within_reach(bodies, boxes, walls, a, j)
+            if margin < 0.0:
                 continue
-            if wall:
-                w = -j - 1
-                nw_ = walls.normal[w]
-                ha = boxes.half[a]
-                R = bodies.rot[ba]
-                support = boxes.radius[a]
-                for m in range(3):
-                    support += ha[m] * abs(nw_[0] * R[0, m] + nw_[1] * R[1, m] + nw_[2] * R[2, m])
-                dist = 0.0
-                for d in range(3):
-                    dist += (bodies.pos[ba, d] - walls.point[w, d]) * nw_[d]
-                margin = boxes.radius[a]
-                if dist - support >= margin:
-                    continue
-                bj = ba
-            else:
-                bj = boxes.body[j]
-                margin = 0.5 * (boxes.radius[a] + boxes.radius[j])
-                d2 = 0.0
-                for d in range(3):
-                    d2 += (bodies.pos[bj, d] - bodies.pos[ba, d]) ** 2
-                if d2 >= (reach_a + _reach_of(boxes, j) + margin) ** 2:
-                    continue
+            bj = ba if wall else boxes.body[j]
             code = _pair_code(a, j, nx, nw)
             # old rows of pairs before this one are gone: release their springs
             o = _drop_before(old, boxes, o, code, nx, nw, ledger)
@@ -562,7 +582,7 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     _copy_rows(new, old, n_new)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _drop_before(old, boxes, o, code, nx, nw, ledger):
     """Old rows from o on of the pairs before ``code`` are gone (their pair is out of
     reach): release their springs and log the end of each such pair; returns the first
@@ -577,7 +597,7 @@ def _drop_before(old, boxes, o, code, nx, nw, ledger):
     return o
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _copy_rows(src, dst, n):
     for c in range(n):
         dst.i[c] = src.i[c]
@@ -599,7 +619,7 @@ def _copy_rows(src, dst, n):
     dst.n[0] = n
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def box_power(bodies, boxes, out):
     """Add the power [W] of the box contacts' dashpots (``out[POWER_VISCOUS]``) and
     tangential forces (``out[POWER_FRICTION]``) at the full-step velocities (as
@@ -619,7 +639,7 @@ def box_power(bodies, boxes, out):
         out[POWER_FRICTION] -= m * rows.kt[c] * (u[0] * dv0 + u[1] * dv1 + u[2] * dv2)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def box_energies(boxes, out):
     """Add the elastic energies [J] of the box contacts to ``out`` (ENERGY_NAMES vector:
     normal ``k_n delta^2 / 2`` to entry 3, tangential ``k_t |u|^2 / 2`` to 4, both to the

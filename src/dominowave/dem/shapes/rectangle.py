@@ -38,7 +38,7 @@ def _corner(x, R, h, k):
     return x[0] + s0 * R[0, 0] + s2 * R[0, 2], x[2] + s0 * R[2, 0] + s2 * R[2, 2]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def rect_plane(x, R, h, r, p0, nw, margin, normal, point, overlap, key):
     """Contacts of a rounded rectangle with the plane through ``p0``, unit normal ``nw``
     (in the xz plane): one point per corner within ``r + margin`` (a face on the plane: 2),
@@ -70,7 +70,7 @@ def _separation(d0, d2, L0, L2, Ri, hi, Rj, hj):
     return abs(L0 * d0 + L2 * d2) - radius
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _edge_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, out):
     """Clip the incident edge of B against the reference edge (face axis ``kA``) of A."""
     normal, point, overlap, key = out
@@ -126,7 +126,7 @@ def _edge_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, out):
     return n
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _nearest_corners(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, out):
     """The exact deepest points, corner-edge pairs: the corners of one rectangle nearest
     the other core (the owner of the nearest corner, and its corners within round-off of
@@ -165,7 +165,7 @@ def _nearest_corners(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, out):
     return n
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def rect_rect(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, normal, point, overlap, key):
     """Contact manifold (up to 2 points) of two rounded rectangles i and j.
 
