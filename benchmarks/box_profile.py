@@ -5,8 +5,8 @@ few moments of its wave; at each, every phase is timed in its own compiled loop 
 same state (CPU time, median of --repeat loops of --steps calls; the loops compiled as the
 engine's, without numba's reference counting):
 
-* step: ``Simulation.run`` per step (engines only), on a copy of the chain (which runs on
-  through the repeats: 1 + repeat x steps steps);
+* step: ``Simulation.run`` per step over the next --steps steps (engines only), on a copy
+  of the chain;
 * search: the per-step tests of ``boxes.box_forces`` on the listed candidate pairs
   (held pairs, bounding spheres, box-wall support), without the geometry;
 * manifold: search plus the contact geometry (``shapes``) of the pairs that pass;
@@ -42,7 +42,7 @@ from dominowave.dem.boxes import (
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _search(bodies, boxes, walls, reps):
+def _search(bodies, boxes, walls, planar, reps):
     nx, nw = boxes.body.shape[0], walls.point.shape[0]
     count = 0
     for _ in range(reps):
@@ -51,7 +51,7 @@ def _search(bodies, boxes, walls, reps):
             for kk in range(lo, hi):
                 jj = _partner(boxes, a, kk, nx, nw)
                 j = jj if jj < nx else -(jj - nx) - 1
-                if _within_reach(bodies, boxes, walls, a, j) >= 0.0:
+                if _within_reach(bodies, boxes, walls, a, j, planar) >= 0.0:
                     count += 1
     return count
 
@@ -66,7 +66,7 @@ def _search_and_manifold(bodies, boxes, walls, planar, reps):
             for kk in range(lo, hi):
                 jj = _partner(boxes, a, kk, nx, nw)
                 j = jj if jj < nx else -(jj - nx) - 1
-                margin = _within_reach(bodies, boxes, walls, a, j)
+                margin = _within_reach(bodies, boxes, walls, a, j, planar)
                 if margin >= 0.0:
                     points += _manifold(bodies, boxes, walls, a, j, planar, margin)
     return points
@@ -101,11 +101,15 @@ def profile(sim, steps, repeat):
     planar = bool(sim.settings.planar) if sim.rec.step[0] > 0 else sim.planar
     b, x, w, m = sim.bodies, sim.boxes, sim.walls, sim.mats
     us = {}
-    probe = copy.deepcopy(sim)
-    r0 = probe.rec.n_rebuilds[0]
-    us["step"] = cpu(lambda k: probe.run(n_steps=k), steps, repeat)
-    per_step = (probe.rec.n_rebuilds[0] - r0) / (probe.rec.step[0] - sim.rec.step[0])
-    us["search"] = cpu(lambda k: _search(b, x, w, k), steps, repeat)
+    step_times = []
+    for _ in range(repeat):
+        probe = copy.deepcopy(sim)
+        t0 = time.process_time()
+        probe.run(n_steps=steps)
+        step_times.append((time.process_time() - t0) / steps)
+    us["step"] = statistics.median(step_times)
+    per_step = (probe.rec.n_rebuilds[0] - sim.rec.n_rebuilds[0]) / steps
+    us["search"] = cpu(lambda k: _search(b, x, w, planar, k), steps, repeat)
     us["manifold"] = cpu(lambda k: _search_and_manifold(b, x, w, planar, k), steps, repeat)
     f_b, f_x = copy.deepcopy(b), copy.deepcopy(x)
     ledger = np.zeros(3)
@@ -117,7 +121,7 @@ def profile(sim, steps, repeat):
     us["law"] = us["forces"] - us["manifold"]
     us["rest"] = us["step"] - us["forces"] - us["list"]
     moving = int(np.sum(b.held == 0))
-    reach = _search(b, x, w, 1)
+    reach = _search(b, x, w, planar, 1)
     return us, moving, reach, int(x.rows.n[0]), int(x.n_cand[0]), per_step
 
 

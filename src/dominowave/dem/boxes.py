@@ -55,8 +55,13 @@ from dominowave.dem.contact import (
 )
 from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
 from dominowave.dem.integrate import ROT_AXIS, ROT_FREE, ROT_ISOTROPIC
-from dominowave.dem.shapes.cuboid import MAX_POINTS, box_box, box_plane
-from dominowave.dem.shapes.rectangle import PLANAR_MULTIPLICITY, rect_plane, rect_rect
+from dominowave.dem.shapes.cuboid import MAX_POINTS, box_box, box_plane, faces_separate
+from dominowave.dem.shapes.rectangle import (
+    PLANAR_MULTIPLICITY,
+    edges_separate,
+    rect_plane,
+    rect_rect,
+)
 from dominowave.dem.state import Spheres
 
 # The per-step kernels are compiled without numba's reference counting (``_nrt=False``),
@@ -311,11 +316,14 @@ def _held_pair(bodies, ba, bj, wall):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _within_reach(bodies, boxes, walls, a, j):
+def _within_reach(bodies, boxes, walls, a, j, planar):
     """The margin [m] of the manifold of box a with partner j (box, or -(wall + 1)) if the
     pair may touch, else -1: the held test (:func:`_held_pair`), then for a wall the
     support of the box along the wall normal, ``r + sum_m h_m |n . R_m|``, against its
-    distance; for two boxes their bounding spheres."""
+    distance; for two boxes their bounding spheres, then the face axes of both (the first
+    exit of the manifold's separating-axis test, without the call: most boxes within
+    their bounding spheres are apart, the spheres of a domino being 10 times as wide as
+    it is thick)."""
     ba = boxes.body[a]
     wall = j < 0
     if _held_pair(bodies, ba, boxes.body[j] if not wall else ba, wall):
@@ -341,6 +349,14 @@ def _within_reach(bodies, boxes, walls, a, j):
         for d in range(3):
             d2 += (bodies.pos[bj, d] - bodies.pos[ba, d]) ** 2
         if d2 >= (_reach_of(boxes, a) + _reach_of(boxes, j) + margin) ** 2:
+            return -1.0
+        xa, Ra, ha = bodies.pos[ba], bodies.rot[ba], boxes.half[a]
+        xb, Rb, hb = bodies.pos[bj], bodies.rot[bj], boxes.half[j]
+        reach = boxes.radius[a] + boxes.radius[j] + margin
+        if planar:
+            if edges_separate(xa, Ra, ha, xb, Rb, hb, reach):
+                return -1.0
+        elif faces_separate(xa, Ra, ha, xb, Rb, hb, reach):
             return -1.0
     return margin
 
@@ -463,7 +479,7 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
             jj = _partner(boxes, a, kk, nx, nw)
             j = jj if jj < nx else -(jj - nx) - 1
             wall = j < 0
-            margin = _within_reach(bodies, boxes, walls, a, j)
+            margin = _within_reach(bodies, boxes, walls, a, j, planar)
             if margin < 0.0:
                 continue
             bj = ba if wall else boxes.body[j]

@@ -202,6 +202,23 @@ def _face_separation(d0, d1, d2, L0, L1, L2, Ri, hi, Rj, hj):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def faces_separate(xi, Ri, hi, xj, Rj, hj, reach):
+    """True if a face axis of box i or j separates the two cores by at least ``reach``
+    [m]: the early exit of :func:`box_box` on its first six axes, in the same order and
+    arithmetic, so that a caller may skip the call (no contact) without changing any
+    result."""
+    d0, d1, d2 = xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]
+    for m in range(3):
+        s, _ = _face_separation(d0, d1, d2, Ri[0, m], Ri[1, m], Ri[2, m], Ri, hi, Rj, hj)
+        if s >= reach:
+            return True
+        s, _ = _face_separation(d0, d1, d2, Rj[0, m], Rj[1, m], Rj[2, m], Ri, hi, Rj, hj)
+        if s >= reach:
+            return True
+    return False
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _clip(src, n_src, dst, axis, side, limit, label):
     """Sutherland-Hodgman: the polygon ``src[:n_src]`` (rows u, v, n, out-edge label) cut
     by the half plane ``side * src[axis] <= limit`` into ``dst``; a new corner on the cut
