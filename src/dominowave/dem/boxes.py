@@ -215,12 +215,9 @@ def _reach_of(boxes, x):
 def build_box_candidates(bodies, boxes, walls, skin):
     """The neighbour list of the box contacts: every box-box and box-wall pair whose
     bounding spheres come closer than ``skin`` [m], into ``boxes.cand`` (ascending
-    :func:`_pair_code`) and ``boxes.cand_start``; pairs without rows because of held
-    bodies (:func:`_held_pair`) are left out, and the release of a held box empties the
-    list (engine._bookkeep_boxes: ``n_cand`` -1), so that it is built again before the
-    next step.  Returns the number listed, or ``-needed`` if ``boxes.cand`` is too short
-    (then ``n_cand`` is -1: every pair is a candidate until the caller grows it and
-    builds again).
+    :func:`_pair_code`) and ``boxes.cand_start``.  Returns their number, or ``-needed``
+    if ``boxes.cand`` is too short (then ``n_cand`` is -1: every pair is a candidate
+    until the caller grows it and builds again).
 
     The bounding sphere of box x has the radius ``reach_x + r_x`` (core half-diagonal plus
     twice the rounding), which covers the tests of :func:`box_forces` with their margins:
@@ -247,19 +244,11 @@ def build_box_candidates(bodies, boxes, walls, skin):
         n_listed=boxes.n_cand,
     )
     keys, _ = _candidate_pairs(bound, walls, skin)
-    stride = nx + walls.point.shape[0]
-    n = 0
-    for k in range(keys.shape[0]):
-        a = keys[k] // stride
-        jj = keys[k] - a * stride
-        ba = boxes.body[a]
-        wall = jj >= nx
-        if not _held_pair(bodies, ba, ba if wall else boxes.body[jj], wall):
-            keys[n] = keys[k]
-            n += 1
+    n = keys.shape[0]
     if n > boxes.cand.shape[0]:
         boxes.n_cand[0] = -1
         return -n
+    stride = nx + walls.point.shape[0]
     start = boxes.cand_start
     start[:] = 0
     for k in range(n):

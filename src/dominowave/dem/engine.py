@@ -242,7 +242,6 @@ def _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t):
         kind = boxes.changes[k, 2]
         if kind == ONSET and j >= 0 and bodies.held[bi] != bodies.held[j]:
             _release(bodies, spheres, contacts, bi if bodies.held[bi] else j, t)
-            boxes.n_cand[0] = -1  # (its pairs with walls and held boxes are not listed)
         if not settings.record_pairs:
             continue
         te = t - boxes.change_lag[k]
