@@ -26,8 +26,14 @@ from the same per-pair functions of contact.py:
   value or ``min(mu_i, mu_j)`` (contact.pair_friction_restitution).
 
 Contact rows are kept in pair order (box i, then partner: boxes j > i, then walls) and
-rebuilt every step; pairs within reach are found by bounding spheres (all pairs: O(N^2)
-tests per step).
+rebuilt every step.  Pairs within reach are found in two stages, as for spheres: a
+neighbour (Verlet) list of candidate pairs whose bounding spheres come closer than the
+skin (:func:`build_box_candidates`, the linked-cell search of contact.py, rebuilt with the
+spheres' list when a body may have moved by half the skin), and each step the bounding
+tests of :func:`box_forces` on the candidates only.  The candidates are a superset of the
+pairs that pass those tests, visited in the same order, so the forces do not depend on
+when the list was built.  Held boxes (engine.py) have no rows with walls or with other
+held boxes (:func:`_held_pair`).
 """
 
 from __future__ import annotations
@@ -41,6 +47,7 @@ from numba import njit
 from dominowave.dem.contact import (
     END,
     ONSET,
+    _candidate_pairs,
     apply_at_lever,
     cundall_strack,
     end_impulse,
@@ -60,10 +67,31 @@ from dominowave.dem.hertz import (
     hertz_normal,
 )
 from dominowave.dem.integrate import ROT_AXIS, ROT_FREE, ROT_ISOTROPIC
-from dominowave.dem.shapes.cuboid import MAX_POINTS, box_box, box_plane
-from dominowave.dem.shapes.rectangle import PLANAR_MULTIPLICITY, rect_plane, rect_rect
+from dominowave.dem.shapes.cuboid import MAX_POINTS, box_box, box_plane, faces_separate
+from dominowave.dem.shapes.rectangle import (
+    PLANAR_MULTIPLICITY,
+    edges_separate,
+    rect_plane,
+    rect_rect,
+)
+from dominowave.dem.state import Spheres
 
-__all__ = ["BoxContacts", "Boxes", "box_energies", "box_forces", "box_power", "empty_boxes"]
+# The per-step kernels are compiled without numba's reference counting (``_nrt=False``),
+# as those of contact.py: they allocate nothing.  Numba compiles a function once per
+# signature, with the flags of its first caller unless they are given: box_forces is
+# first called from Python (Simulation's energies at the start), and with the counting
+# every access to a field of the box state cost atomic increments and decrements (a box
+# chain step took 2-3 times as long).
+
+__all__ = [
+    "BoxContacts",
+    "Boxes",
+    "box_energies",
+    "box_forces",
+    "box_power",
+    "build_box_candidates",
+    "empty_boxes",
+]
 
 Boxes = namedtuple(
     "Boxes",
@@ -85,6 +113,9 @@ Boxes = namedtuple(
         "n_changes",  # (1,) int64: body pairs whose contact started or ended this step
         "changes",  # (K, 3) int64: body i, body j or -(wall + 1), ONSET / END
         "change_lag",  # (K,) how long before this step's time it happened [s], in [0, dt]
+        "cand",  # (P,) int64 candidate pairs (_pair_code), ascending (build_box_candidates)
+        "n_cand",  # (1,) int64 candidates listed; -1: no list, every pair is a candidate
+        "cand_start",  # (nx + 1,) int64 first candidate of each box (CSR of cand)
     ],
 )
 
@@ -158,6 +189,9 @@ def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR)
         n_changes=np.zeros(1, np.int64),
         changes=np.zeros((capacity, 3), np.int64),
         change_lag=np.zeros(capacity),
+        cand=np.zeros(8 * nx + 16, np.int64),
+        n_cand=np.full(1, -1, np.int64),
+        cand_start=np.zeros(nx + 1, np.int64),
     )
 
 
@@ -190,7 +224,76 @@ def _reach_of(boxes, x):
     return math.sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]) + boxes.radius[x]
 
 
-@njit(cache=True, error_model="numpy")
+# (allocates: compiled with numba's reference counting even when called from the
+# run loop, which is compiled without it and whose callees inherit that setting)
+@njit(cache=True, error_model="numpy", _nrt=True)
+def build_box_candidates(bodies, boxes, walls, skin):
+    """The neighbour list of the box contacts: every box-box and box-wall pair whose
+    bounding spheres come closer than ``skin`` [m], into ``boxes.cand`` (ascending
+    :func:`_pair_code`) and ``boxes.cand_start``.  Returns their number, or ``-needed``
+    if ``boxes.cand`` is too short (then ``n_cand`` is -1: every pair is a candidate
+    until the caller grows it and builds again).
+
+    The bounding sphere of box x has the radius ``reach_x + r_x`` (core half-diagonal plus
+    twice the rounding), which covers the tests of :func:`box_forces` with their margins:
+    two boxes pass them only closer than ``reach_a + reach_b + (r_a + r_b) / 2``, a box
+    and a wall only closer than its support plus ``r``, at most ``reach + r``.  Between
+    builds no core point moves more than skin/2 (contact.needs_rebuild, with the core
+    half-diagonal as the body's extent), so no pair outside the list can pass them.
+    """
+    nx = boxes.body.shape[0]
+    pos = np.empty((nx, 3))
+    radius = np.empty(nx)
+    for x in range(nx):
+        for d in range(3):
+            pos[x, d] = bodies.pos[boxes.body[x], d]
+        radius[x] = _reach_of(boxes, x) + boxes.radius[x]
+    # (the bounding spheres as the spheres of the sphere search: one per body)
+    bound = Spheres(
+        body=boxes.body,
+        radius=radius,
+        local=pos,
+        material=boxes.material,
+        pos=pos,
+        listed=boxes.body,
+        n_listed=boxes.n_cand,
+    )
+    keys, _ = _candidate_pairs(bound, walls, skin)
+    n = keys.shape[0]
+    if n > boxes.cand.shape[0]:
+        boxes.n_cand[0] = -1
+        return -n
+    stride = nx + walls.point.shape[0]
+    start = boxes.cand_start
+    start[:] = 0
+    for k in range(n):
+        boxes.cand[k] = keys[k]
+        start[keys[k] // stride + 1] += 1
+    for x in range(nx):
+        start[x + 1] += start[x]
+    boxes.n_cand[0] = n
+    return n
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _partner_range(boxes, a, nx, nw):
+    """Range of the partners of box a to visit: its candidates (:func:`_partner`), or,
+    without a list, every box after it and every wall."""
+    if boxes.n_cand[0] < 0:
+        return a + 1, nx + nw
+    return boxes.cand_start[a], boxes.cand_start[a + 1]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _partner(boxes, a, k, nx, nw):
+    """Partner index ``jj`` (box ``jj`` < nx, wall ``jj - nx``) of entry k of box a's
+    :func:`_partner_range`."""
+    if boxes.n_cand[0] < 0:
+        return k
+    return boxes.cand[k] - a * (nx + nw)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _manifold(bodies, boxes, walls, a, j, planar, margin):
     """Contact points of box a with partner j (box, or -(wall + 1)) into boxes.m_*;
     returns their number."""
@@ -214,6 +317,63 @@ def _manifold(bodies, boxes, walls, a, j, planar, margin):
         else:
             n = box_plane(xa, Ra, ha, ra, p0, nw, margin, normal, point, overlap, keyf)
     return n
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _held_pair(bodies, ba, bj, wall):
+    """True if body ``ba`` and its partner (body ``bj``, or a wall) get no contact rows
+    because of held bodies (engine.py, held until touched): a held box with a wall, two
+    held boxes.  A held box is fixed, so these contacts could do no work; a moving body
+    touching a held box gets its rows, whose onset releases the held box."""
+    if wall:
+        return bodies.held[ba] == 1
+    return bodies.held[ba] == 1 and bodies.held[bj] == 1
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _within_reach(bodies, boxes, walls, a, j, planar):
+    """The margin [m] of the manifold of box a with partner j (box, or -(wall + 1)) if the
+    pair may touch, else -1: the held test (:func:`_held_pair`), then for a wall the
+    support of the box along the wall normal, ``r + sum_m h_m |n . R_m|``, against its
+    distance; for two boxes their bounding spheres, then the face axes of both (the first
+    exit of the manifold's separating-axis test, without the call: most boxes within
+    their bounding spheres are apart, the spheres of a domino being 10 times as wide as
+    it is thick)."""
+    ba = boxes.body[a]
+    wall = j < 0
+    if _held_pair(bodies, ba, boxes.body[j] if not wall else ba, wall):
+        return -1.0
+    if wall:
+        w = -j - 1
+        nw_ = walls.normal[w]
+        ha = boxes.half[a]
+        R = bodies.rot[ba]
+        support = boxes.radius[a]
+        for m in range(3):
+            support += ha[m] * abs(nw_[0] * R[0, m] + nw_[1] * R[1, m] + nw_[2] * R[2, m])
+        dist = 0.0
+        for d in range(3):
+            dist += (bodies.pos[ba, d] - walls.point[w, d]) * nw_[d]
+        margin = boxes.radius[a]
+        if dist - support >= margin:
+            return -1.0
+    else:
+        bj = boxes.body[j]
+        margin = 0.5 * (boxes.radius[a] + boxes.radius[j])
+        d2 = 0.0
+        for d in range(3):
+            d2 += (bodies.pos[bj, d] - bodies.pos[ba, d]) ** 2
+        if d2 >= (_reach_of(boxes, a) + _reach_of(boxes, j) + margin) ** 2:
+            return -1.0
+        xa, Ra, ha = bodies.pos[ba], bodies.rot[ba], boxes.half[a]
+        xb, Rb, hb = bodies.pos[bj], bodies.rot[bj], boxes.half[j]
+        reach = boxes.radius[a] + boxes.radius[j] + margin
+        if planar:
+            if edges_separate(xa, Ra, ha, xb, Rb, hb, reach):
+                return -1.0
+        elif faces_separate(xa, Ra, ha, xb, Rb, hb, reach):
+            return -1.0
+    return margin
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -258,7 +418,7 @@ def _hertz_radius(ra, rb, wall):
     return 2.0 * ra * rb / (ra + rb)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _release(old, q, ledger):
     """Old row q is gone without an end step (its feature left the manifold): the energy
     of its shear spring is released by slip (booked as friction)."""
@@ -288,7 +448,7 @@ def _relative_velocity(bodies, vel, omega, bi, bj, wall, p):
     return v0, v1, v2
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _end(bodies, old, q, gap, dt, bi, bj, wall, ledger, hertz):
     """Old row q opened in the last drift (now ``gap <= 0``): the end impulse the last kick
     missed (contact.end_impulse; none for the Hertz law, whose force vanishes smoothly),
@@ -328,7 +488,7 @@ def _log(boxes, a, j, kind, lag):
     boxes.n_changes[0] = k + 1
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     """Add the forces and torques of every box contact to the bodies (after
     contact.compute_forces, which zeroes them), rebuild the contact rows, book the change
@@ -348,33 +508,15 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     n_new = 0
     for a in range(nx):
         ba = boxes.body[a]
-        reach_a = _reach_of(boxes, a)
-        for jj in range(a + 1, nx + nw):
+        lo, hi = _partner_range(boxes, a, nx, nw)
+        for kk in range(lo, hi):
+            jj = _partner(boxes, a, kk, nx, nw)
             j = jj if jj < nx else -(jj - nx) - 1
             wall = j < 0
-            if wall:
-                w = -j - 1
-                nw_ = walls.normal[w]
-                ha = boxes.half[a]
-                R = bodies.rot[ba]
-                support = boxes.radius[a]
-                for m in range(3):
-                    support += ha[m] * abs(nw_[0] * R[0, m] + nw_[1] * R[1, m] + nw_[2] * R[2, m])
-                dist = 0.0
-                for d in range(3):
-                    dist += (bodies.pos[ba, d] - walls.point[w, d]) * nw_[d]
-                margin = boxes.radius[a]
-                if dist - support >= margin:
-                    continue
-                bj = ba
-            else:
-                bj = boxes.body[j]
-                margin = 0.5 * (boxes.radius[a] + boxes.radius[j])
-                d2 = 0.0
-                for d in range(3):
-                    d2 += (bodies.pos[bj, d] - bodies.pos[ba, d]) ** 2
-                if d2 >= (reach_a + _reach_of(boxes, j) + margin) ** 2:
-                    continue
+            margin = _within_reach(bodies, boxes, walls, a, j, planar)
+            if margin < 0.0:
+                continue
+            bj = ba if wall else boxes.body[j]
             code = _pair_code(a, j, nx, nw)
             # old rows of pairs before this one are gone: release their springs
             o = _drop_before(old, boxes, o, code, nx, nw, ledger)
@@ -496,7 +638,7 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     _copy_rows(new, old, n_new)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _drop_before(old, boxes, o, code, nx, nw, ledger):
     """Old rows from o on of the pairs before ``code`` are gone (their pair is out of
     reach): release their springs and log the end of each such pair; returns the first
@@ -511,7 +653,7 @@ def _drop_before(old, boxes, o, code, nx, nw, ledger):
     return o
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _copy_rows(src, dst, n):
     for c in range(n):
         dst.i[c] = src.i[c]
@@ -533,7 +675,7 @@ def _copy_rows(src, dst, n):
     dst.n[0] = n
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def box_power(bodies, boxes, out):
     """Add the power [W] of the box contacts' dashpots (``out[POWER_VISCOUS]``) and
     tangential forces (``out[POWER_FRICTION]``) at the full-step velocities (as
@@ -553,7 +695,7 @@ def box_power(bodies, boxes, out):
         out[POWER_FRICTION] -= m * rows.kt[c] * (u[0] * dv0 + u[1] * dv1 + u[2] * dv2)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def box_energies(boxes, out):
     """Add the elastic energies [J] of the box contacts to ``out`` (ENERGY_NAMES vector:
     normal ``k_n delta^2 / 2`` (Hertz: ``2/5 K delta^{5/2}``) to entry 3, tangential

@@ -7,7 +7,8 @@ being untouched by the interrupted step), or when the run must be aborted.
 
 One step (see integrate.py for the scheme):
 rebuild the Verlet list if a body's spheres may have moved more than skin/2 (then place
-every sphere; between builds only the listed ones are moved) -> contact forces -> contact
+every sphere; between builds only the listed ones are moved; the candidate pairs of the
+boxes are rebuilt with it) -> contact forces -> contact
 onset/end bookkeeping (held bodies, events, pair statistics) -> stop conditions at t_n ->
 kick -> recorders and checks at t_n -> drift -> place the listed spheres.  In the steps
 where no recorder, check or energy ledger reads the state between kick and drift, kick
@@ -24,7 +25,7 @@ from collections import namedtuple
 
 from numba import njit
 
-from dominowave.dem.boxes import box_energies, box_forces, box_power
+from dominowave.dem.boxes import box_energies, box_forces, box_power, build_box_candidates
 from dominowave.dem.contact import (
     CHANGE_CONTACT,
     CHANGE_KIND,
@@ -83,6 +84,7 @@ GROW_EVENTS = 11
 GROW_TRAJECTORY = 12
 GROW_ENERGY = 13
 GROW_CONTACT_FORCES = 14
+GROW_BOX_CANDIDATES = 15
 ABORT_NAN = 20
 ABORT_RUNAWAY = 21
 
@@ -250,16 +252,21 @@ def _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, first_step
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _bookkeep_boxes(boxes, rec, settings, t):
+def _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t):
     """Body-level onsets and ends of the box contacts of this step (boxes.changes, one per
-    body pair: a pair is in contact while any of its points is): event log, pair
-    statistics, touched bodies, as :func:`_bookkeep` for sphere contacts."""
-    if not settings.record_pairs:
-        return
+    body pair: a pair is in contact while any of its points is): held-body release, event
+    log, pair statistics, touched bodies, as :func:`_bookkeep` for sphere contacts.
+
+    Two held boxes have no contact rows (boxes.py), so a released box frees a held box it
+    already overlaps one step later, at the onset of their first rows."""
     for k in range(boxes.n_changes[0]):
         bi = boxes.changes[k, 0]
         j = boxes.changes[k, 1]
         kind = boxes.changes[k, 2]
+        if kind == ONSET and j >= 0 and bodies.held[bi] != bodies.held[j]:
+            _release(bodies, spheres, contacts, bi if bodies.held[bi] else j, t)
+        if not settings.record_pairs:
+            continue
         te = t - boxes.change_lag[k]
         if j >= 0:
             _count_pair_change(rec, bi, j, kind, te, t)
@@ -488,13 +495,16 @@ def run_loop(
         forces_due = traj_due and rec.cf_on[0] == 1
         if forces_due and rec.cf_first.shape[0] - rec.cf_n[0] < contacts.i.shape[0]:
             return GROW_CONTACT_FORCES, done
-        if rebuild_due:
+        if rebuild_due or (has_boxes and boxes.n_cand[0] < 0):
             if not _finite(bodies):
                 return ABORT_NAN, done
             update_sphere_positions(bodies, spheres, planar)  # the search sees every sphere
             if build_verlet_list(spheres, walls, bodies, mats, contacts, settings.skin) < 0:
                 return GROW_CONTACTS, done
             rec.n_rebuilds[0] += 1
+            # (the box list with the spheres': both rely on the same displacement test)
+            if has_boxes and build_box_candidates(bodies, boxes, walls, settings.skin) < 0:
+                return GROW_BOX_CANDIDATES, done
         if planar:
             n_changes = compute_forces_planar(
                 bodies,
@@ -522,7 +532,7 @@ def run_loop(
         if has_boxes:
             box_forces(bodies, boxes, walls, mats, dt, rec.ledger, step == 0, planar)
             if boxes.n_changes[0] > 0:
-                _bookkeep_boxes(boxes, rec, settings, t)
+                _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t)
         if n_changes > 0:
             _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, step == 0)
         if settings.record_peak_force:

@@ -84,7 +84,7 @@ def _sign(x):
     return 1.0 if x >= 0.0 else -1.0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def box_plane(x, R, h, r, p0, nw, margin, normal, point, overlap, key):
     """Contacts of a rounded box with the plane through ``p0`` of unit normal ``nw``.
 
@@ -128,7 +128,7 @@ def _vertex(x, R, h, k):
     )
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def point_box_distance(x, R, h, p0, p1, p2):
     """Signed distance [m] of the point ``p`` from the solid box (centre ``x``, axes ``R``,
     half-extents ``h``): positive outside, minus the depth below the nearest face inside.
@@ -166,7 +166,7 @@ def point_box_distance(x, R, h, p0, p1, p2):
     return -depth, s * R[0, m], s * R[1, m], s * R[2, m], c0, c1, c2
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def box_sphere(x, R, h, r, c, radius, margin, normal, point, overlap, key):
     """Contact of a rounded box (body ``i``) with a sphere of centre ``c`` and ``radius``.
 
@@ -202,6 +202,23 @@ def _face_separation(d0, d1, d2, L0, L1, L2, Ri, hi, Rj, hj):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def faces_separate(xi, Ri, hi, xj, Rj, hj, reach):
+    """True if a face axis of box i or j separates the two cores by at least ``reach``
+    [m]: the early exit of :func:`box_box` on its first six axes, in the same order and
+    arithmetic, so that a caller may skip the call (no contact) without changing any
+    result."""
+    d0, d1, d2 = xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]
+    for m in range(3):
+        s, _ = _face_separation(d0, d1, d2, Ri[0, m], Ri[1, m], Ri[2, m], Ri, hi, Rj, hj)
+        if s >= reach:
+            return True
+        s, _ = _face_separation(d0, d1, d2, Rj[0, m], Rj[1, m], Rj[2, m], Ri, hi, Rj, hj)
+        if s >= reach:
+            return True
+    return False
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _clip(src, n_src, dst, axis, side, limit, label):
     """Sutherland-Hodgman: the polygon ``src[:n_src]`` (rows u, v, n, out-edge label) cut
     by the half plane ``side * src[axis] <= limit`` into ``dst``; a new corner on the cut
@@ -224,7 +241,7 @@ def _clip(src, n_src, dst, axis, side, limit, label):
     return m
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work, out):
     """Clip the incident face of box B against the reference face ``kA`` of box A.
 
@@ -323,7 +340,7 @@ def _segment_closest(r0, r1, r2, u0, u1, u2, v0, v1, v2):
     return s, t
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _edge_manifold(xi, Ri, hi, ri, a, xj, Rj, hj, rj, b, n0, n1, n2, sep, margin, out):
     """One point between the closest points of edge ``a`` of box i (farthest along n) and
     edge ``b`` of box j (farthest along -n).  Separated cores: the distance of the two
@@ -366,7 +383,7 @@ def _edge_manifold(xi, Ri, hi, ri, a, xj, Rj, hj, rj, b, n0, n1, n2, sep, margin
     return 1
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, ties, out):
     """The vertices of one box nearest the other core, as contact points: the box owning
     the vertex of least distance, and (``ties``) its vertices within a round-off tolerance
@@ -423,7 +440,7 @@ def _copy_row(out, src, dst):
     out[3][dst] = out[3][src]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap, key):
     """Contact manifold of two rounded boxes i and j (see the module docstring).
 
@@ -504,7 +521,7 @@ def box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap
     return merge_deepest(out, n, first, count, ri + rj, tol)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def merge_deepest(out, n, first, count, reach, tol):
     """Merge the exact deepest points (rows ``first .. first + count - 1``, equally deep)
     into the manifold ``out[:n]``; returns the new count.  An empty manifold becomes the

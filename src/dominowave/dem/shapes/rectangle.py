@@ -19,7 +19,7 @@ from numba import njit
 
 from dominowave.dem.shapes.cuboid import merge_deepest, point_box_distance, rows_from
 
-__all__ = ["PLANAR_MULTIPLICITY", "rect_plane", "rect_rect"]
+__all__ = ["PLANAR_MULTIPLICITY", "edges_separate", "rect_plane", "rect_rect"]
 
 PLANAR_MULTIPLICITY = 2  # the two ends y = +-b of a cuboid edge parallel to y
 KEY_VERTEX = 2 * 4 * 4 * 4
@@ -38,7 +38,7 @@ def _corner(x, R, h, k):
     return x[0] + s0 * R[0, 0] + s2 * R[0, 2], x[2] + s0 * R[2, 0] + s2 * R[2, 2]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def rect_plane(x, R, h, r, p0, nw, margin, normal, point, overlap, key):
     """Contacts of a rounded rectangle with the plane through ``p0``, unit normal ``nw``
     (in the xz plane): one point per corner within ``r + margin`` (a face on the plane: 2),
@@ -70,7 +70,21 @@ def _separation(d0, d2, L0, L2, Ri, hi, Rj, hj):
     return abs(L0 * d0 + L2 * d2) - radius
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
+def edges_separate(xi, Ri, hi, xj, Rj, hj, reach):
+    """True if an edge normal of rectangle i or j separates the two cores by at least
+    ``reach`` [m]: the early exit of :func:`rect_rect`, in the same order and arithmetic
+    (a caller may skip the call without changing any result)."""
+    d0, d2 = xj[0] - xi[0], xj[2] - xi[2]
+    for m in (0, 2):
+        if _separation(d0, d2, Ri[0, m], Ri[2, m], Ri, hi, Rj, hj) >= reach:
+            return True
+        if _separation(d0, d2, Rj[0, m], Rj[2, m], Ri, hi, Rj, hj) >= reach:
+            return True
+    return False
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _edge_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, out):
     """Clip the incident edge of B against the reference edge (face axis ``kA``) of A."""
     normal, point, overlap, key = out
@@ -126,7 +140,7 @@ def _edge_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, out):
     return n
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _nearest_corners(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, out):
     """The exact deepest points, corner-edge pairs: the corners of one rectangle nearest
     the other core (the owner of the nearest corner, and its corners within round-off of
@@ -165,7 +179,7 @@ def _nearest_corners(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, out):
     return n
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def rect_rect(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, normal, point, overlap, key):
     """Contact manifold (up to 2 points) of two rounded rectangles i and j.
 
