@@ -106,3 +106,188 @@ def test_validate_corner_sliding_over_a_corner_keeps_force_and_energy_smooth(pla
     jump = np.abs(np.diff(force[loaded:], axis=0)).max()
     ref_jump = np.abs(np.diff(ref_force[loaded:], axis=0)).max()
     assert jump <= ref_jump * (1 + 1e-6)
+
+
+# ----------------------------------------------------------------- 6. at rest
+
+DOMINO = np.array([0.00375, 0.012, 0.024])  # a 7.5 x 24 x 48 mm domino (half-extents) [m]
+KN_REST = 1e4
+REST_TIME = 10.0  # [s]
+SETTLED = 5.0  # [s] by then the drop is over: drift and energy are checked after it
+
+
+def _at_rest(scene, delta0):
+    """Run the scene for REST_TIME, recording every 0.05 s; check that after SETTLED it is
+    at rest: positions and orientations drift by less than 1e-3 of the static overlap
+    ``delta0`` [m] (the decaying oscillation about rest, no creep), the mechanical energy
+    never grows (the ledger: only dissipation), the ledger's total is constant, and the
+    velocities have decayed to round-off.  Returns the simulation."""
+    sim = scene.build(safety=0.1)
+    every = round(0.05 / sim.dt)
+    res = sim.run(until=REST_TIME, trajectory_every=every, energy_every=every)
+    late = res.times >= SETTLED
+    pos = res.positions[late]
+    drift = np.abs(pos - pos[-1]).max()
+    quat = res.quaternions[late]
+    turn = np.abs(quat - quat[-1]).max()  # (rad / 2 for small turns)
+    size = DOMINO.max()
+    assert drift < 1e-3 * delta0
+    assert 2 * turn * size < 1e-3 * delta0
+    energy = res.energy
+    kinds = ("kinetic_translational", "kinetic_rotational", "gravitational", "elastic_normal",
+             "elastic_tangential")  # fmt: skip
+    mech = sum(energy[k][late] for k in kinds)
+    scale = np.abs(energy["gravitational"][0]) + np.abs(energy["elastic_normal"]).max()
+    assert np.diff(mech).max() < 1e-12 * scale
+    total = energy["total"]
+    assert np.abs(total[late] - total[late][0]).max() < 1e-12 * scale
+    assert abs(total[-1] - total[0]) < 1e-6 * scale  # (the drop: impacts, 1e-8 measured)
+    v = np.abs(sim.bodies.vel_full).max()
+    w = np.abs(sim.bodies.omega_full).max()
+    assert v < 1e-12 and w * size < 1e-12
+    print(f"drift {drift:.2e} m turn {2 * turn:.2e} rad, |v| {v:.1e} m/s, |w| {w:.1e} rad/s, "
+          f"energy change after settling {np.diff(mech).max() / scale:.1e}, "
+          f"total {(total[-1] - total[0]) / scale:.1e}")  # fmt: skip
+    return sim
+
+
+@pytest.mark.slow
+def test_validate_stack_of_five_boxes_stays_at_rest():
+    """Five dominoes lying flat, stacked with random offsets (+-4 mm) and yaws (+-0.2 rad),
+    released touching (zero overlap) on the floor: they settle and then stay at rest for
+    10 s (no drift, no energy growth, no jitter), and each interface carries the weight
+    above it, (5 - i) m g (reference.resting_box.stack_loads, summed over its points)."""
+    from reference.resting_box import stack_loads
+
+    rng = np.random.default_rng(7)
+    half = DOMINO[[2, 1, 0]]  # lying flat: the 48 x 24 mm face down
+    r = 2 * DOMINO[0] / 20
+    scene = Scene(gravity=(0.0, 0.0, -G))
+    m = scene.add_material(Material(density=RHO, kn=KN_REST, friction=0.5, restitution=0.5))
+    scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), m)
+    z = 0.0
+    for _ in range(5):
+        offset = np.append(rng.uniform(-0.004, 0.004, 2), 0.0)
+        yaw = Rotation.from_rotvec([0.0, 0.0, rng.uniform(-0.2, 0.2)]).as_matrix()
+        scene.add_box(np.array([0.0, 0.0, z + half[2]]) + offset, half, r, m, orientation=yaw)
+        z += 2 * half[2]
+    mass = 8 * half.prod() * RHO
+    loads, overlaps = stack_loads(mass, 5, 4, KN_REST)
+    sim = _at_rest(scene, overlaps[-1])
+    rows = sim.boxes.rows
+    n = rows.n[0]
+    lift = rows.mult[:n] * (rows.fn[:n] * rows.normal[:n, 2] - rows.kt[:n] * rows.shear[:n, 2])
+    for box in range(5):  # the interface under box `box`: rows (box - 1, box) or (0, wall)
+        below = (rows.i[:n] == box - 1) & (rows.j[:n] == box) if box else rows.j[:n] < 0
+        assert abs(lift[below].sum()) == pytest.approx(4 * loads[box], rel=1e-9)
+
+
+# ----------------------------------------------------------------- 7. r -> 0
+
+PAPER = (0.05, 0.005, 0.025)  # the paper's domino: height l, thickness s, width w [m]
+KN_TIP = 1e5
+
+
+def _tipping_time(r, theta0, theta1):
+    """Time [s] for the paper's domino (rounding r) standing on its front bottom edge,
+    released at rest at tilt theta0, to reach theta1 (planar, floor friction 2: it rolls
+    over the edge without slipping); and its static edge overlap m g / (2 k_n) [m]."""
+    l, s, w = PAPER
+    scene = Scene(gravity=(0.0, 0.0, -G))
+    m = scene.add_material(Material(density=RHO, kn=KN_TIP, friction=2.0, restitution=0.5))
+    scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), m)
+    R = Rotation.from_rotvec([0.0, theta0, 0.0]).as_matrix()
+    edge = R @ np.array([0.5 * s - r, 0.0, -(0.5 * l - r)])  # core front bottom edge
+    scene.add_box(np.array([0.0, 0.0, r]) - edge, (0.5 * s, 0.5 * w, 0.5 * l), r, m,
+                  orientation=R, blocked="y rx rz")  # fmt: skip
+    sim = scene.build(safety=0.05)
+    res = sim.run(until=0.5, trajectory_every=5)
+    tilt = Rotation.from_quat(res.quaternions[:, 0][:, [1, 2, 3, 0]]).as_rotvec()[:, 1]
+    k = np.flatnonzero(tilt >= theta1)[0]
+    frac = (theta1 - tilt[k - 1]) / (tilt[k] - tilt[k - 1])
+    mass = l * s * w * RHO
+    return res.times[k - 1] + frac * (res.times[k] - res.times[k - 1]), mass * G / (2 * KN_TIP)
+
+
+def test_validate_sharp_edge_limit_of_a_tipping_domino():
+    """r -> 0: the paper's domino (50 x 25 x 5 mm) rolls over its rounded front bottom
+    edge from rest at 0.02 rad past the sharp box's balance tilt atan(s/l) to 60 deg, at
+    r = s/20 and s/200.  Each time agrees with the rolling-edge energy integral at that r
+    (reference.rounded_tipping) to the discretisation error of the compliant contact,
+    a few times delta/rho (delta the static edge overlap, rho the centre's distance from
+    the edge): so do their difference -- the effect of the rounding, which vanishes
+    linearly as r -> 0 towards the sharp box (reference.edge_tipping)."""
+    from reference.edge_tipping import edge_fall_time
+    from reference.rounded_tipping import rounded_fall_time
+
+    l, s, _ = PAPER
+    theta0 = math.atan2(s, l) + 0.02
+    theta1 = math.radians(60.0)
+    rho = 0.5 * math.hypot(l, s)
+    times = {}
+    for div in (20, 200):
+        r = s / div
+        t_sim, delta = _tipping_time(r, theta0, theta1)
+        t_ref = rounded_fall_time(l, s, r, theta0, 0.0, theta1)
+        assert abs(t_sim / t_ref - 1) < 5 * delta / rho
+        times[div] = (t_sim, t_ref)
+    diff_sim = times[20][0] - times[200][0]
+    diff_ref = times[20][1] - times[200][1]
+    assert abs(diff_sim - diff_ref) < 10 * delta / rho * times[200][1]
+    # towards the sharp box: s/20 -> s/200 closes ~9/10 of the gap to r = 0 (0.118 left:
+    # the rounding's effect is first order in r, with a higher-order part)
+    sharp = edge_fall_time(l, s, theta0, 0.0, theta1)
+    assert (times[200][0] - sharp) / (times[20][0] - sharp) == pytest.approx(0.118, abs=0.01)
+    print({d: (t[0], t[1], t[0] / t[1] - 1) for d, t in times.items()}, "sharp", sharp,
+          "delta/rho", delta / rho)  # fmt: skip
+
+
+def _first_touch(r, gap, omega):
+    """Time [s] at which the paper's domino 0 (rounding r), pushed upright with angular
+    velocity omega [rad/s] about its front bottom edge (rolling on it: the floor contact
+    at rest), first touches domino 1 standing a clear gap ``gap`` [m] ahead (planar,
+    floor friction 2): the body-pair onset event (interpolated within the step)."""
+    from dominowave.dem import ONSET, StopCondition
+
+    l, s, w = PAPER
+    scene = Scene(gravity=(0.0, 0.0, -G))
+    m = scene.add_material(Material(density=RHO, kn=KN_TIP, friction=2.0, restitution=0.5))
+    scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), m)
+    half = (0.5 * s, 0.5 * w, 0.5 * l)
+    lever = np.array([-(0.5 * s - r), 0.0, 0.5 * l])  # centre - floor contact below the edge
+    velocity = np.cross([0.0, omega, 0.0], lever)
+    scene.add_box((-0.5 * s, 0.0, 0.5 * l), half, r, m, blocked="y rx rz", velocity=velocity,
+                  angular_velocity=(0.0, omega, 0.0))  # fmt: skip
+    scene.add_box((gap + 0.5 * s, 0.0, 0.5 * l), half, r, m, blocked="y rx rz")
+    sim = scene.build(safety=0.05)
+    res = sim.run(until=1.0, stop=StopCondition(touched_body=1))
+    assert res.stop_reason == "touched"
+    ev = res.events
+    touch = (ev.body_i == 0) & (ev.body_j == 1) & (ev.kind == ONSET)
+    return ev.time[np.flatnonzero(touch)[0]]
+
+
+def test_validate_sharp_edge_limit_of_the_first_touch():
+    """r -> 0 for a two-box contact: domino 0 of the paper, pushed with 5 rad/s, reaches
+    domino 1 at a 15 mm gap at the time of the rolling-edge energy integral and the
+    touching condition (l - 2r) sin(theta) + r theta = d (reference.rounded_tipping) at
+    r = s/20 and s/200, to a few times delta/rho; and the two times differ as the
+    references do."""
+    from reference.rounded_tipping import rounded_first_contact_time
+
+    l, s, _ = PAPER
+    gap, omega = 0.015, 5.0
+    rho = 0.5 * math.hypot(l, s)
+    delta = l * s * PAPER[2] * RHO * G / (2 * KN_TIP)
+    times = {}
+    for div in (20, 200):
+        r = s / div
+        t_sim = _first_touch(r, gap, omega)
+        t_ref, _ = rounded_first_contact_time(l, s, r, gap, omega)
+        times[div] = (t_sim, t_ref)
+        print(div, t_sim, t_ref, t_sim / t_ref - 1)
+    for t_sim, t_ref in times.values():
+        assert abs(t_sim / t_ref - 1) < 5 * delta / rho
+    diff_sim = times[20][0] - times[200][0]
+    diff_ref = times[20][1] - times[200][1]
+    assert abs(diff_sim - diff_ref) < 10 * delta / rho * times[200][1]
