@@ -11,7 +11,9 @@ from the same per-pair functions of contact.py:
 * normal ``F_n = k_n delta - c_n v_n`` (linear), with the onset average of the overlap
   (contact.onset_averaged_overlap) and the end impulse (contact.end_impulse);
 * tangential Cundall-Strack (contact.rotate_shear, contact.cundall_strack), one shear
-  history per contact point, carried from step to step by the point's feature key;
+  history per contact point, carried from step to step by the point's feature key (a
+  point with a new key continues the nearest unmatched old point of its pair, so that a
+  contact keeps its history when its touching feature pair changes);
 * the dashpot ``c_n`` from the restitution ``e = min(e_i, e_j)`` (contact.viscous_coefficient)
   and the effective mass AT THE CONTACT POINT along the normal,
   ``1/m_eff = 1/m_i + 1/m_j + (r_i x n) . I_i^-1 (r_i x n) + (r_j x n) . I_j^-1 (r_j x n)``
