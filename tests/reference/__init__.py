@@ -69,7 +69,8 @@ incline (a block on an incline with Coulomb friction)
       -- closed form -- issue 13 (validation 1)
 edge_tipping (a cuboid tipping over its bottom front edge, hinge fixed)
   edge_fall_time: theta0 -> theta1 from (theta0, omega0) -- quad of the energy integral
-      after theta = theta0 + x^2, epsrel 1e-13 -- issue 13 (validation 2)
+      after theta = theta0 + x^2, epsrel 1e-13 -- issue 13 (validation 2),
+      dem/test_dem_box_validate (validation 7: the r = 0 end of the trend)
   edge_fall_by_newton: the same, Newton's law -- solve_ivp DOP853 rtol 1e-12, atol
       1e-14, event -- issue 13 (validation 2)
   edge_reaction, edge_slip_tilt: floor force on the edge per unit mass; the first tilt
@@ -90,18 +91,26 @@ resting_box (a box resting flat on n corner springs)
       checked against the exact potential's Hessian -- issue 13 (validations 3, 6)
   stack_loads, stack_bounce_frequencies: a stack of N boxes, loads (N - i) m g / n and
       the fixed-free chain's vertical modes -- closed form, checked against the spring
-      chain's static solution and eigenvalues -- issue 13 (validation 6)
+      chain's static solution and eigenvalues -- dem/test_dem_box_validate (validation 6,
+      stack at rest)
 rounded_tipping (a rounded cuboid rolling over its rounded front bottom edge, no slip)
   rounded_fall_time: theta0 -> theta1 -- quad of the energy integral with the rolling
-      inertia j(theta), epsrel 1e-13 -- issue 13 (validations 2, 7 at finite r)
+      inertia j(theta), epsrel 1e-13 -- issue 13 (validation 2), dem/test_dem_box_validate
+      (validation 7, r = s/20 and s/200)
   rounded_fall_by_lagrange: the same, Lagrange's equation -- solve_ivp DOP853 rtol
       1e-12, atol 1e-14, event
   rounded_first_contact_time: (l - 2r) sin(theta) + r theta = d -- brentq xtol 1e-15 and
-      rounded_fall_time; checked against a polygon-distance event -- issue 13 (validation 2)
+      rounded_fall_time; checked against a polygon-distance event -- issue 13 (validation
+      2), dem/test_dem_box_validate (validation 7, two-box first touch)
 box_distance (distances of cuboid cores: the overlap of rounded cuboids)
   box_box_distance: closest points of two boxes -- bounded least squares (lsq_linear,
       BVLS), checked by closed forms and a separating-plane certificate -- issue 13
       (validation 5, box-box contact geometry)
   box_point_distance, box_wall_distance: box-sphere and box-wall -- closed form (clamp,
       lowest corner) -- issue 13 (box-sphere, box-wall contacts)
+sliding_contact (a rounded box driven at constant velocity over a fixed one, full slip)
+  sliding_contact: force k_n delta n - mu k_n delta t and stored energy along the path --
+      box_box_distance (exact core distance, any feature pair) + closed form; checked
+      against a vertex over a face and over an edge -- dem/test_dem_box_validate
+      (validation 5, feature changes)
 """

@@ -13,7 +13,9 @@ from the same per-pair functions of contact.py:
   scene with ``normal_law="hertz"``, ``K delta^{3/2} - c_n delta^{1/4} v_n`` (hertz.py:
   the rounding radius as curvature, the Tsuji dashpot);
 * tangential Cundall-Strack (contact.rotate_shear, contact.cundall_strack), one shear
-  history per contact point, carried from step to step by the point's feature key;
+  history per contact point, carried from step to step by the point's feature key (a
+  point with a new key continues the nearest unmatched old point of its pair, so that a
+  contact keeps its history when its touching feature pair changes);
 * the dashpot ``c_n`` from the pair's restitution (contact.pair_friction_restitution: its own
   value, or ``min(e_i, e_j)``; contact.viscous_coefficient)
   and the effective mass AT THE CONTACT POINT along the normal,
@@ -418,6 +420,47 @@ def _hertz_radius(ra, rb, wall):
     return 2.0 * ra * rb / (ra + rb)
 
 
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _continuation_distance(boxes, a, j):
+    """Distance [m] within which a contact point of box a and partner j whose feature
+    key changed continues an old point of the pair: half the smallest outer half-extent
+    of the two bodies (the points of one manifold that stand for distinct contacts lie a
+    face apart; a point moves by far less in one step)."""
+    size = min(boxes.half[a, 0], boxes.half[a, 1], boxes.half[a, 2]) + boxes.radius[a]
+    if j >= 0:
+        size = min(
+            size, min(boxes.half[j, 0], boxes.half[j, 1], boxes.half[j, 2]) + boxes.radius[j]
+        )
+    return 0.5 * size
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _continued_row(old, used, o, o_end, keys, m, p, tol):
+    """The old row (of rows o .. o_end - 1, one pair) that a new point at p without a key
+    match continues, or -1: the nearest row within ``tol`` [m] not yet matched whose key
+    is not in this step's manifold (``keys[:m]``).  A point whose touching feature pair
+    changes while it moves on continuously (a vertex sliding off a face over the rounded
+    edge: a face-clip point, then a vertex-edge point) so keeps its shear history."""
+    q, best = -1, tol * tol
+    for t in range(o, o_end):
+        if used[t]:
+            continue
+        claimed = False
+        for k in range(m):
+            if keys[k] == old.key[t]:
+                claimed = True
+                break
+        if claimed:
+            continue
+        d2 = 0.0
+        for d in range(3):
+            d2 += (old.point[t, d] - p[d]) ** 2
+        if d2 < best:
+            q, best = t, d2
+    return q
+
+
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _release(old, q, ledger):
     """Old row q is gone without an end step (its feature left the manifold): the energy
@@ -524,6 +567,7 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
             while o_end < old.n[0] and _pair_code(old.i[o_end], old.j[o_end], nx, nw) == code:
                 o_end += 1
             m = _manifold(bodies, boxes, walls, a, j, planar, margin)
+            tol = _continuation_distance(boxes, a, j)
             first_row = n_new
             end_depth, end_speed = 0.0, 0.0
             for k in range(m):
@@ -533,6 +577,8 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
                     if old.key[t] == key and not used[t]:
                         q = t
                         break
+                if q < 0:
+                    q = _continued_row(old, used, o, o_end, boxes.m_key, m, boxes.m_point[k], tol)
                 overlap = boxes.m_overlap[k]
                 if overlap <= 0.0:
                     if q >= 0:
