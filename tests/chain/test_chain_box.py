@@ -143,3 +143,14 @@ def test_validate_box_wave_runs_through(model):
     assert np.all(np.isfinite(run.events.topple_time))
     assert np.all(run.events.max_forward > DominoChain(p).critical_angle)
     assert run.wave.settled and 0.0 < run.wave.speed < math.inf
+
+
+def test_study_fields_are_the_box_parameters():
+    """A study's [scenario] takes the box fields (derived from ChainParams)."""
+    from dominowave.io.models import ChainScenario
+
+    given = dict(shape="box", rounding=1e-4, restitution_floor=0.5, friction_dominoes=0.3)
+    cfg = ChainScenario(**given)
+    assert cfg.params() == ChainParams(**given)
+    with pytest.raises(ValueError, match="base = 'two' is an option of shape = 'clump' only"):
+        ChainScenario(shape="box", base="two")
