@@ -202,6 +202,17 @@ def _manifold(bodies, boxes, walls, a, j, planar, margin):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _held_pair(bodies, ba, bj, wall):
+    """True if body ``ba`` and its partner (body ``bj``, or a wall) get no contact rows
+    because of held bodies (engine.py, held until touched): a held box with a wall, two
+    held boxes.  A held box is fixed, so these contacts could do no work; a moving body
+    touching a held box gets its rows, whose onset releases the held box."""
+    if wall:
+        return bodies.held[ba] == 1
+    return bodies.held[ba] == 1 and bodies.held[bj] == 1
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _pair_code(i, j, nx, nw):
     """Sort key of the pair (box i, partner j): boxes j > i first, then the walls."""
     return i * (nx + nw) + (j if j >= 0 else nx - j - 1)
@@ -318,6 +329,8 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
         for jj in range(a + 1, nx + nw):
             j = jj if jj < nx else -(jj - nx) - 1
             wall = j < 0
+            if _held_pair(bodies, ba, boxes.body[j] if not wall else ba, wall):
+                continue
             if wall:
                 w = -j - 1
                 nw_ = walls.normal[w]

@@ -187,6 +187,7 @@ class Scene:
         blocked="",
         velocity=(0.0, 0.0, 0.0),
         angular_velocity=(0.0, 0.0, 0.0),
+        held: bool = False,
     ) -> int:
         """A rigid rounded cuboid (dem/boxes.py, dem/shapes/cuboid.py); returns the body id.
 
@@ -205,6 +206,9 @@ class Scene:
             [kg m^2]; default those of a uniform cuboid of the outer size,
             ``m = 8 a b c rho``, ``I_x = m (b^2 + c^2) / 3`` (shapes.cuboid_mass_properties).
         blocked, velocity, angular_velocity : as :meth:`add_clump`.
+        held : keep the box fixed until a moving body touches it (as :meth:`add_clump`):
+            while held it has no contact with the walls nor with other held boxes, so a
+            box held resting on the floor costs nothing until it is released.
         """
         from dominowave.dem.shapes.cuboid import cuboid_mass_properties
 
@@ -231,7 +235,7 @@ class Scene:
                 "blocked": parse_blocked(blocked),
                 "velocity": _vector("velocity", velocity),
                 "angular_velocity": _vector("angular_velocity", angular_velocity),
-                "held": False,
+                "held": bool(held),
                 "box": {
                     "centre": centre,
                     "core": half - float(rounding),
