@@ -13,7 +13,7 @@ from dominowave.chain.scenario import DominoChain, Push
 from reference.rounded_tipping import rounded_first_contact_time
 
 # a box chain whose floor holds the rolling edge (high floor friction)
-STICKY = dict(shape="box", friction_dominoes=10.0, friction_floor=10.0)
+STICKY = dict(shape="box", friction_floor=10.0)
 
 
 # --- parameters ----------------------------------------------------------------------------
@@ -78,6 +78,27 @@ def test_changing_shape_drops_the_other_shapes_options():
     assert p.base is None and p.spheres_per_column is None
     q = ChainParams(shape="box", rounding=1e-4, restitution_floor=0.5).with_(shape="clump")
     assert q.rounding is None and q.restitution_floor is None
+
+
+def test_materials_by_pair_and_held_boxes():
+    """Domino-domino and domino-floor friction and restitution reach their own contact
+    pairs (not the min rule); held boxes wait for the wave."""
+    p = ChainParams(
+        shape="box",
+        n_dominoes=3,
+        friction_dominoes=0.1,
+        friction_floor=0.6,
+        restitution_dominoes=0.8,
+        restitution_floor=0.3,
+        held=True,
+    )
+    sim, _ = DominoChain(p).build(Push(omega=10.0))
+    box, floor = 0, 1  # material ids: the boxes', the floor's
+    assert sim.mats.pair_friction[box, box] == 0.1
+    assert sim.mats.pair_friction[box, floor] == sim.mats.pair_friction[floor, box] == 0.6
+    assert sim.mats.pair_restitution[box, box] == 0.8
+    assert sim.mats.pair_restitution[box, floor] == 0.3
+    assert list(sim.bodies.held) == [0, 1, 1]
 
 
 # --- push ----------------------------------------------------------------------------------

@@ -339,27 +339,12 @@ class DominoChain:
         """The box chain's simulation (``build`` with ``shape = "box"``)."""
         p = self.params
         e_dominoes, e_floor = p.restitution_pairs
-        # one material per body: the engine takes min(mu_i, mu_j), min(e_i, e_j), so the
-        # floor's smaller values reach box-floor contacts and the box's box-box contacts
-        if p.friction_dominoes < p.friction_floor or (e_floor or 1.0) > (e_dominoes or 1.0):
-            raise ValueError(
-                f"friction_dominoes = {p.friction_dominoes} below friction_floor ="
-                f" {p.friction_floor}, or restitution_floor = {e_floor} above"
-                f" restitution_dominoes = {e_dominoes}: a box chain needs per-pair materials"
-                " for these; valid: friction_dominoes >= friction_floor and"
-                " restitution_dominoes >= restitution_floor"
-            )
-        if p.holds:
-            raise ValueError("held = True: the engine cannot hold boxes yet; leave held unset")
         kw = {"kn": p.contact_stiffness, "kt_ratio": p.kt_ratio}
-        box = scene.add_material(
-            dem.Material(
-                density=p.density, friction=p.friction_dominoes, restitution=e_dominoes, **kw
-            )
-        )
-        floor = scene.add_material(
-            dem.Material(density=p.density, friction=p.friction_floor, restitution=e_floor, **kw)
-        )
+        box = scene.add_material(dem.Material(density=p.density, **kw))
+        floor = scene.add_material(dem.Material(density=p.density, **kw))
+        # friction and restitution by material pair, not the min rule of one value per body
+        scene.set_pair(box, box, friction=p.friction_dominoes, restitution=e_dominoes)
+        scene.set_pair(box, floor, friction=p.friction_floor, restitution=e_floor)
         scene.add_wall(point=(0.0, 0.0, 0.0), normal=(0.0, 0.0, 1.0), material=floor)
         blocked = "y rx rz" if p.model == "2d" else ""
         v0, w0, omega_1 = self._push_velocities(push)
@@ -376,6 +361,7 @@ class DominoChain:
                 blocked=blocked,
                 velocity=v0 if moving else (0.0, 0.0, 0.0),
                 angular_velocity=w0 if moving else (0.0, 0.0, 0.0),
+                held=p.holds and not moving,
             )
         sim = scene.build(
             dt=self.dt,
