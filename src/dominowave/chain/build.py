@@ -117,6 +117,10 @@ class ChainParams:
     YADE).
     ``damping`` is the engine's local (non-viscous, YADE-style) damping
     coefficient in [0, 1); ``restitution`` (None = elastic) adds a normal dashpot.
+    ``shape`` picks the domino: ``"clump"`` (the paper's, default) or ``"box"`` (one rounded
+    cuboid, ``rounding``); each refuses the other's options (module docstring). For a box
+    ``k/k*``, ``kn`` and ``young`` mean per contact point (``k_n = k/4``, module docstring),
+    and ``restitution_dominoes`` / ``restitution_floor`` set the two contact pairs apart.
     """
 
     n_dominoes: int = parameter(30, "", "number of dominoes", ge=2, le=100_000)
