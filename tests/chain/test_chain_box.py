@@ -119,6 +119,21 @@ def test_push_rotates_about_the_front_bottom_edge(model):
     assert np.all(b.vel[1] == 0.0) and np.all(b.omega[1] == 0.0)
 
 
+def test_impulse_push_on_a_free_box():
+    """A horizontal impulse J at height h on the free box: v = J/m, omega = (h - l/2) J /
+    I_cm with I_cm = m (l^2 + s^2)/12; the theory's Omega_1 = J h / I_A about the edge."""
+    p = ChainParams(n_dominoes=2, shape="box", rounding=1e-4)
+    chain = DominoChain(p)
+    impulse, h = 2e-3, 0.04
+    sim, omega_1 = chain.build(Push(impulse=impulse, height=h))
+    m, l, s, r = p.mass, p.height, p.thickness, p.rounding
+    i_cm = m * (l**2 + s**2) / 12
+    assert sim.bodies.vel[0] == pytest.approx([impulse / m, 0.0, 0.0], rel=1e-14)
+    assert sim.bodies.omega[0, 1] == pytest.approx((h - l / 2) * impulse / i_cm, rel=1e-12)
+    i_edge = i_cm + m * ((s / 2 - r) ** 2 + (l / 2) ** 2)
+    assert omega_1 == pytest.approx(impulse * h / i_edge, rel=1e-12)
+
+
 # --- validation ----------------------------------------------------------------------------
 @pytest.mark.parametrize("model", ["2d", "3d"])
 def test_validate_box_first_touch_against_energy_quadrature(model):
