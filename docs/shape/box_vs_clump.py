@@ -9,7 +9,12 @@ the last ``TAIL`` pitches of every member that reached the end (``tail_speed``):
 chains at small d/l rarely settle (docs/fig6.md), the tail speed is defined for all.
 Writes ``box_vs_clump.csv`` beside this file (or to the path given) and prints it.
 
-Run: ``python docs/shape/box_vs_clump.py [--members 8] [--d-over-l 0.2,0.4,0.6] [--out CSV]``
+``--standard``: the common 48 x 24 x 7.5 mm domino (l, w, s) instead of the paper's
+5 x 2.5 x 0.5 cm one (every other parameter as above; its clump has round(l/s) = 6 spheres
+per column).
+
+Run: ``python docs/shape/box_vs_clump.py [--members 8] [--d-over-l 0.2,0.4,0.6]
+[--models 2d,3d,3d_asym] [--standard] [--out CSV]``
 """
 
 from __future__ import annotations
@@ -26,6 +31,9 @@ from dominowave.chain import ChainParams, DominoChain
 TAIL = 10
 """Pitches of the tail speed ``(x_{N-1} - x_{N-1-TAIL}) / (t_{N-1} - t_{N-1-TAIL})``."""
 
+STANDARD = {"height": 0.048, "width": 0.024, "thickness": 0.0075}
+"""The common toppling domino's outer size [m]."""
+
 MODELS = {"2d": {}, "3d": {"model": "3d"}, "3d_asym": {"model": "3d", "lateral_asymmetry": 0.02}}
 
 
@@ -34,13 +42,15 @@ def main() -> None:
     ap.add_argument("--members", type=int, default=8)
     ap.add_argument("--d-over-l", default="0.2,0.4,0.6")
     ap.add_argument("--models", default=",".join(MODELS))
+    ap.add_argument("--standard", action="store_true", help="48 x 24 x 7.5 mm dominoes")
     ap.add_argument("--out", type=Path, default=Path(__file__).with_name("box_vs_clump.csv"))
     args = ap.parse_args()
     rows = []
     for model in args.models.split(","):
         for d in (float(x) for x in args.d_over_l.split(",")):
             for shape in ("clump", "box"):
-                p = ChainParams(d_over_l=d, shape=shape, **MODELS[model])
+                size = STANDARD if args.standard else {}
+                p = ChainParams(d_over_l=d, shape=shape, **size, **MODELS[model])
                 start = time.perf_counter()
                 ens = DominoChain(p).ensemble(members=args.members, seed=0)
                 settled = [r.wave.settled for r in ens.runs]
@@ -52,6 +62,7 @@ def main() -> None:
                 rows.append(
                     {
                         "model": model,
+                        "height": p.height,
                         "d_over_l": d,
                         "shape": shape,
                         "members": args.members,
