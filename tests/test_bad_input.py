@@ -46,6 +46,24 @@ STUDY_CASES = [
         [],
         ["study.toml:5", "unknown key scenario.spacng", "valid keys"],
     ),
+    (
+        "chain-box-with-base",
+        '[scenario]\nkind = "chain"\nshape = "box"\nbase = "two"\n',
+        [],
+        ["base = 'two'", "shape = 'clump' only"],
+    ),
+    (
+        "chain-box-checkpoint",
+        '[scenario]\nkind = "chain"\nshape = "box"\nn_dominoes = 3\n',
+        ["run", "--checkpoint", "steps=100"],
+        ["shape = 'box' chains cannot be checkpointed yet"],
+    ),
+    (
+        "chain-clump-with-rounding",
+        '[scenario]\nkind = "chain"\nrounding = 1e-4\n',
+        [],
+        ["rounding = 0.0001", "shape = 'box' only"],
+    ),
     ("no-scenario", '[output]\ndir = "x"\n', [], ["scenario is required"]),
     ("empty-file", "", [], ["scenario is required"]),
     ("no-kind", "[scenario]\nd_over_l = 0.4\n", [], ["scenario.kind = missing", "theory"]),
@@ -307,6 +325,24 @@ def test_read_only_output_folder(tmp_path, cli):
         ),
         (["chain", "--n", "4", "--stiffness-ratio", "1e-6"], ["k/k* = 1e-06) is too soft"]),
         (["chain", "--n", "4", "--stiffness-ratio", "1e308"], ["steps", "1e+10 allowed"]),
+        (["chain", "--n", "4", "--shape", "cube"], ["shape = 'cube'", "'clump', 'box'"]),
+        (
+            ["chain", "--n", "4", "--shape", "box", "--base", "two"],
+            ["base = 'two'", "shape = 'clump' only"],
+        ),
+        (
+            ["chain", "--n", "4", "--shape", "box", "--spheres-per-column", "20"],
+            ["spheres_per_column = 20", "shape = 'clump' only"],
+        ),
+        (["chain", "--n", "4", "--rounding", "1e-4"], ["rounding = 0.0001", "shape = 'box' only"]),
+        (
+            ["chain", "--n", "4", "--shape", "box", "--rounding", "0.01"],
+            ["rounding = 0.01", "(0, 0.0025)"],
+        ),
+        (
+            ["chain", "--n", "4", "--shape", "box", "--restitution-floor", "2"],
+            ["restitution_floor = 2", "(0, 1]"],
+        ),
         (["rods", "--push", "1e9"], ["push = 1e+09", "(0, 100]"]),
         (["rods", "--d-over-l", "1e-300"], ["d_over_l = 1e-300", "[0.001, 1)"]),
         (

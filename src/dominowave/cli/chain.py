@@ -125,15 +125,23 @@ def _what_to_quote(run: ChainRun, ens: ChainEnsemble | None) -> str:
 
 def chain_command(
     n: Annotated[int, typer.Option("--n", help="number of dominoes")] = 30,
+    shape: Annotated[
+        str, typer.Option(help="clump (of spheres, the paper's) | box (rounded cuboid)")
+    ] = "clump",
     d_over_l: Annotated[float, typer.Option(help="gap d over height l")] = 0.4,
     height: Annotated[float, typer.Option(help="domino height l [m]")] = 0.05,
-    thickness: Annotated[float, typer.Option(help="thickness s = sphere diameter [m]")] = 0.005,
-    width: Annotated[float, typer.Option(help="width w (3D model) [m]")] = 0.025,
-    density: Annotated[float, typer.Option(help="bead density [kg/m^3]")] = 1000.0,
-    stiffness_ratio: Annotated[
-        float | None, typer.Option(help="paper's k/k* (k_n = k/2); default 1e4")
+    thickness: Annotated[
+        float, typer.Option(help="thickness s (clump: sphere diameter) [m]")
+    ] = 0.005,
+    width: Annotated[float, typer.Option(help="width w (3D clump, every box) [m]")] = 0.025,
+    density: Annotated[float, typer.Option(help="bead or box density [kg/m^3]")] = 1000.0,
+    rounding: Annotated[
+        float | None, typer.Option(help="box: edge rounding r [m], default s/20")
     ] = None,
-    kn: Annotated[float | None, typer.Option(help="contact spring k_n [N/m]")] = None,
+    stiffness_ratio: Annotated[
+        float | None, typer.Option(help="paper's k/k* (k_n = k/2, box k/4); default 1e4")
+    ] = None,
+    kn: Annotated[float | None, typer.Option(help="spring k_n per contact point [N/m]")] = None,
     young: Annotated[float | None, typer.Option(help="Young's modulus [Pa]")] = None,
     young_rule: Annotated[str, typer.Option(help="paper (k_n = pi R E/2) | yade (E R)")] = "paper",
     kt_ratio: Annotated[float, typer.Option(help="tangential / normal stiffness k_t/k_n")] = 1.0,
@@ -144,10 +152,22 @@ def chain_command(
     friction_dominoes: Annotated[float, typer.Option(help="phi_d between dominoes")] = 0.0,
     damping: Annotated[float, typer.Option(help="local damping in [0, 1)")] = 0.0,
     restitution: Annotated[float | None, typer.Option(help="normal restitution")] = None,
+    restitution_dominoes: Annotated[
+        float | None, typer.Option(help="box: restitution between dominoes")
+    ] = None,
+    restitution_floor: Annotated[
+        float | None, typer.Option(help="box: restitution with the floor")
+    ] = None,
     model: Annotated[str, typer.Option(help="2d | 3d")] = "2d",
-    base: Annotated[str, typer.Option(help="one | two base spheres")] = "one",
-    held: Annotated[bool, typer.Option(help="hold untouched dominoes")] = True,
-    spheres_per_column: Annotated[int | None, typer.Option(help="default round(l/s)")] = None,
+    base: Annotated[
+        str | None, typer.Option(help="clump: one | two base spheres (default one)")
+    ] = None,
+    held: Annotated[
+        bool | None, typer.Option(help="hold untouched dominoes (default: clump yes, box no)")
+    ] = None,
+    spheres_per_column: Annotated[
+        int | None, typer.Option(help="clump: spheres per column, default round(l/s)")
+    ] = None,
     asymmetry: Annotated[float, typer.Option(help="3D random yaw amplitude [rad]")] = 0.0,
     push_omega: Annotated[float, typer.Option(help="push in units of sqrt(g/l)")] = 1.0,
     impulse: Annotated[float | None, typer.Option(help="push as impulse [N s]")] = None,
@@ -165,11 +185,13 @@ def chain_command(
         ensure_writable_dir(out)  # before the run, not after it
     p = ChainParams(
         n_dominoes=n,
+        shape=shape,
         height=height,
         thickness=thickness,
         width=width,
         d_over_l=d_over_l,
         density=density,
+        rounding=rounding,
         stiffness_ratio=stiffness_ratio,
         kn=kn,
         young=young,
@@ -180,6 +202,8 @@ def chain_command(
         friction_dominoes=friction_dominoes,
         damping=damping,
         restitution=restitution,
+        restitution_dominoes=restitution_dominoes,
+        restitution_floor=restitution_floor,
         model=model,
         base=base,
         held=held,
