@@ -22,7 +22,7 @@ from rich.table import Table
 
 from dominowave.chain.build import ChainParams
 from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push
-from dominowave.chain.wave import fit_speed, local_speeds, unsettled_reason
+from dominowave.chain.wave import check_fit_from, fit_speed, local_speeds, unsettled_reason
 from dominowave.checks import check_in_range
 from dominowave.cli.compiling import notice_if_compiling
 from dominowave.io.atomic import ensure_writable_dir
@@ -148,7 +148,26 @@ def chain_command(
     base: Annotated[str, typer.Option(help="one | two base spheres")] = "one",
     held: Annotated[bool, typer.Option(help="hold untouched dominoes")] = True,
     spheres_per_column: Annotated[int | None, typer.Option(help="default round(l/s)")] = None,
-    asymmetry: Annotated[float, typer.Option(help="3D random yaw amplitude [rad]")] = 0.0,
+    asymmetry: Annotated[
+        float, typer.Option(help="placement error: yaw amplitude of each domino (3D) [rad]")
+    ] = 0.0,
+    placement_along: Annotated[
+        float, typer.Option(help="placement error: shift along the line, amplitude [m]")
+    ] = 0.0,
+    placement_across: Annotated[
+        float, typer.Option(help="placement error: shift across the line, amplitude (3D) [m]")
+    ] = 0.0,
+    push_error: Annotated[
+        float, typer.Option(help="placement error of the push, relative (x N(0, 1))")
+    ] = 0.0,
+    placement_seed: Annotated[int, typer.Option(help="seed of the placement errors")] = 0,
+    vary_placement: Annotated[
+        bool, typer.Option(help="ensemble: each member set up anew (own placement errors)")
+    ] = False,
+    fit_from: Annotated[
+        int | None,
+        typer.Option(help="fit the front speed from domino K on (pitch-based, as cameras do)"),
+    ] = None,
     push_omega: Annotated[float, typer.Option(help="push in units of sqrt(g/l)")] = 1.0,
     impulse: Annotated[float | None, typer.Option(help="push as impulse [N s]")] = None,
     impulse_height: Annotated[float | None, typer.Option(help="impulse height [m]")] = None,
@@ -185,7 +204,13 @@ def chain_command(
         held=held,
         spheres_per_column=spheres_per_column,
         lateral_asymmetry=asymmetry,
+        placement_along=placement_along,
+        placement_across=placement_across,
+        push_error=push_error,
+        asymmetry_seed=placement_seed,
     )
+    if fit_from is not None:
+        check_fit_from(fit_from, n)
     if impulse is not None:
         push = Push(impulse=impulse, height=impulse_height)
     else:
@@ -193,7 +218,16 @@ def chain_command(
     chain = DominoChain(p)
     compiling = notice_if_compiling("dem")
     start = time.perf_counter()
-    ens = chain.ensemble(push, members=members, seed=seed, jitter=jitter) if members > 1 else None
+    ens = None
+    if members > 1:
+        ens = chain.ensemble(
+            push,
+            members=members,
+            seed=seed,
+            jitter=jitter,
+            fit_from=fit_from,
+            vary_placement=vary_placement,
+        )
     run = ens.runs[0] if ens is not None else chain.run(push)
     wall = time.perf_counter() - start
     console = Console(width=140)
@@ -231,8 +265,17 @@ def chain_command(
         )
     else:
         _print_unsettled(console, run, scale)
+    if fit_from is not None:
+        fit = chain.speed_from(run, fit_from)
+        console.print(
+            f"front speed from domino {fit_from} on (pitch-based): {_fmt(fit.speed)} ± "
+            f"{_fmt(fit.speed_err, 2)} m/s over dominoes {fit.first}..{fit.last}"
+            if fit.settled
+            else f"front speed from domino {fit_from} on: the wave reached {fit.reached} dominoes"
+        )
     if ens is not None:
-        console.print(f"ensemble ({members} members): {ens.speed} m/s{_unsettled(ens)}")
+        how = "settled-region fit" if fit_from is None else f"fit from domino {fit_from} on"
+        console.print(f"ensemble ({members} members, {how}): {ens.speed} m/s{_unsettled(ens)}")
         for i, r in enumerate(ens.runs):
             if not r.wave.settled:
                 reason = unsettled_reason(r.arrival, r.positions)
@@ -261,11 +304,11 @@ def chain_command(
                     {
                         "member": i,
                         "push_omega": r.omega_1,
-                        "speed": r.wave.speed,
-                        "speed_err": r.wave.speed_err,
-                        "settled": r.wave.settled,
+                        "speed": f.speed,
+                        "speed_err": f.speed_err,
+                        "settled": f.settled,
                     }
-                    for i, r in enumerate(ens.runs)
+                    for i, (r, f) in enumerate(zip(ens.runs, ens.fits, strict=True))
                 ],
             )
         from dominowave.plots.chain import plot_chain_run

@@ -211,6 +211,10 @@ class _ChainRun(ScenarioModel):
         # DEM can resolve the stiffness and hold the run (so `config` refuses what `run`
         # would), at no cost: nothing is simulated or allocated
         DominoChain(self.params(), steps_per_collision=self.steps_per_collision)
+        if self.fit_from is not None:
+            from dominowave.chain.wave import check_fit_from
+
+            check_fit_from(self.fit_from, self.n_dominoes)
         return self
 
     def params(self, **changes) -> ChainParams:
@@ -251,7 +255,7 @@ ChainScenario = register_scenario_model(
             "DEM chain of sphere clumps (dominowave.chain on dominowave.dem, paper section 3)."
             "\n\nThe physical fields are those of :class:`dominowave.chain.ChainParams`, derived"
             " from its declarations (names, defaults, units, ranges), plus how the run is"
-            " driven: ``push_omega`` and ``steps_per_collision``."
+            " driven: ``push_omega``, ``steps_per_collision`` and ``fit_from``."
         ),
         __module__=__name__,
         **fields_from_parameters(ChainParams),
@@ -262,6 +266,16 @@ ChainScenario = register_scenario_model(
         steps_per_collision=(
             int,
             quantity(50, "", "time steps per theory collision time T_c (sets dt)", ge=10),
+        ),
+        fit_from=(
+            int | None,
+            quantity(
+                None,
+                "",
+                "also fit the front speed from domino K on (pitch-based, as cameras do);"
+                " summary speed_fit_from",
+                ge=1,
+            ),
         ),
     )
 )
