@@ -27,10 +27,11 @@ RUNNERS: dict[str, str | Callable] = {
     "theory": "dominowave.sweep.run_theory:run_theory",
     "rods": "dominowave.sweep.run_rods:run_rods",
     "chain": "dominowave.sweep.run_chain:run_chain",
-    # the points of the study presets (dominowave paper-fig6, compare-rods)
+    # the points of the study presets (dominowave paper-fig6, compare-rods, predict)
     "paper_fig6_member": "dominowave.sweep.fig6:run_fig6_member",
     "rods_comparison": "dominowave.sweep.compare_rods:run_comparison",
     "rods_omega_profile": "dominowave.sweep.compare_rods:run_omega_profile",
+    "predict_sample": "dominowave.sweep.predict:run_predict_sample",
 }
 """kind -> run function or ``"module:function"``."""
 

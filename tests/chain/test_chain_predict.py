@@ -1,0 +1,156 @@
+"""The standard-domino preset from the material data, and `dominowave predict` on it."""
+
+from __future__ import annotations
+
+import csv
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from dominowave.chain.materials import load_materials
+from dominowave.chain.presets import SAMPLED, standard_domino, standard_entries
+from dominowave.sweep.predict import (
+    PredictSample,
+    _analyse,
+    predict,
+    predict_points,
+    run_predict_sample,
+)
+
+# --------------------------------------------------------------------------- preset
+
+
+def test_standard_domino_takes_every_value_from_the_materials_file():
+    mat = load_materials()
+    p = standard_domino(gap=0.00938, floor="felt", n_dominoes=7)
+    assert (p.height, p.width, p.thickness) == (0.048, 0.024, 0.0075)
+    assert p.d_over_l == pytest.approx(0.00938 / 0.048, rel=1e-15)
+    assert p.spacing == pytest.approx(0.00938, rel=1e-14)
+    assert p.model == "3d" and p.n_dominoes == 7
+    assert p.mass == pytest.approx(mat.domino.mass.value, rel=1e-12)
+    assert p.young == mat.plastic.youngs_modulus.value and p.young_rule == "paper"
+    assert p.friction_dominoes == mat.friction_domino_domino.value
+    assert p.friction_floor == mat.floor_friction("felt").value
+    assert p.restitution == mat.restitution_domino_domino.value
+    glass = standard_domino(gap=0.00938, floor="glass")
+    assert glass.friction_floor == mat.floor_friction("glass").value
+
+
+def test_standard_domino_values_and_overrides():
+    p = standard_domino(gap=0.01, floor="hardwood", values={"mass": 0.009, "restitution": 0.8})
+    assert p.mass == pytest.approx(0.009, rel=1e-12) and p.restitution == 0.8
+    q = standard_domino(gap=0.01, floor="hardwood", model="2d", stiffness_ratio=1e4)
+    assert q.model == "2d" and q.young is None and q.stiffness_ratio == 1e4
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        (dict(gap=0.0, floor="felt"), r"gap = 0 is outside .*\(0, 0\.048\)"),
+        (dict(gap=0.05, floor="felt"), r"gap = 0\.05 is outside"),
+        (dict(gap=0.01, floor="carpet"), r"floor = 'carpet' is not a known floor"),
+        (dict(gap=0.01, floor="felt", values={"mass": 0.02}), r"mass = 0\.02 is outside"),
+        (dict(gap=0.01, floor="felt", values={"poisson": 0.3}), r"'poisson' is not one of"),
+        (dict(gap=0.01, floor="felt", model="4d"), r"model = '4d' is not one of"),
+    ],
+)
+def test_standard_domino_bad_input(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        standard_domino(**kwargs)
+
+
+# --------------------------------------------------------------------------- predict
+
+CHEAP = dict(n_dominoes=6, fit_from=2, model="2d", stiffness_ratio=3e3)
+
+
+def test_predict_points_sample_every_range_of_the_data():
+    points, problem, x, fixed = predict_points(0.012, "laminate", 2, **CHEAP)
+    entries = standard_entries("laminate")
+    assert set(problem["names"]) | set(fixed) == set(SAMPLED)
+    assert len(points) == x.shape[0] == 2 * (problem["num_vars"] + 2)
+    for j, name in enumerate(problem["names"]):
+        lo, hi = entries[name].range
+        assert np.all((x[:, j] >= lo) & (x[:, j] <= hi))
+        assert [getattr(p, name) for p in points] == list(x[:, j])
+    again, *_ = predict_points(0.012, "laminate", 2, **CHEAP)
+    assert again == points  # the Sobol' sequence is scrambled by the seed: reproducible
+
+
+def test_validate_sobol_indices_of_a_known_function():
+    """The analysis step on a function with known Sobol' indices: for
+    y = x_0 + 2 x_1 (uniform on [0, 1], x_2.. inert) S_0 = 1/5, S_1 = 4/5, and the inert
+    inputs have S = 0; the quantile band is that of the sampled y."""
+    _, problem, x, fixed = predict_points(0.012, "laminate", 512, **CHEAP)
+    u = (x - np.array(problem["bounds"])[:, 0]) / np.ptp(np.array(problem["bounds"]), axis=1)
+    y = u[:, 0] + 2.0 * u[:, 1]
+    pred = _analyse(0.012, "laminate", problem, x, y, fixed, None)
+    np.testing.assert_allclose(pred.sobol_first[:2], [0.2, 0.8], atol=0.05)
+    np.testing.assert_allclose(pred.sobol_total[:2], [0.2, 0.8], atol=0.05)
+    np.testing.assert_allclose(pred.sobol_total[2:], 0.0, atol=0.02)
+    assert pred.band[1] == pytest.approx(np.median(y)) and pred.n_died == 0
+    y[3] = math.nan  # a dead wave: the band stays, the indices are undefined
+    dead = _analyse(0.012, "laminate", problem, x, y, fixed, None)
+    assert dead.n_died == 1 and np.all(np.isnan(dead.sobol_first))
+
+
+def test_a_sample_runs_the_preset_chain_and_measures_from_fit_from():
+    from dominowave.chain.scenario import DominoChain
+    from dominowave.chain.wave import speed_from
+
+    cfg = PredictSample(gap=0.012, floor="felt", friction_floor=0.7, **CHEAP)
+    summary = run_predict_sample(cfg).summary
+    run = DominoChain(cfg.params()).run()
+    assert summary["speed"] == speed_from(run.arrival, run.positions, 2).speed
+    assert summary["dominoes_toppled"] == 6
+
+
+def test_predict_runs_on_the_sweep_engine_writes_and_resumes(tmp_path):
+    seen = []
+    pred = predict(0.012, "felt", tmp_path, 1, workers=1, progress=seen.append, **CHEAP)
+    d = len(pred.names)
+    assert len(seen) == pred.speed.size == d + 2 and pred.n_died == 0
+    assert pred.band[0] <= pred.band[1] <= pred.band[2] and pred.band[0] > 0
+    with (tmp_path / "samples.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    assert [float(r["speed"]) for r in rows] == list(pred.speed)
+    import xarray as xr
+
+    with xr.open_dataset(tmp_path / "samples.nc") as ds:
+        np.testing.assert_array_equal(ds["speed"].values, pred.speed)
+        assert ds["young"].attrs["units"] == "Pa"
+    with (tmp_path / "prediction.csv").open() as fh:
+        names = {r["quantity"] for r in csv.DictReader(fh)}
+    assert {"speed_q05", "speed_q50", "speed_q95"} <= names
+    assert {f"ST_{n}" for n in pred.names} <= names
+    again = []
+    resumed = predict(0.012, "felt", tmp_path, 1, workers=1, progress=again.append, **CHEAP)
+    assert again == [] and np.array_equal(resumed.speed, pred.speed)
+
+
+@pytest.mark.parametrize(
+    ("args", "fragment"),
+    [
+        (["--samples", "3"], "samples = 3 is not a power of 2"),
+        (["--samples", "0"], "samples = 0 must be a power of 2"),
+        (["--fit-from", "20"], "fit_from = 20 is outside [1, 10]"),
+        (["--floor", "carpet"], "floor = 'carpet' is not a known floor"),
+        (["--gap", "-0.01"], "gap = -0.01 is outside"),
+        (["--preset", "tiny"], "--preset 'tiny' is not one of standard"),
+        (["--workers", "0"], "--workers = 0"),
+    ],
+)
+def test_predict_command_bad_input_is_one_line(args, fragment, tmp_path):
+    base = {"--gap": "0.01", "--floor": "felt", "--out": str(tmp_path / "p")}
+    for flag, value in zip(args[::2], args[1::2], strict=True):
+        base[flag] = value
+    argv = [a for kv in base.items() for a in kv]
+    proc = subprocess.run(
+        [sys.executable, "-m", "dominowave", "predict", *argv], capture_output=True, text=True
+    )
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and fragment in lines[0], proc.stderr
