@@ -80,6 +80,21 @@ def test_predict_points_sample_every_range_of_the_data():
     assert again == points  # the Sobol' sequence is scrambled by the seed: reproducible
 
 
+def test_the_study_file_of_a_prediction_leaves_unset_values_out(tmp_path):
+    """A sample without a stiffness override (``stiffness_ratio`` not set) is written to
+    the sweep's study.toml without it (TOML has no null) and reads back equal."""
+    import tomllib
+
+    from dominowave.sweep.presets import preset_study
+    from dominowave.sweep.runner import study_toml
+
+    points, *_ = predict_points(0.012, "felt", 1, n_dominoes=6, fit_from=2)
+    assert points[0].stiffness_ratio is None
+    stored = tomllib.loads(study_toml(preset_study(points, tmp_path)))["sweep"]["points"]
+    assert "stiffness_ratio" not in stored[0]
+    assert PredictSample(**stored[0]) == points[0]
+
+
 def test_validate_sobol_indices_of_a_known_function():
     """The analysis step on a function with known Sobol' indices: for
     y = x_0 + 2 x_1 (uniform on [0, 1], x_2.. inert) S_0 = 1/5, S_1 = 4/5, and the inert
@@ -154,3 +169,37 @@ def test_predict_command_bad_input_is_one_line(args, fragment, tmp_path):
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and fragment in lines[0], proc.stderr
+
+
+@pytest.mark.parametrize(
+    ("args", "fragment"),
+    [
+        (["--preset", "tiny", "--gap", "0.01", "--floor", "felt"], "--preset 'tiny' is not one"),
+        (["--preset", "standard", "--floor", "felt"], "needs --gap [m] and --floor"),
+        (
+            ["--preset", "standard", "--gap", "0.01", "--floor", "felt", "--friction-floor", "1"],
+            "--friction-floor: set by --preset standard from materials.toml",
+        ),
+        (["--preset", "standard", "--gap", "0.1", "--floor", "felt"], "gap = 0.1 is outside"),
+    ],
+)
+def test_chain_command_preset_bad_input_is_one_line(args, fragment):
+    proc = subprocess.run(
+        [sys.executable, "-m", "dominowave", "chain", "--n", "3", *args],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and fragment in lines[0], proc.stderr
+
+
+def test_chain_command_runs_the_standard_preset():
+    args = ["--preset", "standard", "--gap", "0.012", "--floor", "hardwood", "--n", "4"]
+    proc = subprocess.run(
+        [sys.executable, "-m", "dominowave", "chain", *args, "--model", "2d", "--fit-from", "1"],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert "front speed from domino 1 on (pitch-based)" in proc.stdout

@@ -123,6 +123,41 @@ def _what_to_quote(run: ChainRun, ens: ChainEnsemble | None) -> str:
     )
 
 
+PRESET_DEFAULTS = {
+    "height": 0.05,
+    "thickness": 0.005,
+    "width": 0.025,
+    "density": 1000.0,
+    "stiffness_ratio": None,
+    "kn": None,
+    "young": None,
+    "friction_floor": 0.3,
+    "friction_dominoes": 0.0,
+    "restitution": None,
+    "d_over_l": 0.4,
+}
+"""The physical options a preset sets itself (their command defaults)."""
+
+
+def _preset_params(preset, gap, floor, n, physical, others) -> ChainParams:
+    """``ChainParams`` of ``--preset standard --gap --floor``; a physical option the
+    preset sets itself may not be given too (one error naming them)."""
+    from dominowave.chain.presets import standard_domino
+
+    if preset != "standard":
+        raise ValueError(
+            f"--preset {preset!r} is not one of standard (give it with --gap, --floor)"
+        )
+    if gap is None or floor is None:
+        raise ValueError("--preset standard needs --gap [m] and --floor (felt, glass, ...)")
+    clash = [k for k, v in physical.items() if v != PRESET_DEFAULTS[k]]
+    if clash:
+        names = ", ".join("--" + k.replace("_", "-") for k in clash)
+        raise ValueError(f"{names}: set by --preset standard from materials.toml, give not both")
+    overrides = {k: v for k, v in others.items() if not (k == "model" and v is None)}
+    return standard_domino(gap=gap, floor=floor, n_dominoes=n, **overrides)
+
+
 def chain_command(
     n: Annotated[int, typer.Option("--n", help="number of dominoes")] = 30,
     d_over_l: Annotated[float, typer.Option(help="gap d over height l")] = 0.4,
@@ -144,7 +179,9 @@ def chain_command(
     friction_dominoes: Annotated[float, typer.Option(help="phi_d between dominoes")] = 0.0,
     damping: Annotated[float, typer.Option(help="local damping in [0, 1)")] = 0.0,
     restitution: Annotated[float | None, typer.Option(help="normal restitution")] = None,
-    model: Annotated[str, typer.Option(help="2d | 3d")] = "2d",
+    model: Annotated[
+        str | None, typer.Option(help="2d | 3d (default 2d; 3d with --preset)")
+    ] = None,
     base: Annotated[str, typer.Option(help="one | two base spheres")] = "one",
     held: Annotated[bool, typer.Option(help="hold untouched dominoes")] = True,
     spheres_per_column: Annotated[int | None, typer.Option(help="default round(l/s)")] = None,
@@ -174,6 +211,14 @@ def chain_command(
     members: Annotated[int, typer.Option(help="ensemble members (perturbed pushes)")] = 1,
     seed: Annotated[int, typer.Option(help="ensemble seed")] = 0,
     jitter: Annotated[float, typer.Option(help="relative push perturbation")] = 1e-3,
+    preset: Annotated[
+        str | None,
+        typer.Option(help="standard: the 48 x 24 x 7.5 mm domino from materials.toml"),
+    ] = None,
+    gap: Annotated[float | None, typer.Option(help="with --preset: clear gap d [m]")] = None,
+    floor: Annotated[
+        str | None, typer.Option(help="with --preset: felt, glass, hardwood, laminate")
+    ] = None,
     out: Annotated[Path | None, typer.Option(help="directory for CSV + PNG")] = None,
 ) -> None:
     """Run one DEM domino chain (or an ensemble): per-domino table, speed vs theory, plot."""
@@ -182,35 +227,45 @@ def chain_command(
     check_in_range("seed", seed, 0, math.inf, lo_inclusive=True)
     if out is not None:
         ensure_writable_dir(out)  # before the run, not after it
-    p = ChainParams(
-        n_dominoes=n,
-        height=height,
-        thickness=thickness,
-        width=width,
-        d_over_l=d_over_l,
-        density=density,
-        stiffness_ratio=stiffness_ratio,
-        kn=kn,
-        young=young,
-        young_rule=young_rule,
-        kt_ratio=kt_ratio,
-        shear_kinematics=shear_kinematics,
-        friction_floor=friction_floor,
-        friction_dominoes=friction_dominoes,
-        damping=damping,
-        restitution=restitution,
-        model=model,
-        base=base,
-        held=held,
-        spheres_per_column=spheres_per_column,
-        lateral_asymmetry=asymmetry,
-        placement_along=placement_along,
-        placement_across=placement_across,
-        push_error=push_error,
-        asymmetry_seed=placement_seed,
-    )
+    physical = {
+        "height": height,
+        "thickness": thickness,
+        "width": width,
+        "density": density,
+        "stiffness_ratio": stiffness_ratio,
+        "kn": kn,
+        "young": young,
+        "friction_floor": friction_floor,
+        "friction_dominoes": friction_dominoes,
+        "restitution": restitution,
+        "d_over_l": d_over_l,
+    }
+    imperfections = {
+        "lateral_asymmetry": asymmetry,
+        "placement_along": placement_along,
+        "placement_across": placement_across,
+        "push_error": push_error,
+        "asymmetry_seed": placement_seed,
+    }
+    numerics = {
+        "young_rule": young_rule,
+        "kt_ratio": kt_ratio,
+        "shear_kinematics": shear_kinematics,
+        "damping": damping,
+        "model": model,
+        "base": base,
+        "held": held,
+        "spheres_per_column": spheres_per_column,
+    }
+    if preset is not None or gap is not None or floor is not None:
+        p = _preset_params(preset, gap, floor, n, physical, {**numerics, **imperfections})
+        d_over_l = p.d_over_l
+    else:
+        numerics["model"] = model or "2d"
+        p = ChainParams(n_dominoes=n, **physical, **numerics, **imperfections)
     if fit_from is not None:
         check_fit_from(fit_from, n)
+
     if impulse is not None:
         push = Push(impulse=impulse, height=impulse_height)
     else:
