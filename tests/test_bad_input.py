@@ -46,6 +46,18 @@ STUDY_CASES = [
         [],
         ["study.toml:5", "unknown key scenario.spacng", "valid keys"],
     ),
+    (
+        "chain-box-with-base",
+        '[scenario]\nkind = "chain"\nshape = "box"\nbase = "two"\n',
+        [],
+        ["base = 'two'", "shape = 'clump' only"],
+    ),
+    (
+        "chain-clump-with-rounding",
+        '[scenario]\nkind = "chain"\nrounding = 1e-4\n',
+        [],
+        ["rounding = 0.0001", "shape = 'box' only"],
+    ),
     ("no-scenario", '[output]\ndir = "x"\n', [], ["scenario is required"]),
     ("empty-file", "", [], ["scenario is required"]),
     ("no-kind", "[scenario]\nspacing = 0.02\n", [], ["scenario.kind = missing", "theory"]),
@@ -295,6 +307,24 @@ def test_read_only_output_folder(tmp_path, cli):
         (["chain", "--n", "4", "--placement-across", "1e-3"], ["needs model = '3d'"]),
         (["chain", "--n", "4", "--push-error", "-1"], ["push_error = -1", "[0, inf)"]),
         (["chain", "--n", "4", "--stiffness-ratio", "1e308"], ["steps", "1e+10 allowed"]),
+        (["chain", "--n", "4", "--shape", "cube"], ["shape = 'cube'", "'clump', 'box'"]),
+        (
+            ["chain", "--n", "4", "--shape", "box", "--base", "two"],
+            ["base = 'two'", "shape = 'clump' only"],
+        ),
+        (
+            ["chain", "--n", "4", "--shape", "box", "--spheres-per-column", "20"],
+            ["spheres_per_column = 20", "shape = 'clump' only"],
+        ),
+        (["chain", "--n", "4", "--rounding", "1e-4"], ["rounding = 0.0001", "shape = 'box' only"]),
+        (
+            ["chain", "--n", "4", "--shape", "box", "--rounding", "0.01"],
+            ["rounding = 0.01", "(0, 0.0025)"],
+        ),
+        (
+            ["chain", "--n", "4", "--shape", "box", "--restitution-floor", "2"],
+            ["restitution_floor = 2", "(0, 1]"],
+        ),
         (["rods", "--push", "1e9"], ["push = 1e+09", "(0, 100]"]),
         (["rods", "--d-over-l", "1e-300"], ["d_over_l = 1e-300", "[0.001, 1)"]),
         (

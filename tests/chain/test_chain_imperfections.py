@@ -85,8 +85,9 @@ def test_placement_is_off_by_default_and_reproducible_by_seed():
     np.testing.assert_array_equal(placement(p.with_(lateral_asymmetry=0.02)).yaw, legacy)
 
 
-def test_placement_moves_the_built_dominoes_and_scales_the_push():
-    p = ChainParams(n_dominoes=4, model="3d", width=0.01)
+@pytest.mark.parametrize("shape", ["clump", "box"])
+def test_placement_moves_the_built_dominoes_and_scales_the_push(shape):
+    p = ChainParams(n_dominoes=4, model="3d", width=0.01, shape=shape)
     moved = p.with_(placement_along=1e-3, placement_across=5e-4, push_error=0.1)
     base, errs = DominoChain(p), DominoChain(moved)
     sim0, _ = base.build(base.resolve(None))

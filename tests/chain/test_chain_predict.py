@@ -29,19 +29,23 @@ def test_standard_domino_takes_every_value_from_the_materials_file():
     assert (p.height, p.width, p.thickness) == (0.048, 0.024, 0.0075)
     assert p.d_over_l == pytest.approx(0.00938 / 0.048, rel=1e-15)
     assert p.spacing == pytest.approx(0.00938, rel=1e-14)
-    assert p.model == "3d" and p.n_dominoes == 7
-    assert p.mass == pytest.approx(mat.domino.mass.value, rel=1e-12)
+    assert p.model == "3d" and p.n_dominoes == 7 and p.shape == "box"
+    assert p.mass == pytest.approx(mat.domino.mass.value, rel=1e-12)  # rho l w s
     assert p.young == mat.plastic.youngs_modulus.value and p.young_rule == "paper"
     assert p.friction_dominoes == mat.friction_domino_domino.value
     assert p.friction_floor == mat.floor_friction("felt").value
-    assert p.restitution == mat.restitution_domino_domino.value
+    assert p.restitution_pairs == (
+        mat.restitution_domino_domino.value,
+        mat.restitution_domino_floor.value,
+    )
     glass = standard_domino(gap=0.00938, floor="glass")
     assert glass.friction_floor == mat.floor_friction("glass").value
 
 
 def test_standard_domino_values_and_overrides():
-    p = standard_domino(gap=0.01, floor="hardwood", values={"mass": 0.009, "restitution": 0.8})
-    assert p.mass == pytest.approx(0.009, rel=1e-12) and p.restitution == 0.8
+    values = {"mass": 0.009, "restitution_floor": 0.8}
+    p = standard_domino(gap=0.01, floor="hardwood", values=values)
+    assert p.mass == pytest.approx(0.009, rel=1e-12) and p.restitution_pairs == (0.5, 0.8)
     q = standard_domino(gap=0.01, floor="hardwood", model="2d", stiffness_ratio=1e4)
     assert q.model == "2d" and q.young is None and q.stiffness_ratio == 1e4
 

@@ -1,6 +1,8 @@
 """Domino chain geometry and materials from physical parameters (paper section 3, Fig 6A).
 
-A domino is a rigid clump of equal spheres of diameter ``s`` (its thickness):
+A domino has one of two shapes (``ChainParams.shape``): ``"clump"``, the paper's rigid
+clump of equal spheres (below), or ``"box"``, one rigid rounded cuboid (end of this
+docstring). A clump domino is a clump of equal spheres of diameter ``s`` (its thickness):
 
 * **2D model** -- one column of spheres in the xz plane; the DEM blocks ``y``,
   ``rx`` and ``rz`` so the domino only moves in that plane (the paper's default,
@@ -41,6 +43,29 @@ Conventions (all SI):
   touching in parallel, the same collision time): 2D and 3D are comparable.
 * The floor is the plane ``z = 0``; dominoes start at the static overlap
   ``m g / (n_base k_n)`` so that a released domino is already in equilibrium.
+
+A **box** domino (``shape = "box"``) is one rigid rounded cuboid (``dem.Scene.add_box``)
+of thickness ``s``, width ``w`` and height ``l`` whose edges are rounded with radius
+``r = rounding`` (default ``s/20``, ``0 < r < s/2``), with the uniform cuboid's mass
+``m = rho l w s`` and inertia, in 2D (planar: ``y``, ``rx``, ``rz`` blocked) and 3D alike.
+It stands on its own flat base, so ``held`` is off unless asked for; the clump's
+``spheres_per_column`` and ``base`` do not apply to it (and the box's ``rounding``,
+``restitution_dominoes``, ``restitution_floor`` not to a clump).
+
+* Stiffness: the box keeps the clump's *pair* stiffness per unit domino weight, so that
+  a box and a clump chain of the same ``k/k*`` have the same collision time (eq 31).
+  The paper's ``k`` is per particle and two particles touch in series, ``k_n = k / 2``
+  (eqs 22-24); a clump domino carries that spring on one sphere contact per column
+  (``k* = m_column g / l``). A box domino meets the next one (and the floor) along an
+  edge whose two ends are the contact points of the rounded cuboid (a planar scene
+  counts its one point twice), so each point gets half of it: ``k_n = k / 4`` with
+  ``k* = m g / l`` of the whole box; the pair stiffness is ``2 k_n = k / 2``, as a 2D
+  clump's. ``kn`` is the spring of one contact point; ``young`` gives ``k_n`` by the
+  rule of ``young_rule`` with the rounding ``r`` as the radius (eq 24: ``pi r E / 2``).
+* Restitution: ``restitution`` is that of every contact (the clump's one value);
+  ``restitution_dominoes`` and ``restitution_floor`` set the box's domino-domino and
+  domino-floor contacts apart (not set: ``restitution``).
+* The box starts at the static overlap ``m g / (4 k_n)`` (four corner points on the floor).
 """
 
 from __future__ import annotations
@@ -58,17 +83,26 @@ from dominowave.units import G_STANDARD, k_star
 
 __all__ = [
     "ChainParams",
+    "DominoBox",
     "DominoShape",
     "Placement",
     "chain_positions",
+    "domino_box",
     "domino_shape",
     "place_domino",
     "placement",
+    "yaw_matrix",
 ]
 
 Model = Literal["2d", "3d"]
+Shape = Literal["clump", "box"]
 Base = Literal["one", "two"]
 YoungRule = Literal["paper", "yade"]
+
+CLUMP_ONLY = ("spheres_per_column", "base")
+"""Options of ``shape = "clump"`` that a box refuses."""
+BOX_ONLY = ("rounding", "restitution_dominoes", "restitution_floor")
+"""Options of ``shape = "box"`` that a clump refuses."""
 ShearKinematics = Literal["contact_point", "yade"]
 
 
@@ -88,13 +122,24 @@ class ChainParams:
     """
 
     n_dominoes: int = parameter(30, "", "number of dominoes", ge=2, le=100_000)
+    shape: Shape = parameter(
+        "clump",
+        "",
+        "domino shape: clump (a clump of spheres, the paper's) or box (one rounded cuboid)",
+        choices=("clump", "box"),
+    )
     height: float = parameter(0.05, "m", "domino height l", gt=0)
     thickness: float = parameter(
         0.005, "m", "domino thickness s = sphere diameter (below l/2)", gt=0
     )
     width: float = parameter(0.025, "m", "domino width (3D model)", gt=0)
     d_over_l: float = parameter(0.4, "", "spacing ratio d/l (d = clear gap)", gt=0, lt=1)
-    density: float = parameter(1000.0, "kg/m^3", "bead density", gt=0)
+    density: float = parameter(
+        1000.0, "kg/m^3", "density (clump: of the beads; box: of the cuboid)", gt=0
+    )
+    rounding: float | None = parameter(
+        None, "m", "box only: radius r of the rounded edges, 0 < r < s/2 (not set: s/20)", gt=0
+    )
     stiffness_ratio: float | None = parameter(
         None,
         "",
@@ -126,14 +171,29 @@ class ChainParams:
     friction_floor: float = parameter(0.3, "", "friction with the floor phi_f", ge=0)
     damping: float = parameter(0.0, "", "local (YADE-style) damping", ge=0, lt=1)
     restitution: float | None = parameter(
-        None, "", "normal restitution (not set = elastic)", gt=0, le=1
+        None, "", "normal restitution of every contact (not set = elastic)", gt=0, le=1
+    )
+    restitution_dominoes: float | None = parameter(
+        None, "", "box only: restitution between dominoes (not set: restitution)", gt=0, le=1
+    )
+    restitution_floor: float | None = parameter(
+        None, "", "box only: restitution with the floor (not set: restitution)", gt=0, le=1
     )
     model: Model = parameter("2d", "", "2d: xz plane only; 3d: free", choices=("2d", "3d"))
     spheres_per_column: int | None = parameter(
-        None, "", "spheres per column (not set: round(l/s), touching)", ge=2
+        None, "", "clump only: spheres per column (not set: round(l/s), touching)", ge=2
     )
-    base: Base = parameter("one", "", "one bottom sphere, or two half-size", choices=("one", "two"))
-    held: bool = parameter(True, "", "untouched dominoes are held until first touched")
+    base: Base | None = parameter(
+        None,
+        "",
+        "clump only: one bottom sphere, or two half-size (not set: one)",
+        choices=("one", "two"),
+    )
+    held: bool | None = parameter(
+        None,
+        "",
+        "untouched dominoes are held until first touched (not set: clump yes, box no)",
+    )
     lateral_asymmetry: float = parameter(
         0.0, "rad", "placement error: yaw of each domino, uniform in +-amplitude (3d)", ge=0, lt=0.1
     )
@@ -155,6 +215,9 @@ class ChainParams:
         check_parameters(self)
         # the rules that join several fields
         check_in_range("thickness", self.thickness, 0.0, self.height / 2)
+        self._check_shape_options()
+        if self.rounding is not None:
+            check_in_range("rounding", self.rounding, 0.0, self.thickness / 2)
         # neighbours must not overlap however the errors fall: each may move by the amplitude
         check_in_range(
             "placement_along", self.placement_along, 0.0, self.spacing / 2, lo_inclusive=True
@@ -171,11 +234,62 @@ class ChainParams:
                 f"(got stiffness_ratio={self.stiffness_ratio}, kn={self.kn}, young={self.young})"
             )
 
+    def _check_shape_options(self) -> None:
+        """Refuse an option of the other shape: one error naming it, its value, the shape."""
+        if self.shape == "box":
+            other, options = "clump", CLUMP_ONLY
+        else:
+            other, options = "box", BOX_ONLY
+        for name in options:
+            value = getattr(self, name)
+            if value is not None:
+                raise ValueError(
+                    f"{name} = {value!r} is an option of shape = {other!r} only; with shape ="
+                    f" {self.shape!r} leave it unset (None)"
+                )
+
     # --- derived geometry -------------------------------------------------------------
     @property
     def radius(self) -> float:
-        """Sphere radius ``R = s/2`` [m]."""
+        """Sphere radius ``R = s/2`` [m] (the clump's beads)."""
         return self.thickness / 2.0
+
+    @property
+    def rounding_radius(self) -> float:
+        """Radius ``r`` of a box's rounded edges [m] (default ``s/20``)."""
+        return self.thickness / 20.0 if self.rounding is None else self.rounding
+
+    @property
+    def contact_radius(self) -> float:
+        """Radius of curvature at a contact [m]: ``R = s/2`` (clump) or ``r`` (box); the
+        radius of ``young``'s stiffness rule and the scale of the allowed floor overlap."""
+        return self.radius if self.shape == "clump" else self.rounding_radius
+
+    @property
+    def base_layout(self) -> Base:
+        """The clump's base: ``base``, or ``"one"`` when not set."""
+        return self.base or "one"
+
+    @property
+    def holds(self) -> bool:
+        """Whether untouched dominoes are held: ``held``, or (not set) clump yes, box no."""
+        return self.shape == "clump" if self.held is None else self.held
+
+    @property
+    def restitution_pairs(self) -> tuple[float | None, float | None]:
+        """(domino-domino, domino-floor) restitution; ``None`` = elastic."""
+        dominoes = self.restitution_dominoes
+        floor = self.restitution_floor
+        return (
+            self.restitution if dominoes is None else dominoes,
+            self.restitution if floor is None else floor,
+        )
+
+    @property
+    def box_points_per_pair(self) -> int:
+        """Contact points carrying a box-box or a box-floor line contact: the two ends of
+        the touching edge (a planar scene returns one, counted twice)."""
+        return 2
 
     @property
     def spacing(self) -> float:
@@ -208,7 +322,10 @@ class ChainParams:
 
     @property
     def mass(self) -> float:
-        """Domino mass [kg]: ``n_across * round(l/s)`` reference beads (see module doc)."""
+        """Domino mass [kg]: clump ``n_across * round(l/s)`` reference beads (see module
+        doc); box ``rho l w s`` (2D and 3D alike)."""
+        if self.shape == "box":
+            return self.density * self.height * self.width * self.thickness
         return self.n_across * self.n_column_touching * self.sphere_mass
 
     @property
@@ -218,31 +335,53 @@ class ChainParams:
             return self.kn
         if self.young is not None:
             convention = "paper" if self.young_rule == "paper" else "contact"
-            return float(contact_stiffness_from_material(self.radius, self.young, convention))
+            return float(
+                contact_stiffness_from_material(self.contact_radius, self.young, convention)
+            )
         ratio = 1e4 if self.stiffness_ratio is None else self.stiffness_ratio
         k = ratio * float(k_star(self.column_mass, self.height, self.g))
-        return float(contact_stiffness(k, "paper"))  # eq. 24: k_n = k / 2
+        # eq. 24: the two particles' springs k in series, k_n = k / 2 per contact; a box
+        # carries it on the two points of a line contact, k_n = k / 4 per point
+        return float(contact_stiffness(k, "paper")) / self.points_per_spring
 
     @property
     def column_mass(self) -> float:
-        """Mass of one column of spheres (the 2D domino) [kg]."""
+        """Mass that defines ``k*`` [kg]: one column of spheres (the 2D clump domino), or
+        the whole box."""
+        if self.shape == "box":
+            return self.mass
         return self.mass / self.n_across
 
     @property
+    def points_per_spring(self) -> int:
+        """Contact points sharing the paper's pair spring ``k/2``: 1 (clump: one sphere
+        contact per column) or 2 (box: the two ends of the touching edge)."""
+        return 1 if self.shape == "clump" else self.box_points_per_pair
+
+    @property
     def pair_stiffness(self) -> float:
-        """Normal stiffness between two dominoes [N/m]: ``n_across`` columns touch in
-        parallel, ``n_across * k_n`` (= ``k_n`` in 2D)."""
+        """Normal stiffness between two dominoes [N/m]: clump, ``n_across`` columns touch
+        in parallel, ``n_across * k_n`` (= ``k_n`` in 2D); box, the two points of the
+        edge-face contact, ``2 k_n``."""
+        if self.shape == "box":
+            return self.box_points_per_pair * self.contact_stiffness
         return self.n_across * self.contact_stiffness
 
     @property
     def stiffness_over_kstar(self) -> float:
-        """The paper's ``k/k*`` per column (``k = 2 k_n``, ``k* = m_column g / l``)."""
-        return 2.0 * self.contact_stiffness / float(k_star(self.column_mass, self.height, self.g))
+        """The paper's ``k/k*`` (``k = 2 k_n`` per column, or ``k = 4 k_n`` for a box
+        whose two contact points share it; ``k* = m g / l`` with ``m = column_mass``)."""
+        k = 2.0 * self.points_per_spring * self.contact_stiffness
+        return k / float(k_star(self.column_mass, self.height, self.g))
 
     def with_(self, **changes) -> ChainParams:
         """A copy with some fields changed (validated again)."""
         if {"stiffness_ratio", "kn", "young"} & changes.keys():
             changes = {"stiffness_ratio": None, "kn": None, "young": None, **changes}
+        if changes.get("shape", self.shape) != self.shape:
+            # the options of the old shape do not carry over to the new one
+            old = CLUMP_ONLY if self.shape == "clump" else BOX_ONLY
+            changes = {**dict.fromkeys(old), **changes}
         return replace(self, **changes)
 
 
@@ -310,7 +449,7 @@ def domino_shape(p: ChainParams) -> DominoShape:
     radii = np.full(centres.shape[0], r)
     density = np.full(centres.shape[0], rho)
     bottom = np.concatenate([np.arange(nz) == 0] * ny)
-    if p.base == "two":
+    if p.base_layout == "two":
         # replace each bottom sphere by two of radius R/2 at x = -+R/2, z = R/2, 4x denser
         keep = ~bottom
         pairs = []
@@ -378,11 +517,65 @@ def place_domino(
 ) -> np.ndarray:
     """World sphere centres (n, 3) [m] of a domino at ``(x, y)``, turned by ``yaw`` [rad]
     about the vertical axis and lowered by ``sink`` [m] (static overlap with the floor)."""
-    c, s = math.cos(yaw), math.sin(yaw)
-    rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-    out = shape.centres @ rot.T
+    out = shape.centres @ yaw_matrix(yaw).T
     out[:, 0] += x
     if y != 0.0:
         out[:, 1] += y
     out[:, 2] -= sink
     return out
+
+
+@dataclass(frozen=True)
+class DominoBox:
+    """One upright box domino in its own frame (axis at the origin, floor ``z = 0``).
+
+    A uniform cuboid of thickness ``s`` (x, along the chain), width ``w`` (y) and height
+    ``l`` (z) [m] whose edges are rounded with radius ``rounding`` r [m] (a core box of
+    half-extents ``(s/2, w/2, l/2) - r`` swept by a sphere of radius r, ``dem.Scene.add_box``).
+    x is along the chain, y across, z up.
+    """
+
+    half_extents: np.ndarray  # (3,) outer half-extents (s/2, w/2, l/2) [m]
+    rounding: float
+    mass: float
+
+    @property
+    def centre_of_mass(self) -> np.ndarray:
+        """(3,) [m]: the box centre."""
+        return np.array([0.0, 0.0, self.half_extents[2]])
+
+    @property
+    def pivot_point(self) -> np.ndarray:
+        """(3,) [m] centre of the front bottom rounded edge (the axis it rolls about)."""
+        r = self.rounding
+        return np.array([self.half_extents[0] - r, 0.0, r])
+
+    @property
+    def pivot_contact(self) -> np.ndarray:
+        """(3,) [m] floor contact below the front bottom edge: the point at rest in a
+        rolling start."""
+        return np.array([self.half_extents[0] - self.rounding, 0.0, 0.0])
+
+    @property
+    def inertia_cm_y(self) -> float:
+        """Moment of inertia about the y axis through the centre [kg m^2],
+        ``m (s^2 + l^2) / 12``."""
+        a, _, c = self.half_extents
+        return self.mass * (a**2 + c**2) / 3.0
+
+    def inertia_about_y(self, point) -> float:
+        """Moment of inertia about the y axis through ``point`` [kg m^2] (parallel axes)."""
+        rel = np.asarray(point, dtype=float) - self.centre_of_mass
+        return self.inertia_cm_y + self.mass * (rel[0] ** 2 + rel[2] ** 2)
+
+
+def domino_box(p: ChainParams) -> DominoBox:
+    """The box domino of parameters ``p`` (``shape = "box"``)."""
+    half = np.array([p.thickness, p.width, p.height]) / 2.0
+    return DominoBox(half_extents=half, rounding=p.rounding_radius, mass=p.mass)
+
+
+def yaw_matrix(yaw: float) -> np.ndarray:
+    """(3, 3) rotation by ``yaw`` [rad] about the vertical axis."""
+    c, s = math.cos(yaw), math.sin(yaw)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])

@@ -28,6 +28,11 @@ sphere, a rolling pivot. Two mappings are offered:
   rolling inertia with angle, ``O(R/l)``, is neglected, like the thickness
   correction to the fall integral the paper neglects (section 2.3).
 
+A box domino (``shape = "box"``) rolls on its rounded front bottom edge: ``a`` is the
+distance from that edge's centre to the centre of mass, ``I_A`` the uniform cuboid's
+inertia about the edge's floor contact, the same mapping otherwise; its pair spring is
+``2 k_n`` (two contact points, ``ChainParams.pair_stiffness``).
+
 For a uniform thin column ``I_A ~ m l^2 / 3`` and ``a ~ l / 2``: ``m_tip = m / 3``
 and ``g_eff = 1.5 g``. Contacts use the DEM's springs directly (``convention=
 "contact"``): ``k_r = n_across k_n`` (all columns of a 3D domino touch in parallel),
@@ -43,7 +48,7 @@ from typing import Literal
 import numpy as np
 
 from dominowave import theory
-from dominowave.chain.build import ChainParams, domino_shape
+from dominowave.chain.build import ChainParams, domino_box, domino_shape
 from dominowave.units import beta_from_spacing
 
 __all__ = [
@@ -60,7 +65,7 @@ Mapping = Literal["point", "clump"]
 
 @dataclass(frozen=True)
 class EffectiveDomino:
-    """Point-mass theory parameters for a clump domino (see the module docstring).
+    """Point-mass theory parameters for a DEM domino (see the module docstring).
 
     ``mass`` m [kg], ``com_height`` h_cm [m], ``arm`` a [m], ``inertia_pivot`` I_A
     [kg m^2], ``tip_mass`` [kg] and ``g_eff`` [m/s^2] to pass to ``dominowave.theory``
@@ -77,10 +82,10 @@ class EffectiveDomino:
 
 def effective_domino(p: ChainParams, mapping: Mapping = "clump") -> EffectiveDomino:
     """Theory parameters of the domino of ``p`` under ``mapping`` ("point" or "clump")."""
-    shape = domino_shape(p)
+    shape = domino_shape(p) if p.shape == "clump" else domino_box(p)
     m = shape.mass
     com = shape.centre_of_mass
-    pc = shape.centres[shape.pivot]
+    pc = shape.centres[shape.pivot] if p.shape == "clump" else shape.pivot_point
     arm = math.hypot(com[0] - pc[0], com[2] - pc[2])
     inertia = shape.inertia_about_y(shape.pivot_contact)
     if mapping == "point":

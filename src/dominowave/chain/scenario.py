@@ -20,9 +20,11 @@ from dominowave import dem
 from dominowave.chain.build import (
     ChainParams,
     chain_positions,
+    domino_box,
     domino_shape,
     place_domino,
     placement,
+    yaw_matrix,
 )
 from dominowave.chain.compare import (
     effective_domino,
@@ -85,10 +87,11 @@ class Push:
     """How domino 0 is set in motion at ``t = 0``.
 
     Exactly one of: ``omega`` -- initial angular velocity [rad/s] about the floor
-    contact of its pivot (front base) sphere, a rolling start: that contact point is
-    at rest; ``impulse`` -- a horizontal impulse [N s] at
-    ``height`` [m] above the floor (default: the top sphere's centre) on the free
-    clump. Neither: ``DominoChain`` uses ``omega = sqrt(g / l)``.
+    contact of its pivot (a clump's front base sphere, a box's front bottom edge), a
+    rolling start: that contact point is at rest, ``v = omega x (x - x_contact)``;
+    ``impulse`` -- a horizontal impulse [N s] at ``height`` [m] above the floor
+    (default: the top sphere's centre, or a box's top minus ``s/2``) on the free
+    domino. Neither: ``DominoChain`` uses ``omega = sqrt(g / l)``.
     """
 
     omega: float | None = None
@@ -230,7 +233,7 @@ class DominoChain:
             travel = params.n_dominoes * params.pitch / theory_speed(params)
             max_time = 3.0 * travel + self.quiet_time
         self.max_time = check_positive("max_time", max_time)
-        self.shape = domino_shape(params)
+        self.shape = domino_shape(params) if params.shape == "clump" else domino_box(params)
         # the nominal positions n (d + s): where the wave is measured (pitch-based); the
         # dominoes stand at these plus their placement errors
         self.positions = chain_positions(params)
@@ -256,10 +259,11 @@ class DominoChain:
         p = self.params
         stiffness = f"the contact stiffness k_n = {p.contact_stiffness:.4g} N/m (k/k* = "
         stiffness += f"{p.stiffness_over_kstar:.4g})"
-        sink = self._sink() / p.radius
+        sink = self._sink() / p.contact_radius
+        radii = "sphere radii" if p.shape == "clump" else "edge roundings r"
         if not sink <= 1.0:
             raise ValueError(
-                f"{stiffness} is too soft: a standing domino would sink {sink:.3g} sphere radii"
+                f"{stiffness} is too soft: a standing domino would sink {sink:.3g} {radii}"
                 f" into the floor under its weight (m g / k_n); the DEM needs well below 1"
                 f" (k/k* >= {p.stiffness_over_kstar * sink:.3g} for this chain)"
             )
@@ -280,6 +284,8 @@ class DominoChain:
     def _sink(self) -> float:
         """Static overlap of an upright domino with the floor [m]."""
         p = self.params
+        if p.shape == "box":  # four corners (a planar box: two, each counted twice)
+            return p.mass * p.g / (4 * p.contact_stiffness)
         n_base = int(self.shape.bottom.sum())
         return p.mass * p.g / (n_base * p.contact_stiffness)
 
@@ -293,7 +299,7 @@ class DominoChain:
             w = np.array([0.0, push.omega, 0.0])
             return np.cross(w, com - self.shape.pivot_contact), w, push.omega
         h = push.height if push.height is not None else p.height - p.radius
-        i_cm = self.shape.inertia_about_y(com)
+        i_cm = self.shape.inertia_about_y(com)  # the box's: y is a principal axis
         v = np.array([push.impulse / p.mass, 0.0, 0.0])
         w = np.array([0.0, (h - com[2]) * push.impulse / i_cm, 0.0])
         # theory's Omega_1: the same impulse on a domino hinged at its base contact
@@ -311,6 +317,8 @@ class DominoChain:
         scene = dem.Scene(
             gravity=(0.0, 0.0, -p.g), stiffness_rule="paper", shear_kinematics=p.shear_kinematics
         )
+        if p.shape == "box":
+            return self._build_boxes(scene, push, record, track_energy)
         kw = {"kn": p.contact_stiffness, "kt_ratio": p.kt_ratio, "restitution": p.restitution}
         densities = np.unique(self.shape.density)
         mat_face = {
@@ -341,7 +349,7 @@ class DominoChain:
                 blocked=blocked,
                 velocity=v0 if moving else (0.0, 0.0, 0.0),
                 angular_velocity=w0 if moving else (0.0, 0.0, 0.0),
-                held=p.held and not moving,
+                held=p.holds and not moving,
             )
         sim = scene.build(
             dt=self.dt,
@@ -354,6 +362,45 @@ class DominoChain:
             record_pairs=record,
             track_energy=track_energy,
             overlap_tolerance=1.01 * sink / float(self.shape.radii.min()) + 1e-9,
+        )
+        return sim, omega_1
+
+    def _build_boxes(self, scene, push: Push, record: bool, track_energy: bool):
+        """The box chain's simulation (``build`` with ``shape = "box"``)."""
+        p = self.params
+        e_dominoes, e_floor = p.restitution_pairs
+        kw = {"kn": p.contact_stiffness, "kt_ratio": p.kt_ratio}
+        box = scene.add_material(dem.Material(density=p.density, **kw))
+        floor = scene.add_material(dem.Material(density=p.density, **kw))
+        # friction and restitution by material pair, not the min rule of one value per body
+        scene.set_pair(box, box, friction=p.friction_dominoes, restitution=e_dominoes)
+        scene.set_pair(box, floor, friction=p.friction_floor, restitution=e_floor)
+        scene.add_wall(point=(0.0, 0.0, 0.0), normal=(0.0, 0.0, 1.0), material=floor)
+        blocked = "y rx rz" if p.model == "2d" else ""
+        v0, w0, omega_1 = self._push_velocities(push)
+        sink = self._sink()
+        shape = self.shape
+        errors = self.placement
+        stands = zip(self.positions + errors.along, errors.across, errors.yaw, strict=True)
+        for n, (x, y, yaw) in enumerate(stands):
+            moving = n == 0
+            scene.add_box(
+                (x, y, shape.half_extents[2] - sink),
+                shape.half_extents,
+                shape.rounding,
+                box,
+                orientation=yaw_matrix(yaw),
+                blocked=blocked,
+                velocity=v0 if moving else (0.0, 0.0, 0.0),
+                angular_velocity=w0 if moving else (0.0, 0.0, 0.0),
+                held=p.holds and not moving,
+            )
+        sim = scene.build(
+            dt=self.dt,
+            damping=p.damping,
+            skin=p.rounding_radius,
+            record_pairs=record,
+            track_energy=track_energy,
         )
         return sim, omega_1
 
@@ -499,10 +546,15 @@ class DominoChain:
 
         Two-sphere base: the centre of mass passes over the front base sphere's floor
         contact. A single sphere has no stable upright, so we use the tilt of the
-        flat-based domino of the same thickness, ``atan(s / l)``.
+        flat-based domino of the same thickness, ``atan(s / l)``. A box rolls on its
+        rounded front edge: the centre of mass passes over that edge's centre,
+        ``atan((s/2 - r) / (l/2 - r))``.
         """
         p = self.params
-        if p.base == "two":
+        if p.shape == "box":
+            pivot = self.shape.pivot_point
+            return critical_tilt(float(pivot[0]), float(self.shape.centre_of_mass[2] - pivot[2]))
+        if p.base_layout == "two":
             return critical_tilt(p.radius / 2.0, float(self.shape.centre_of_mass[2]))
         return critical_tilt(p.thickness / 2.0, p.height / 2.0)
 
@@ -513,7 +565,8 @@ class DominoChain:
         (``time``, ``body_i``, ``body_j``, ``kind``), ``end_time`` [s] of the run."""
         shape = self.shape
         com0 = shape.centre_of_mass
-        pivot = shape.centres[shape.pivot]
+        # the pivot: a clump's front base sphere centre, a box's front bottom edge centre
+        pivot = shape.centres[shape.pivot] if self.params.shape == "clump" else shape.pivot_point
         top = np.array([0.0, 0.0, self.params.height])
         n = self.params.n_dominoes
         return ChainRecord(

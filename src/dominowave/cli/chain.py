@@ -134,6 +134,8 @@ PRESET_DEFAULTS = {
     "friction_floor": 0.3,
     "friction_dominoes": 0.0,
     "restitution": None,
+    "restitution_dominoes": None,
+    "restitution_floor": None,
     "d_over_l": 0.4,
 }
 """The physical options a preset sets itself (their command defaults)."""
@@ -154,21 +156,31 @@ def _preset_params(preset, gap, floor, n, physical, others) -> ChainParams:
     if clash:
         names = ", ".join("--" + k.replace("_", "-") for k in clash)
         raise ValueError(f"{names}: set by --preset standard from materials.toml, give not both")
-    overrides = {k: v for k, v in others.items() if not (k == "model" and v is None)}
+    unset = ("model", "shape", "rounding", "base", "held", "spheres_per_column")
+    overrides = {k: v for k, v in others.items() if not (k in unset and v is None)}
     return standard_domino(gap=gap, floor=floor, n_dominoes=n, **overrides)
 
 
 def chain_command(
     n: Annotated[int, typer.Option("--n", help="number of dominoes")] = 30,
+    shape: Annotated[
+        str | None,
+        typer.Option(help="clump (of spheres, the paper's; default) | box (rounded cuboid)"),
+    ] = None,
     d_over_l: Annotated[float, typer.Option(help="gap d over height l")] = 0.4,
     height: Annotated[float, typer.Option(help="domino height l [m]")] = 0.05,
-    thickness: Annotated[float, typer.Option(help="thickness s = sphere diameter [m]")] = 0.005,
-    width: Annotated[float, typer.Option(help="width w (3D model) [m]")] = 0.025,
-    density: Annotated[float, typer.Option(help="bead density [kg/m^3]")] = 1000.0,
-    stiffness_ratio: Annotated[
-        float | None, typer.Option(help="paper's k/k* (k_n = k/2); default 1e4")
+    thickness: Annotated[
+        float, typer.Option(help="thickness s (clump: sphere diameter) [m]")
+    ] = 0.005,
+    width: Annotated[float, typer.Option(help="width w (3D clump, every box) [m]")] = 0.025,
+    density: Annotated[float, typer.Option(help="bead or box density [kg/m^3]")] = 1000.0,
+    rounding: Annotated[
+        float | None, typer.Option(help="box: edge rounding r [m], default s/20")
     ] = None,
-    kn: Annotated[float | None, typer.Option(help="contact spring k_n [N/m]")] = None,
+    stiffness_ratio: Annotated[
+        float | None, typer.Option(help="paper's k/k* (k_n = k/2, box k/4); default 1e4")
+    ] = None,
+    kn: Annotated[float | None, typer.Option(help="spring k_n per contact point [N/m]")] = None,
     young: Annotated[float | None, typer.Option(help="Young's modulus [Pa]")] = None,
     young_rule: Annotated[str, typer.Option(help="paper (k_n = pi R E/2) | yade (E R)")] = "paper",
     kt_ratio: Annotated[float, typer.Option(help="tangential / normal stiffness k_t/k_n")] = 1.0,
@@ -179,12 +191,24 @@ def chain_command(
     friction_dominoes: Annotated[float, typer.Option(help="phi_d between dominoes")] = 0.0,
     damping: Annotated[float, typer.Option(help="local damping in [0, 1)")] = 0.0,
     restitution: Annotated[float | None, typer.Option(help="normal restitution")] = None,
+    restitution_dominoes: Annotated[
+        float | None, typer.Option(help="box: restitution between dominoes")
+    ] = None,
+    restitution_floor: Annotated[
+        float | None, typer.Option(help="box: restitution with the floor")
+    ] = None,
     model: Annotated[
         str | None, typer.Option(help="2d | 3d (default 2d; 3d with --preset)")
     ] = None,
-    base: Annotated[str, typer.Option(help="one | two base spheres")] = "one",
-    held: Annotated[bool, typer.Option(help="hold untouched dominoes")] = True,
-    spheres_per_column: Annotated[int | None, typer.Option(help="default round(l/s)")] = None,
+    base: Annotated[
+        str | None, typer.Option(help="clump: one | two base spheres (default one)")
+    ] = None,
+    held: Annotated[
+        bool | None, typer.Option(help="hold untouched dominoes (default: clump yes, box no)")
+    ] = None,
+    spheres_per_column: Annotated[
+        int | None, typer.Option(help="clump: spheres per column, default round(l/s)")
+    ] = None,
     asymmetry: Annotated[
         float, typer.Option(help="placement error: yaw amplitude of each domino (3D) [rad]")
     ] = 0.0,
@@ -238,6 +262,8 @@ def chain_command(
         "friction_floor": friction_floor,
         "friction_dominoes": friction_dominoes,
         "restitution": restitution,
+        "restitution_dominoes": restitution_dominoes,
+        "restitution_floor": restitution_floor,
         "d_over_l": d_over_l,
     }
     imperfections = {
@@ -248,6 +274,8 @@ def chain_command(
         "asymmetry_seed": placement_seed,
     }
     numerics = {
+        "shape": shape,
+        "rounding": rounding,
         "young_rule": young_rule,
         "kt_ratio": kt_ratio,
         "shear_kinematics": shear_kinematics,
@@ -262,6 +290,7 @@ def chain_command(
         d_over_l = p.d_over_l
     else:
         numerics["model"] = model or "2d"
+        numerics["shape"] = shape or "clump"
         p = ChainParams(n_dominoes=n, **physical, **numerics, **imperfections)
     if fit_from is not None:
         check_fit_from(fit_from, n)

@@ -12,14 +12,16 @@ from the same per-pair functions of contact.py:
   (contact.onset_averaged_overlap) and the end impulse (contact.end_impulse);
 * tangential Cundall-Strack (contact.rotate_shear, contact.cundall_strack), one shear
   history per contact point, carried from step to step by the point's feature key;
-* the dashpot ``c_n`` from the restitution ``e = min(e_i, e_j)`` (contact.viscous_coefficient)
+* the dashpot ``c_n`` from the pair's restitution (contact.pair_friction_restitution: its own
+  value, or ``min(e_i, e_j)``; contact.viscous_coefficient)
   and the effective mass AT THE CONTACT POINT along the normal,
   ``1/m_eff = 1/m_i + 1/m_j + (r_i x n) . I_i^-1 (r_i x n) + (r_j x n) . I_j^-1 (r_j x n)``
   (the impulse-response of two rigid bodies at a point, e.g. Brach, Mechanical Impact
   Dynamics (1991); Stronge, Impact Mechanics (2000) ch. 5), fixed at the point's onset;
   so a single-point impact has the restitution set, eccentric or not;
 * stiffness from the materials as for spheres, with the rounding radius as the sphere
-  radius (contact.particle_stiffness, contact.pair_stiffness); friction ``min(mu_i, mu_j)``.
+  radius (contact.particle_stiffness, contact.pair_stiffness); friction the pair's own
+  value or ``min(mu_i, mu_j)`` (contact.pair_friction_restitution).
 
 Contact rows are kept in pair order (box i, then partner: boxes j > i, then walls) and
 rebuilt every step; pairs within reach are found by bounding spheres (all pairs: O(N^2)
@@ -41,6 +43,7 @@ from dominowave.dem.contact import (
     cundall_strack,
     end_impulse,
     onset_averaged_overlap,
+    pair_friction_restitution,
     pair_stiffness,
     particle_stiffness,
     rotate_shear,
@@ -202,6 +205,17 @@ def _manifold(bodies, boxes, walls, a, j, planar, margin):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _held_pair(bodies, ba, bj, wall):
+    """True if body ``ba`` and its partner (body ``bj``, or a wall) get no contact rows
+    because of held bodies (engine.py, held until touched): a held box with a wall, two
+    held boxes.  A held box is fixed, so these contacts could do no work; a moving body
+    touching a held box gets its rows, whose onset releases the held box."""
+    if wall:
+        return bodies.held[ba] == 1
+    return bodies.held[ba] == 1 and bodies.held[bj] == 1
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _pair_code(i, j, nx, nw):
     """Sort key of the pair (box i, partner j): boxes j > i first, then the walls."""
     return i * (nx + nw) + (j if j >= 0 else nx - j - 1)
@@ -224,8 +238,7 @@ def _point_properties(bodies, boxes, walls, mats, a, j, out):
     kb = particle_stiffness(mats.stiffness[mb], rb, given, rule)
     out[0] = pair_stiffness(ka, kb, given, rule)
     out[1] = pair_stiffness(ka * mats.kt_ratio[ma], kb * mats.kt_ratio[mb], given, rule)
-    out[2] = min(mats.friction[ma], mats.friction[mb])
-    out[3] = min(mats.restitution[ma], mats.restitution[mb])
+    out[2], out[3] = pair_friction_restitution(mats, ma, mb)
 
 
 @njit(cache=True, error_model="numpy")
@@ -318,6 +331,8 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
         for jj in range(a + 1, nx + nw):
             j = jj if jj < nx else -(jj - nx) - 1
             wall = j < 0
+            if _held_pair(bodies, ba, boxes.body[j] if not wall else ba, wall):
+                continue
             if wall:
                 w = -j - 1
                 nw_ = walls.normal[w]

@@ -52,6 +52,7 @@ __all__ = [
     "compute_forces",
     "contact_power",
     "needs_rebuild",
+    "pair_friction_restitution",
     "pair_stiffness",
     "viscous_coefficient",
 ]
@@ -92,6 +93,23 @@ def pair_stiffness(k1, k2, given_kn, rule):
     return 2.0 * series
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def pair_friction_restitution(mats, m1, m2):
+    """Friction coefficient and restitution of a contact between materials m1 and m2.
+
+    The pair's own values where set (``Scene.set_pair``, e.g. domino-domino apart from
+    domino-floor), otherwise the min rule ``min(mu_1, mu_2)`` (paper, section 3) and
+    ``min(e_1, e_2)``; a table entry of nan means "not set".
+    """
+    mu = mats.pair_friction[m1, m2]
+    if math.isnan(mu):
+        mu = min(mats.friction[m1], mats.friction[m2])
+    e = mats.pair_restitution[m1, m2]
+    if math.isnan(e):
+        e = min(mats.restitution[m1], mats.restitution[m2])
+    return mu, e
+
+
 @njit(cache=True, error_model="numpy")
 def viscous_coefficient(restitution, m_eff, kn):
     """Dashpot coefficient c_n [N s/m] giving restitution ``e`` for a linear spring-dashpot.
@@ -130,10 +148,11 @@ def pair_properties(si, sj_or_wall, spheres, walls, bodies, mats, out):
     kj = particle_stiffness(mats.stiffness[mj], Rj, given, rule)
     kn = pair_stiffness(ki, kj, given, rule)
     kt = pair_stiffness(ki * mats.kt_ratio[mi], kj * mats.kt_ratio[mj], given, rule)
+    mu, e = pair_friction_restitution(mats, mi, mj)
     out[0] = kn
     out[1] = kt
-    out[2] = min(mats.friction[mi], mats.friction[mj])
-    out[3] = viscous_coefficient(min(mats.restitution[mi], mats.restitution[mj]), m_eff, kn)
+    out[2] = mu
+    out[3] = viscous_coefficient(e, m_eff, kn)
 
 
 # --------------------------------------------------------------------------- neighbours

@@ -227,16 +227,21 @@ def _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, first_step
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _bookkeep_boxes(boxes, rec, settings, t):
+def _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t):
     """Body-level onsets and ends of the box contacts of this step (boxes.changes, one per
-    body pair: a pair is in contact while any of its points is): event log, pair
-    statistics, touched bodies, as :func:`_bookkeep` for sphere contacts."""
-    if not settings.record_pairs:
-        return
+    body pair: a pair is in contact while any of its points is): held-body release, event
+    log, pair statistics, touched bodies, as :func:`_bookkeep` for sphere contacts.
+
+    Two held boxes have no contact rows (boxes.py), so a released box frees a held box it
+    already overlaps one step later, at the onset of their first rows."""
     for k in range(boxes.n_changes[0]):
         bi = boxes.changes[k, 0]
         j = boxes.changes[k, 1]
         kind = boxes.changes[k, 2]
+        if kind == ONSET and j >= 0 and bodies.held[bi] != bodies.held[j]:
+            _release(bodies, spheres, contacts, bi if bodies.held[bi] else j, t)
+        if not settings.record_pairs:
+            continue
         te = t - boxes.change_lag[k]
         if j >= 0:
             _count_pair_change(rec, bi, j, kind, te, t)
@@ -466,7 +471,7 @@ def run_loop(
         if has_boxes:
             box_forces(bodies, boxes, walls, mats, dt, rec.ledger, step == 0, planar)
             if boxes.n_changes[0] > 0:
-                _bookkeep_boxes(boxes, rec, settings, t)
+                _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t)
         if n_changes > 0:
             _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, step == 0)
         if settings.record_peak_force:

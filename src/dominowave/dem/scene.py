@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from dominowave.checks import check_finite, check_in_range, check_positive
+from dominowave.checks import check_finite, check_in_range, check_nonnegative, check_positive
 from dominowave.dem.boxes import empty_boxes
 from dominowave.dem.contact import RULE_PAPER, RULE_YADE, SHEAR_CONTACT_POINT, SHEAR_YADE
 from dominowave.dem.integrate import (
@@ -92,6 +92,7 @@ class Scene:
         self._spheres: list[tuple] = []  # (body, centre, radius, material)
         self._bodies: list[dict] = []
         self._walls: list[tuple] = []  # (point, normal, material)
+        self._pairs: dict[tuple[int, int], dict] = {}  # (a <= b) -> friction, restitution
 
     # ------------------------------------------------------------------ contents
     def add_material(self, material: Material) -> int:
@@ -100,6 +101,35 @@ class Scene:
             raise ValueError(f"material = {material!r} is not a Material")
         self.materials.append(material)
         return len(self.materials) - 1
+
+    def set_pair(self, material_a: int, material_b: int, *, friction=None, restitution=None):
+        """Give the contacts between two materials their own friction and/or restitution.
+
+        Without it a contact uses ``min(mu_a, mu_b)`` and ``min(e_a, e_b)`` of the two
+        materials; with it, e.g., dominoes and floor of one material can still have their
+        own domino-domino and domino-floor values.  Symmetric (the pair (b, a) is the same
+        pair); ``material_a == material_b`` sets the contacts of a material with itself;
+        a later call overrides the values it gives and keeps the others.
+
+        Parameters
+        ----------
+        material_a, material_b : material ids (:meth:`add_material`).
+        friction : Coulomb coefficient of the pair, >= 0; None keeps the current value.
+        restitution : normal restitution coefficient of the pair in (0, 1] (1: elastic);
+            None keeps the current value.
+        """
+        a = self._material_id("material_a", material_a)
+        b = self._material_id("material_b", material_b)
+        if friction is not None:
+            check_finite("friction", friction)
+            check_nonnegative("friction", friction)
+        if restitution is not None:
+            check_in_range("restitution", restitution, 0.0, 1.0, hi_inclusive=True)
+        entry = self._pairs.setdefault((min(a, b), max(a, b)), {})
+        if friction is not None:
+            entry["friction"] = float(friction)
+        if restitution is not None:
+            entry["restitution"] = float(restitution)
 
     def _material_id(self, name, value):
         k = int(value)
@@ -187,6 +217,7 @@ class Scene:
         blocked="",
         velocity=(0.0, 0.0, 0.0),
         angular_velocity=(0.0, 0.0, 0.0),
+        held: bool = False,
     ) -> int:
         """A rigid rounded cuboid (dem/boxes.py, dem/shapes/cuboid.py); returns the body id.
 
@@ -205,6 +236,9 @@ class Scene:
             [kg m^2]; default those of a uniform cuboid of the outer size,
             ``m = 8 a b c rho``, ``I_x = m (b^2 + c^2) / 3`` (shapes.cuboid_mass_properties).
         blocked, velocity, angular_velocity : as :meth:`add_clump`.
+        held : keep the box fixed until a moving body touches it (as :meth:`add_clump`):
+            while held it has no contact with the walls nor with other held boxes, so a
+            box held resting on the floor costs nothing until it is released.
         """
         from dominowave.dem.shapes.cuboid import cuboid_mass_properties
 
@@ -231,7 +265,7 @@ class Scene:
                 "blocked": parse_blocked(blocked),
                 "velocity": _vector("velocity", velocity),
                 "angular_velocity": _vector("angular_velocity", angular_velocity),
-                "held": False,
+                "held": bool(held),
                 "box": {
                     "centre": centre,
                     "core": half - float(rounding),
@@ -252,6 +286,11 @@ class Scene:
             raise ValueError(
                 "materials mix kn and young; give every material the same kind of stiffness"
             )
+        nm = len(self.materials)
+        pair = {"friction": np.full((nm, nm), np.nan), "restitution": np.full((nm, nm), np.nan)}
+        for (a, b), values in self._pairs.items():
+            for name, value in values.items():
+                pair[name][a, b] = pair[name][b, a] = value
         return MaterialTable(
             stiffness=np.array([m.kn if m.kn is not None else m.young for m in self.materials]),
             given_kn=np.array(given, np.uint8),
@@ -260,6 +299,8 @@ class Scene:
             restitution=np.array(
                 [1.0 if m.restitution is None else m.restitution for m in self.materials]
             ),
+            pair_friction=pair["friction"],
+            pair_restitution=pair["restitution"],
             rule=np.array([RULES[self.stiffness_rule]], np.int64),
             shear_kinematics=np.array([SHEAR_KINEMATICS[self.shear_kinematics]], np.int64),
         )

@@ -36,6 +36,9 @@ STOP_REASONS = {
     engine.STOP_KINETIC: "kinetic",
 }
 
+# the material-pair tables (state.MaterialTable); files written before they existed lack them
+_PAIR_TABLES = ("mats.pair_friction", "mats.pair_restitution")
+
 
 @dataclass(frozen=True)
 class StopCondition:
@@ -608,6 +611,8 @@ class Simulation:
                     fields[name] = False
                 elif key == "mats.shear_kinematics":  # (older files lack it: the default)
                     fields[name] = np.array([SHEAR_CONTACT_POINT], np.int64)
+                elif key in _PAIR_TABLES:  # (older files lack them: the min rule)
+                    fields[name] = np.full_like(value, np.nan)
                 elif not (prefix == "rec" and name in self._PER_RUN):
                     raise ValueError(f"state is missing {key!r}")
             new[prefix] = tup._replace(**fields)
@@ -640,9 +645,11 @@ class Simulation:
                 raise ValueError(f"state is missing {prefix}.{missing[0]}")
             return kind(**{n: np.array(state[f"{prefix}.{n}"]) for n in kind._fields})
 
+        nm = np.shape(state.get("mats.friction", ()))[0]
         state = {  # (older files lack them)
             "settings.planar": np.array(False),
             "mats.shear_kinematics": np.array([SHEAR_CONTACT_POINT], np.int64),
+            **{key: np.full((nm, nm), np.nan) for key in _PAIR_TABLES},
             **state,
         }
         s = group("settings", Settings)

@@ -89,6 +89,8 @@ MaterialTable = namedtuple(
         "kt_ratio",  # (nm,)
         "friction",  # (nm,)
         "restitution",  # (nm,)  1 = elastic
+        "pair_friction",  # (nm, nm) symmetric: a pair's own mu (Scene.set_pair), nan: min rule
+        "pair_restitution",  # (nm, nm) symmetric: a pair's own e, nan: min rule
         "rule",  # (1,) int: 0 paper, 1 yade
         "shear_kinematics",  # (1,) int: 0 contact point, 1 yade (contact.py docstring)
     ],
@@ -130,9 +132,11 @@ class Material:
     kt_ratio : float
         Tangential to normal stiffness ratio k_t / k_n.
     friction : float
-        Coulomb coefficient mu >= 0; a contact uses min(mu_1, mu_2) (paper, section 3).
+        Coulomb coefficient mu >= 0; a contact uses min(mu_1, mu_2) (paper, section 3)
+        unless the pair has its own value (Scene.set_pair).
     restitution : float, optional
-        Normal restitution coefficient in (0, 1]; None means elastic (1).
+        Normal restitution coefficient in (0, 1]; None means elastic (1).  A contact uses
+        min(e_1, e_2) unless the pair has its own value (Scene.set_pair).
     """
 
     density: float = 1000.0

@@ -7,7 +7,7 @@ within ranges (``chain/data/materials.toml``). :func:`predict` propagates those 
    (``SALib.sample.sobol``, Saltelli 2002; Saltelli et al. 2010), each of the
    :data:`dominowave.chain.presets.SAMPLED` values uniform over its range (values with a
    zero-width range are fixed). ``samples = N`` gives ``N (D + 2)`` runs for ``D``
-   varied values.
+   varied values (``D = 6`` for the shipped data).
 2. **Runs** -- each sample is one point of kind ``predict_sample`` (:class:`PredictSample`)
    on the sweep engine (a Dask LocalCluster or ``--scheduler``; each point stored as it
    ends; a re-run skips the stored points; Ctrl-C stops cleanly). A run measures the
@@ -77,7 +77,8 @@ class PredictSample(ScenarioModel):
     young: float = quantity(2.39e9, "Pa", "Young's modulus of the plastic", gt=0.0)
     friction_dominoes: float = quantity(0.525, "", "domino-domino friction", ge=0.0)
     friction_floor: float = quantity(0.375, "", "domino-floor friction", ge=0.0)
-    restitution: float = quantity(0.5, "", "restitution", gt=0.0, le=1.0)
+    restitution_dominoes: float = quantity(0.5, "", "domino-domino restitution", gt=0.0, le=1.0)
+    restitution_floor: float = quantity(0.5, "", "domino-floor restitution", gt=0.0, le=1.0)
     model: Literal["2d", "3d"] = Field("3d", description="DEM model")
     stiffness_ratio: float | None = quantity(
         None, "", "replaces the modulus by the paper's k/k* (cheap test chains)", gt=0.0

@@ -40,8 +40,9 @@ __all__ = [
 def chain_trajectory(record, radius: float, height: float, thickness: float) -> ChainTrajectory:
     """Side view of a DEM chain record: pivot edge and forward tilt of each domino.
 
-    The pivot sphere (front bottom) of radius ``radius`` [m] carries the front bottom
-    edge at ``(+R, -R)`` in the domino's frame; its height is kept (bases lift off).
+    The pivot (a clump's front bottom sphere, a box's rounded front bottom edge) of
+    radius ``radius`` [m] carries the front bottom edge at ``(+R, -R)`` from its centre
+    in the domino's frame; its height is kept (bases lift off).
     The tilt is ``chain.events.forward_tilt``, the angular velocity the world y
     component (positive = toppling forward).
     """
@@ -130,6 +131,11 @@ class ChainScenarioStepper(ScenarioStepper):
     def __init__(self, cfg: ChainScenario, spheres: bool = False):
         self.cfg = cfg
         self.spheres = spheres
+        if spheres and cfg.shape == "box":
+            raise ValueError(
+                "vtk_every: VTK output draws the spheres of clump dominoes; shape = 'box'"
+                " has none (run box chains without VTK output)"
+            )
         self.chain = DominoChain(cfg.params(), steps_per_collision=cfg.steps_per_collision)
         push = Push(omega=cfg.push_omega) if cfg.push_omega is not None else None
         self.stepper = self.chain.stepper(push, contact_forces=spheres)
@@ -160,12 +166,13 @@ def chain_result(
 
     params = chain.params
     record = run.record
-    traj = chain_trajectory(record, params.radius, params.height, params.thickness)
+    traj = chain_trajectory(record, params.contact_radius, params.height, params.thickness)
     secondary = run.secondary
     summary = {
         "kind": "chain",
         "d_over_l": params.d_over_l,
-        "stiffness": 2.0 * params.contact_stiffness,  # the paper's per-particle k (eq 24)
+        # the paper's per-particle k (eq 24): k_n = k / 2 per contact, a box's two points k / 4
+        "stiffness": 2.0 * params.points_per_spring * params.contact_stiffness,
         "stiffness_over_kstar": params.stiffness_over_kstar,
         "mass": params.mass,
         "speed": run.wave.speed,
