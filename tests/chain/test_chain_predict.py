@@ -207,3 +207,47 @@ def test_chain_command_runs_the_standard_preset():
     )
     assert proc.returncode == 0, proc.stderr
     assert "front speed from domino 1 on (pitch-based)" in proc.stdout
+
+
+# --------------------------------------------------------------------------- study files
+
+
+def test_a_study_file_names_the_preset(tmp_path):
+    """``preset = "standard"`` with gap and floor in a TOML study: the chain of
+    ``standard_domino``; its stored (resolved) config reads back as the same scenario;
+    sweeping the gap gives the preset at each gap."""
+    from dominowave.io.config import load_study, scenario_from_dict
+    from dominowave.sweep.hashing import config_dict
+
+    study = tmp_path / "s.toml"
+    study.write_text(
+        '[scenario]\nkind = "chain"\npreset = "standard"\ngap = 0.00938\nfloor = "felt"\n'
+        "n_dominoes = 8\nfit_from = 3\n\n[sweep.grid]\ngap = [0.00938, 0.012]\n"
+    )
+    loaded = load_study(study)
+    expected = standard_domino(gap=0.00938, floor="felt", n_dominoes=8)
+    assert loaded.scenario.params() == expected
+    assert [p.params() for p in loaded.points] == [
+        standard_domino(gap=g, floor="felt", n_dominoes=8) for g in (0.00938, 0.012)
+    ]
+    again = scenario_from_dict(config_dict(loaded.scenario))
+    assert again == loaded.scenario
+
+
+@pytest.mark.parametrize(
+    ("table", "message"),
+    [
+        ('preset = "standard"\nfloor = "felt"', r"needs gap \[m\] and floor"),
+        ('preset = "standard"\ngap = 0.01\nfloor = "felt"\nheight = 0.05', "height = 0.05 is set"),
+        ('preset = "standard"\ngap = 0.01\nfloor = "felt"\nstiffness_ratio = 1e4', "sets young"),
+        ('preset = "standard"\ngap = 0.01\nfloor = "carpet"', "floor = 'carpet' is not a known"),
+        ('gap = 0.01\nfloor = "felt"', "give preset too"),
+    ],
+)
+def test_a_study_file_with_a_bad_preset_is_refused(table, message, tmp_path):
+    from dominowave.io.config import load_study
+
+    study = tmp_path / "s.toml"
+    study.write_text(f'[scenario]\nkind = "chain"\n{table}\n')
+    with pytest.raises(ValueError, match=message):
+        load_study(study)
