@@ -101,8 +101,9 @@ def test_the_study_file_of_a_prediction_leaves_unset_values_out(tmp_path):
 
 def test_validate_sobol_indices_of_a_known_function():
     """The analysis step on a function with known Sobol' indices: for
-    y = x_0 + 2 x_1 (uniform on [0, 1], x_2.. inert) S_0 = 1/5, S_1 = 4/5, and the inert
-    inputs have S = 0; the quantile band is that of the sampled y."""
+    y = u_0 + 2 u_1 (u uniform on [0, 1], u_2.. inert) S_0 = 1/5, S_1 = 4/5, and the inert
+    inputs have S = 0; the change over each range is 1, 2 and 0 exactly (linear); the
+    quantile band is that of the sampled y."""
     _, problem, x, fixed = predict_points(0.012, "laminate", 512, **CHEAP)
     u = (x - np.array(problem["bounds"])[:, 0]) / np.ptp(np.array(problem["bounds"]), axis=1)
     y = u[:, 0] + 2.0 * u[:, 1]
@@ -111,6 +112,12 @@ def test_validate_sobol_indices_of_a_known_function():
     np.testing.assert_allclose(pred.sobol_total[:2], [0.2, 0.8], atol=0.05)
     np.testing.assert_allclose(pred.sobol_total[2:], 0.0, atol=0.02)
     assert pred.band[1] == pytest.approx(np.median(y)) and pred.n_died == 0
+    # the effect over the whole range: 1 and 2 (unit ranges), 0 for the inert inputs
+    np.testing.assert_allclose(pred.effect, [1.0, 2.0] + [0.0] * (u.shape[1] - 2), atol=1e-12)
+    few = slice(0, 2 * (problem["num_vars"] + 2))  # N = 2 base samples: effects, no indices
+    rough = _analyse(0.012, "laminate", problem, x[few], y[few], fixed, None)
+    np.testing.assert_allclose(rough.effect[:2], [1.0, 2.0], rtol=1e-12)
+    assert np.all(np.isnan(rough.sobol_first)) and np.all(np.isnan(rough.sobol_total))
     y[3] = math.nan  # a dead wave: the band stays, the indices are undefined
     dead = _analyse(0.012, "laminate", problem, x, y, fixed, None)
     assert dead.n_died == 1 and np.all(np.isnan(dead.sobol_first))
@@ -144,7 +151,8 @@ def test_predict_runs_on_the_sweep_engine_writes_and_resumes(tmp_path):
     with (tmp_path / "prediction.csv").open() as fh:
         names = {r["quantity"] for r in csv.DictReader(fh)}
     assert {"speed_q05", "speed_q50", "speed_q95"} <= names
-    assert {f"ST_{n}" for n in pred.names} <= names
+    assert {f"ST_{n}" for n in pred.names} | {f"effect_{n}" for n in pred.names} <= names
+    assert np.all(np.isfinite(pred.effect)) and np.all(np.isnan(pred.sobol_first))
     again = []
     resumed = predict(0.012, "felt", tmp_path, 1, workers=1, progress=again.append, **CHEAP)
     assert again == [] and np.array_equal(resumed.speed, pred.speed)

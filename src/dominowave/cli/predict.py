@@ -12,6 +12,7 @@ from typing import Annotated
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
 
 from dominowave.cli.compiling import notice_if_compiling
@@ -49,7 +50,7 @@ def predict_command(
     """Predict the front speed of a real chain with the band of its material data."""
     from dominowave.cli.chain import exit_if_incomplete
     from dominowave.cli.workflow import check_cluster_options
-    from dominowave.sweep.predict import predict
+    from dominowave.sweep.predict import SOBOL_MIN_BASE, predict
 
     if preset not in PRESETS:
         raise ValueError(f"--preset {preset!r} is not one of {', '.join(PRESETS)}")
@@ -90,14 +91,20 @@ def predict_command(
         f" {pred.speed.size - pred.n_died} of {pred.speed.size} runs"
         + (f" ({pred.n_died} waves died before the end)" if pred.n_died else "")
     )
-    table = Table(title="sensitivity of the speed (Sobol' indices, ± 95 % confidence)")
-    for header in ("value", "range", "first order S1", "total ST"):
-        table.add_column(header, justify="right")
+    table = Table(  # escaped: rich would read "[m/s]" as markup
+        title=escape(
+            "sensitivity of the speed: change over each value's range [m/s];"
+            f" Sobol' indices ± 95 % confidence (from --samples {SOBOL_MIN_BASE} on)"
+        )
+    )
+    for header in ("value", "range", "effect [m/s]", "first order S1", "total ST"):
+        table.add_column(escape(header), justify="right")
     for j, name in enumerate(pred.names):
-        lo_v, hi_v = pred.samples[:, j].min(), pred.samples[:, j].max()
+        lo_v, hi_v = pred.bounds[j]
         table.add_row(
             name,
             f"{lo_v:.3g} .. {hi_v:.3g}",
+            _fmt(pred.effect[j], 2),
             f"{_fmt(pred.sobol_first[j], 2)} ± {_fmt(pred.sobol_first_conf[j], 2)}",
             f"{_fmt(pred.sobol_total[j], 2)} ± {_fmt(pred.sobol_total_conf[j], 2)}",
         )

@@ -14,10 +14,14 @@ within ranges (``chain/data/materials.toml``). :func:`predict` propagates those 
    front speed as a high-speed camera does: fitted from domino ``fit_from`` on,
    pitch-based (:func:`dominowave.chain.wave.speed_from`).
 3. **Band and sensitivity** -- the 5 %, 50 % and 95 % quantiles of the speeds and their
-   mean (over the runs whose wave reached the end of the chain), and the first-order and
-   total Sobol' indices of the speed for each varied value (``SALib.analyze.sobol``,
-   Jansen's / Saltelli's estimators, with bootstrap confidence intervals). If any wave
-   died, the indices are not defined (NaN) and the count of dead waves is reported.
+   mean (over the runs whose wave reached the end of the chain); for each varied value
+   its *effect*, the change of the speed over the value's whole range, averaged over the
+   base samples from the design's one-at-a-time pairs (``A`` and ``AB_i`` differ in value
+   ``i`` only: ``(y_ABi - y_A) / (x_Bi - x_Ai) (hi - lo)``, an elementary effect in the
+   sense of Morris 1991, defined from one base sample on); and from
+   :data:`SOBOL_MIN_BASE` base samples on the first-order and total Sobol' indices
+   (``SALib.analyze.sobol``, with bootstrap confidence intervals). If any wave died, the
+   effects and indices are not defined (NaN) and the count of dead waves is reported.
 
 The band is the spread the material data allow, not a confidence interval of a
 measurement: it is as wide as the ranges of the data file, several of which are
@@ -62,6 +66,10 @@ SAMPLES_NC = "samples.nc"
 SUMMARY_CSV = "prediction.csv"
 BAND = (0.05, 0.5, 0.95)
 """Quantiles of the predicted speed reported as the band."""
+SOBOL_MIN_BASE = 8
+"""Fewest base samples N for which Sobol' indices are reported: below it the estimates
+and their bootstrap confidence rest on too few values (with N = 1 the bootstrap has one
+value and claims a zero confidence interval)."""
 
 
 class PredictSample(ScenarioModel):
@@ -115,17 +123,19 @@ def run_predict_sample(cfg: PredictSample, ctx: RunContext | None = None) -> Run
 class Prediction:
     """What :func:`predict` found.
 
-    ``names`` the varied values, ``samples`` (S, D) their values, ``speed`` (S,) [m/s]
-    (NaN: the wave died, or the point is missing), ``band`` the speeds at the
-    quantiles :data:`BAND` [m/s], ``mean`` [m/s], ``n_died`` waves that did not reach
-    the end, ``sobol_first``/``sobol_total`` (D,) indices with their 95 % confidence
-    half-widths ``*_conf`` (NaN where undefined), ``fixed`` the values not varied,
-    ``run`` what the sweep stored.
+    ``names`` the varied values, ``bounds`` their ranges, ``samples`` (S, D) their
+    values, ``speed`` (S,) [m/s] (NaN: the wave died, or the point is missing),
+    ``band`` the speeds at the quantiles :data:`BAND` [m/s], ``mean`` [m/s],
+    ``n_died`` waves that did not reach the end, ``sobol_first``/``sobol_total`` (D,)
+    indices with their 95 % confidence half-widths ``*_conf`` (NaN where undefined),
+    ``effect`` (D,) [m/s] the change of the speed over each value's range (module
+    docstring), ``fixed`` the values not varied, ``run`` what the sweep stored.
     """
 
     gap: float
     floor: str
     names: tuple[str, ...]
+    bounds: tuple[tuple[float, float], ...]
     samples: np.ndarray
     speed: np.ndarray
     band: tuple[float, float, float]
@@ -135,6 +145,7 @@ class Prediction:
     sobol_first_conf: np.ndarray
     sobol_total: np.ndarray
     sobol_total_conf: np.ndarray
+    effect: np.ndarray
     fixed: dict[str, float]
     run: PresetRun
 
@@ -258,8 +269,11 @@ def _analyse(gap, floor, problem, x, speed, fixed, done) -> Prediction:
     finite = speed[np.isfinite(speed)]
     band = tuple(float(q) for q in np.quantile(finite, BAND)) if finite.size else (math.nan,) * 3
     nan = np.full(d, math.nan)
-    first, first_conf, total, total_conf = nan, nan, nan, nan
-    if finite.size == speed.size and d > 0 and np.ptp(speed) > 0:
+    first, first_conf, total, total_conf, effect = nan, nan, nan, nan, nan
+    complete = finite.size == speed.size and d > 0
+    if complete:
+        effect = _effects(problem, x, speed)
+    if complete and speed.size // (d + 2) >= SOBOL_MIN_BASE and np.ptp(speed) > 0:
         si = sobol_analyze.analyze(problem, speed, calc_second_order=False, seed=0)
         first, first_conf = np.asarray(si["S1"]), np.asarray(si["S1_conf"])
         total, total_conf = np.asarray(si["ST"]), np.asarray(si["ST_conf"])
@@ -267,6 +281,7 @@ def _analyse(gap, floor, problem, x, speed, fixed, done) -> Prediction:
         gap=gap,
         floor=floor,
         names=tuple(problem["names"]),
+        bounds=tuple((float(lo), float(hi)) for lo, hi in problem["bounds"]),
         samples=x,
         speed=speed,
         band=band,
@@ -276,9 +291,27 @@ def _analyse(gap, floor, problem, x, speed, fixed, done) -> Prediction:
         sobol_first_conf=first_conf,
         sobol_total=total,
         sobol_total_conf=total_conf,
+        effect=effect,
         fixed=fixed,
         run=done,
     )
+
+
+def _effects(problem: dict, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Mean change of ``y`` over each input's whole range [units of y], shape (D,), from
+    the one-at-a-time pairs of Saltelli's design: blocks of ``D + 2`` rows
+    ``A, AB_1, ..., AB_D, B`` per base sample (SALib's layout without second order)."""
+    d = problem["num_vars"]
+    width = np.ptp(np.asarray(problem["bounds"], dtype=float), axis=1)
+    blocks = x.reshape(-1, d + 2, d)
+    values = y.reshape(-1, d + 2)
+    out = np.empty(d)
+    for i in range(d):
+        step = blocks[:, i + 1, i] - blocks[:, 0, i]
+        ok = step != 0.0
+        slopes = (values[ok, i + 1] - values[ok, 0]) / step[ok]
+        out[i] = float(slopes.mean()) * width[i] if slopes.size else math.nan
+    return out
 
 
 def write_prediction(pred: Prediction, out_dir: Path) -> list[Path]:
@@ -320,6 +353,7 @@ def write_prediction(pred: Prediction, out_dir: Path) -> list[Path]:
         writer.writerow(["speed_mean", pred.mean, "", "m/s"])
         writer.writerow(["waves_died", pred.n_died, "", "1"])
         for j, name in enumerate(pred.names):
+            writer.writerow([f"effect_{name}", pred.effect[j], "", "m/s"])
             writer.writerow([f"S1_{name}", pred.sobol_first[j], pred.sobol_first_conf[j], "1"])
             writer.writerow([f"ST_{name}", pred.sobol_total[j], pred.sobol_total_conf[j], "1"])
     return [out_dir / SAMPLES_CSV, out_dir / SAMPLES_NC, out_dir / SUMMARY_CSV]
