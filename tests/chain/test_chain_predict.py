@@ -138,7 +138,7 @@ def test_predict_runs_on_the_sweep_engine_writes_and_resumes(tmp_path):
     seen = []
     pred = predict(0.012, "felt", tmp_path, 1, workers=1, progress=seen.append, **CHEAP)
     d = len(pred.names)
-    assert len(seen) == pred.speed.size == d + 2 and pred.n_died == 0
+    assert len(seen) == pred.speed.size == d + 2 and pred.n_died == pred.n_failed == 0
     assert pred.band[0] <= pred.band[1] <= pred.band[2] and pred.band[0] > 0
     with (tmp_path / "samples.csv").open() as fh:
         rows = list(csv.DictReader(fh))

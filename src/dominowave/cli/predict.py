@@ -88,8 +88,9 @@ def predict_command(
         f"predicted front speed ({preset} domino, gap {gap:g} m, {floor}, from domino"
         f" {fit_from} of {n}, pitch-based): median {_fmt(mid, 4)} m/s, 90 % band"
         f" [{_fmt(lo, 4)}, {_fmt(hi, 4)}] m/s, mean {_fmt(pred.mean, 4)} m/s over"
-        f" {pred.speed.size - pred.n_died} of {pred.speed.size} runs"
+        f" {pred.speed.size - pred.n_died - pred.n_failed} of {pred.speed.size} runs"
         + (f" ({pred.n_died} waves died before the end)" if pred.n_died else "")
+        + (f" ({pred.n_failed} runs failed: see failure.json)" if pred.n_failed else "")
     )
     table = Table(  # escaped: rich would read "[m/s]" as markup
         title=escape(

@@ -20,8 +20,8 @@ within ranges (``chain/data/materials.toml``). :func:`predict` propagates those 
    ``i`` only: ``(y_ABi - y_A) / (x_Bi - x_Ai) (hi - lo)``, an elementary effect in the
    sense of Morris 1991, defined from one base sample on); and from
    :data:`SOBOL_MIN_BASE` base samples on the first-order and total Sobol' indices
-   (``SALib.analyze.sobol``, with bootstrap confidence intervals). If any wave died, the
-   effects and indices are not defined (NaN) and the count of dead waves is reported.
+   (``SALib.analyze.sobol``, with bootstrap confidence intervals). If any wave died or
+   any run failed, the effects and indices are not defined (NaN); both are counted.
 
 The band is the spread the material data allow, not a confidence interval of a
 measurement: it is as wide as the ranges of the data file, several of which are
@@ -126,7 +126,8 @@ class Prediction:
     ``names`` the varied values, ``bounds`` their ranges, ``samples`` (S, D) their
     values, ``speed`` (S,) [m/s] (NaN: the wave died, or the point is missing),
     ``band`` the speeds at the quantiles :data:`BAND` [m/s], ``mean`` [m/s],
-    ``n_died`` waves that did not reach the end, ``sobol_first``/``sobol_total`` (D,)
+    ``n_died`` waves that did not reach the end, ``n_failed`` runs that failed (their
+    ``failure.json`` in the sweep folder says why), ``sobol_first``/``sobol_total`` (D,)
     indices with their 95 % confidence half-widths ``*_conf`` (NaN where undefined),
     ``effect`` (D,) [m/s] the change of the speed over each value's range (module
     docstring), ``fixed`` the values not varied, ``run`` what the sweep stored.
@@ -141,6 +142,7 @@ class Prediction:
     band: tuple[float, float, float]
     mean: float
     n_died: int
+    n_failed: int
     sobol_first: np.ndarray
     sobol_first_conf: np.ndarray
     sobol_total: np.ndarray
@@ -267,6 +269,7 @@ def _analyse(gap, floor, problem, x, speed, fixed, done) -> Prediction:
 
     d = problem["num_vars"]
     finite = speed[np.isfinite(speed)]
+    n_failed = len(done.failed) if done is not None else 0
     band = tuple(float(q) for q in np.quantile(finite, BAND)) if finite.size else (math.nan,) * 3
     nan = np.full(d, math.nan)
     first, first_conf, total, total_conf, effect = nan, nan, nan, nan, nan
@@ -286,7 +289,8 @@ def _analyse(gap, floor, problem, x, speed, fixed, done) -> Prediction:
         speed=speed,
         band=band,
         mean=float(finite.mean()) if finite.size else math.nan,
-        n_died=int(speed.size - finite.size),
+        n_died=int(speed.size - finite.size) - n_failed,
+        n_failed=n_failed,
         sobol_first=first,
         sobol_first_conf=first_conf,
         sobol_total=total,
@@ -352,6 +356,7 @@ def write_prediction(pred: Prediction, out_dir: Path) -> list[Path]:
             writer.writerow([f"speed_q{round(100 * q):02d}", v, "", "m/s"])
         writer.writerow(["speed_mean", pred.mean, "", "m/s"])
         writer.writerow(["waves_died", pred.n_died, "", "1"])
+        writer.writerow(["runs_failed", pred.n_failed, "", "1"])
         for j, name in enumerate(pred.names):
             writer.writerow([f"effect_{name}", pred.effect[j], "", "m/s"])
             writer.writerow([f"S1_{name}", pred.sobol_first[j], pred.sobol_first_conf[j], "1"])
