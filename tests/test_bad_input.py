@@ -324,6 +324,11 @@ def test_read_only_output_folder(tmp_path, cli):
             ["shear_kinematics = 'exact' is not one of 'contact_point', 'yade'"],
         ),
         (["chain", "--n", "4", "--stiffness-ratio", "1e-6"], ["k/k* = 1e-06) is too soft"]),
+        (["chain", "--n", "4", "--fit-from", "3"], ["fit_from = 3 is outside [1, 2]"]),
+        (["chain", "--n", "4", "--fit-from", "0"], ["fit_from = 0 is outside [1, 2]"]),
+        (["chain", "--n", "4", "--placement-along", "-1e-3"], ["placement_along = -0.001"]),
+        (["chain", "--n", "4", "--placement-across", "1e-3"], ["needs model = '3d'"]),
+        (["chain", "--n", "4", "--push-error", "-1"], ["push_error = -1", "[0, inf)"]),
         (["chain", "--n", "4", "--stiffness-ratio", "1e308"], ["steps", "1e+10 allowed"]),
         (["chain", "--n", "4", "--shape", "cube"], ["shape = 'cube'", "'clump', 'box'"]),
         (

@@ -85,10 +85,12 @@ __all__ = [
     "ChainParams",
     "DominoBox",
     "DominoShape",
+    "Placement",
     "chain_positions",
     "domino_box",
     "domino_shape",
     "place_domino",
+    "placement",
     "yaw_matrix",
 ]
 
@@ -196,8 +198,21 @@ class ChainParams:
         "",
         "untouched dominoes are held until first touched (not set: clump yes, box no)",
     )
-    lateral_asymmetry: float = parameter(0.0, "rad", "random yaw amplitude (3d)", ge=0, lt=0.1)
-    asymmetry_seed: int = parameter(0, "", "seed of the lateral asymmetry", ge=0)
+    lateral_asymmetry: float = parameter(
+        0.0, "rad", "placement error: yaw of each domino, uniform in +-amplitude (3d)", ge=0, lt=0.1
+    )
+    placement_along: float = parameter(
+        0.0, "m", "placement error: shift along the line, uniform in +-amplitude", ge=0
+    )
+    placement_across: float = parameter(
+        0.0, "m", "placement error: shift across the line, uniform in +-amplitude (3d)", ge=0
+    )
+    push_error: float = parameter(
+        0.0, "", "placement error of the push: relative, push x (1 + push_error N(0, 1))", ge=0
+    )
+    asymmetry_seed: int = parameter(
+        0, "", "seed of the placement errors (yaw, along, across, push)", ge=0
+    )
     g: float = parameter(G_STANDARD, "m/s^2", "gravitational acceleration", gt=0, allow_inf=True)
 
     def __post_init__(self):
@@ -207,6 +222,15 @@ class ChainParams:
         self._check_shape_options()
         if self.rounding is not None:
             check_in_range("rounding", self.rounding, 0.0, self.thickness / 2)
+        # neighbours must not overlap however the errors fall: each may move by the amplitude
+        check_in_range(
+            "placement_along", self.placement_along, 0.0, self.spacing / 2, lo_inclusive=True
+        )
+        if self.placement_across > 0 and self.model != "3d":
+            raise ValueError(
+                f"placement_across = {self.placement_across!r} m needs model = '3d'"
+                f" (got model = {self.model!r}: a 2D chain has no across direction)"
+            )
         given = [x for x in (self.stiffness_ratio, self.kn, self.young) if x is not None]
         if len(given) > 1:
             raise ValueError(
@@ -448,11 +472,59 @@ def chain_positions(p: ChainParams) -> np.ndarray:
     return p.pitch * np.arange(p.n_dominoes)
 
 
-def place_domino(shape: DominoShape, x: float, yaw: float = 0.0, sink: float = 0.0) -> np.ndarray:
-    """World sphere centres (n, 3) [m] of a domino at ``x``, turned by ``yaw`` [rad] about
-    the vertical axis and lowered by ``sink`` [m] (static overlap with the floor)."""
+@dataclass(frozen=True)
+class Placement:
+    """Where each domino actually stands: the seeded placement errors of ``ChainParams``.
+
+    ``along`` (N,) [m] shift along the line (x), ``across`` (N,) [m] shift across it (y),
+    ``yaw`` (N,) [rad] turn about the vertical, each uniform in +- its amplitude
+    (``placement_along``, ``placement_across``, ``lateral_asymmetry``); ``push_factor``
+    [-] scales the push of domino 0, ``1 + push_error N(0, 1)``.
+    """
+
+    along: np.ndarray
+    across: np.ndarray
+    yaw: np.ndarray
+    push_factor: float
+
+
+def placement(p: ChainParams) -> Placement:
+    """The placement errors of chain ``p``, drawn from ``p.asymmetry_seed``.
+
+    Each error has its own stream: the yaw from ``default_rng(seed)`` (as the lateral
+    asymmetry always was, so its draws are unchanged), the along, across and push errors
+    from ``default_rng([seed, 1])``, ``[seed, 2]``, ``[seed, 3]``; switching one error on
+    does not change the others' draws. A zero amplitude draws nothing and gives zeros.
+    """
+    n = p.n_dominoes
+    seed = p.asymmetry_seed
+
+    def uniform(amplitude: float, stream: int | None) -> np.ndarray:
+        if amplitude == 0.0:
+            return np.zeros(n)
+        rng = np.random.default_rng(seed if stream is None else [seed, stream])
+        return amplitude * rng.uniform(-1.0, 1.0, n)
+
+    push_factor = 1.0
+    if p.push_error > 0.0:
+        push_factor = 1.0 + p.push_error * np.random.default_rng([seed, 3]).standard_normal()
+    return Placement(
+        along=uniform(p.placement_along, 1),
+        across=uniform(p.placement_across, 2),
+        yaw=uniform(p.lateral_asymmetry, None),
+        push_factor=float(push_factor),
+    )
+
+
+def place_domino(
+    shape: DominoShape, x: float, yaw: float = 0.0, sink: float = 0.0, y: float = 0.0
+) -> np.ndarray:
+    """World sphere centres (n, 3) [m] of a domino at ``(x, y)``, turned by ``yaw`` [rad]
+    about the vertical axis and lowered by ``sink`` [m] (static overlap with the floor)."""
     out = shape.centres @ yaw_matrix(yaw).T
     out[:, 0] += x
+    if y != 0.0:
+        out[:, 1] += y
     out[:, 2] -= sink
     return out
 

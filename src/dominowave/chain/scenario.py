@@ -23,6 +23,7 @@ from dominowave.chain.build import (
     domino_box,
     domino_shape,
     place_domino,
+    placement,
     yaw_matrix,
 )
 from dominowave.chain.compare import (
@@ -44,16 +45,25 @@ from dominowave.chain.wave import (
     EnsembleStats,
     SecondaryWave,
     SteadySpeed,
+    check_fit_from,
     ensemble_arrival_stats,
     ensemble_stats,
     first_and_second_onsets,
     fit_speed,
     secondary_wave,
+    speed_from,
     steady_speed,
 )
 from dominowave.checks import check_in_range, check_memory, check_nonnegative, check_positive
 
-__all__ = ["ChainEnsemble", "ChainRun", "DominoChain", "Push", "member_push_factor"]
+__all__ = [
+    "ChainEnsemble",
+    "ChainRun",
+    "DominoChain",
+    "Push",
+    "member_placement_seed",
+    "member_push_factor",
+]
 
 
 def member_push_factor(seed: int, member: int, jitter: float) -> float:
@@ -63,6 +73,13 @@ def member_push_factor(seed: int, member: int, jitter: float) -> float:
     member is reproducible on its own, whichever process runs it and in which order.
     """
     return 1.0 + jitter * np.random.default_rng([seed, member]).standard_normal()
+
+
+def member_placement_seed(seed: int, member: int) -> int:
+    """The placement seed (``ChainParams.asymmetry_seed``) of ensemble member ``member``
+    when each member is set up anew: an integer in ``[0, 2**31)`` drawn from
+    ``numpy.random.default_rng([seed, member, 1])`` (a stream apart from the push's)."""
+    return int(np.random.default_rng([seed, member, 1]).integers(2**31))
 
 
 @dataclass(frozen=True)
@@ -140,7 +157,12 @@ class ChainRun:
 
 @dataclass
 class ChainEnsemble:
-    """Ensemble of perturbed runs: speed statistics and per-domino arrival statistics."""
+    """Ensemble of perturbed runs: speed statistics and per-domino arrival statistics.
+
+    ``speed`` is over the members' ``fits``: each run's settled-region fit
+    (``run.wave``, ``fit_from`` None) or its fit from domino ``fit_from`` on
+    (:func:`dominowave.chain.wave.speed_from`, pitch-based, as cameras measure).
+    """
 
     runs: list[ChainRun]
     speed: EnsembleStats
@@ -149,6 +171,8 @@ class ChainEnsemble:
     arrival_stderr: np.ndarray
     theory_speed: float
     theory_window_speed: EnsembleStats
+    fits: list[SteadySpeed] = field(default_factory=list)
+    fit_from: int | None = None
 
 
 BYTES_PER_DOMINO = 60e3
@@ -187,6 +211,14 @@ class DominoChain:
         tail_time: float | None = None,
     ):
         self.params = params
+        self._options = {
+            "dt": dt,
+            "steps_per_collision": steps_per_collision,
+            "frame_interval": frame_interval,
+            "quiet_time": quiet_time,
+            "max_time": max_time,
+            "tail_time": tail_time,
+        }
         check_in_range("steps_per_collision", steps_per_collision, 10, math.inf, lo_inclusive=True)
         self.dt = dt if dt is not None else theory_collision_time(params) / steps_per_collision
         check_positive("dt", self.dt)
@@ -202,7 +234,10 @@ class DominoChain:
             max_time = 3.0 * travel + self.quiet_time
         self.max_time = check_positive("max_time", max_time)
         self.shape = domino_shape(params) if params.shape == "clump" else domino_box(params)
+        # the nominal positions n (d + s): where the wave is measured (pitch-based); the
+        # dominoes stand at these plus their placement errors
         self.positions = chain_positions(params)
+        self.placement = placement(params)
         self._check_resolvable()
         frames = (self.max_time + self.tail_time) / self.frame_interval
         check_memory(
@@ -254,13 +289,6 @@ class DominoChain:
         n_base = int(self.shape.bottom.sum())
         return p.mass * p.g / (n_base * p.contact_stiffness)
 
-    def _yaws(self) -> np.ndarray:
-        p = self.params
-        if p.lateral_asymmetry == 0.0:
-            return np.zeros(p.n_dominoes)
-        rng = np.random.default_rng(p.asymmetry_seed)
-        return p.lateral_asymmetry * rng.uniform(-1.0, 1.0, p.n_dominoes)
-
     def _push_velocities(self, push: Push) -> tuple[np.ndarray, np.ndarray, float]:
         """Initial (v_com, omega) of domino 0 and the theory's Omega_1 [rad/s]."""
         p = self.params
@@ -310,10 +338,12 @@ class DominoChain:
         blocked = "y rx rz" if p.model == "2d" else ""
         v0, w0, omega_1 = self._push_velocities(push)
         sink = self._sink()
-        for n, (x, yaw) in enumerate(zip(self.positions, self._yaws(), strict=True)):
+        errors = self.placement
+        stands = zip(self.positions + errors.along, errors.across, errors.yaw, strict=True)
+        for n, (x, y, yaw) in enumerate(stands):
             moving = n == 0
             scene.add_clump(
-                place_domino(self.shape, x, yaw, sink),
+                place_domino(self.shape, x, yaw, sink, y),
                 self.shape.radii,
                 materials,
                 blocked=blocked,
@@ -350,10 +380,12 @@ class DominoChain:
         v0, w0, omega_1 = self._push_velocities(push)
         sink = self._sink()
         shape = self.shape
-        for n, (x, yaw) in enumerate(zip(self.positions, self._yaws(), strict=True)):
+        errors = self.placement
+        stands = zip(self.positions + errors.along, errors.across, errors.yaw, strict=True)
+        for n, (x, y, yaw) in enumerate(stands):
             moving = n == 0
             scene.add_box(
-                (x, 0.0, shape.half_extents[2] - sink),
+                (x, y, shape.half_extents[2] - sink),
                 shape.half_extents,
                 shape.rounding,
                 box,
@@ -390,8 +422,13 @@ class DominoChain:
     # --- running ------------------------------------------------------------------------
     def stepper(self, push: Push | None = None, contact_forces: bool = False) -> ChainStepper:
         """The run pushed by ``push``, to be advanced in pieces (checkpoints, progress);
-        ``contact_forces``: also record the contact forces at the frames (for VTK)."""
-        return ChainStepper(self, self.resolve(push), contact_forces=contact_forces)
+        ``contact_forces``: also record the contact forces at the frames (for VTK).
+        The push is scaled by the chain's own push error (``ChainParams.push_error``)."""
+        push = self.resolve(push)
+        factor = self.placement.push_factor
+        if factor != 1.0:
+            push = push.scaled(factor)
+        return ChainStepper(self, push, contact_forces=contact_forces)
 
     def run(self, push: Push | None = None, keep_record: bool = False) -> ChainRun:
         """Push domino 0, run until quiet or ``max_time``, analyse; see ``ChainRun``.
@@ -453,26 +490,42 @@ class DominoChain:
         seed: int = 0,
         jitter: float = 1e-3,
         keep_records: bool = False,
+        fit_from: int | None = None,
+        vary_placement: bool = False,
     ) -> ChainEnsemble:
         """``members`` runs with pushes scaled by ``1 + jitter * N(0, 1)`` (seeded).
 
         Member ``i`` draws from ``numpy.random.default_rng([seed, i])``
         (:func:`member_push_factor`), so a member is reproducible on its own and the
-        ensemble is bit-identical for a seed.
+        ensemble is bit-identical for a seed. ``fit_from = K``: each member's speed is the
+        fit from domino ``K`` on (:func:`~dominowave.chain.wave.speed_from`) instead of
+        the settled-region fit. ``vary_placement``: each member also stands anew, with
+        its own placement errors (``asymmetry_seed`` of member ``i`` from
+        :func:`member_placement_seed`), as a real chain set up again for each run;
+        otherwise every member has this chain's placement.
         """
         check_in_range("members", members, 1, math.inf, lo_inclusive=True)
         check_in_range("seed", seed, 0, math.inf, lo_inclusive=True)  # NumPy's seeds are >= 0
         check_nonnegative("jitter", jitter)
+        if fit_from is not None:  # checked before any run
+            check_fit_from(fit_from, self.params.n_dominoes)
         push = self.resolve(push)
         runs = []
         for i in range(members):
             factor = member_push_factor(seed, i, jitter)
-            runs.append(self.run(push.scaled(factor), keep_record=keep_records))
+            chain = self
+            if vary_placement:
+                member_params = self.params.with_(asymmetry_seed=member_placement_seed(seed, i))
+                chain = DominoChain(member_params, **self._options)
+            runs.append(chain.run(push.scaled(factor), keep_record=keep_records))
         arrivals = np.array([r.arrival for r in runs])
         mean, std, se = ensemble_arrival_stats(arrivals)
+        fits = [r.wave if fit_from is None else self.speed_from(r, fit_from) for r in runs]
         return ChainEnsemble(
+            fits=fits,
+            fit_from=fit_from,
             runs=runs,
-            speed=ensemble_stats([r.wave.speed for r in runs]),
+            speed=ensemble_stats([f.speed for f in fits]),
             arrival_mean=mean,
             arrival_std=std,
             arrival_stderr=se,
@@ -481,6 +534,12 @@ class DominoChain:
         )
 
     # --- analysis -----------------------------------------------------------------------
+    @staticmethod
+    def speed_from(run: ChainRun, fit_from: int) -> SteadySpeed:
+        """The front speed of ``run`` fitted from domino ``fit_from`` on [m/s]
+        (:func:`dominowave.chain.wave.speed_from`, on the nominal pitch positions)."""
+        return speed_from(run.arrival, run.positions, fit_from)
+
     @property
     def critical_angle(self) -> float:
         """Tilt past which a domino topples by itself [rad].

@@ -17,6 +17,8 @@ The wave is measured as a researcher would:
 3. ``steady_speed``: least-squares fit ``t_n = t_0 + x_n / v`` over the settled
    dominoes, with an uncertainty (the larger of the fit's standard error and the
    standard error of the interval mean; see ``SteadySpeed``).
+3b. ``speed_from``: the same fit from a chosen domino ``K`` to the last domino reached,
+   as high-speed-camera studies report a front speed (no settling detection).
 4. ``ensemble_stats``: mean, standard deviation and standard error over an
    ensemble (the chain is chaotic: single runs are not reproducible numbers).
 5. ``secondary_wave``: the wave of *second* contacts between neighbours (dominoes
@@ -38,6 +40,7 @@ __all__ = [
     "EnsembleStats",
     "SecondaryWave",
     "SteadySpeed",
+    "check_fit_from",
     "ensemble_arrival_stats",
     "ensemble_stats",
     "first_and_second_onsets",
@@ -46,6 +49,7 @@ __all__ = [
     "reached_count",
     "secondary_wave",
     "settled_start",
+    "speed_from",
     "steady_speed",
     "unsettled_reason",
 ]
@@ -407,6 +411,40 @@ def fit_speed(arrival_times, positions, first: int, last: int) -> SteadySpeed:
     if not np.all(np.isfinite(t_all[first : last + 1])):
         raise ValueError(f"arrival times of dominoes {first}..{last} must be finite")
     return _fit_window(t_all, x_all, first, last, reached_count(t_all))
+
+
+def check_fit_from(first, n_dominoes: int) -> int:
+    """``first`` if it is a valid ``fit_from`` for ``n_dominoes``, else one ``ValueError``."""
+    if isinstance(first, bool) or not isinstance(first, int | np.integer):
+        raise ValueError(f"fit_from = {first!r} is not an integer domino index")
+    if not 1 <= first <= n_dominoes - 2:
+        raise ValueError(
+            f"fit_from = {first} is outside [1, {n_dominoes - 2}] (1 <= K <= N - 2 for a chain"
+            f" of N = {n_dominoes} dominoes: domino 0 is pushed, a fit needs two arrival times)"
+        )
+    return int(first)
+
+
+def speed_from(arrival_times, positions, first: int) -> SteadySpeed:
+    """Front speed [m/s] fitted from domino ``first`` (``K``) to the last domino reached.
+
+    What an experiment reports: a camera films the front from domino ``K`` on (past the
+    push) and fits ``t_n = t_0 + x_n / v`` over every domino the wave reached in order;
+    with ``x_n = n (d + s)`` (``chain_positions``) the speed is pitch-based. No settling
+    is detected, so a wave still speeding up is averaged over. Returns the fit with
+    ``settled=True``, or NaN speeds (``settled=False``, ``first = last = -1``) when the
+    wave reached fewer than two dominoes from ``K`` on.
+
+    ``first`` must satisfy ``1 <= K <= N - 2`` (domino 0 is the pushed one; at least two
+    arrival times are fitted).
+    """
+    t, x = _as_times_positions(arrival_times, positions)
+    check_fit_from(first, t.size)
+    reached = reached_count(t)
+    if reached - 1 <= first:
+        nan = math.nan
+        return SteadySpeed(nan, nan, nan, nan, -1, -1, False, reached, nan, nan)
+    return _fit_window(t, x, int(first), reached - 1, reached)
 
 
 def secondary_wave(

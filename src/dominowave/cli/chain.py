@@ -22,7 +22,7 @@ from rich.table import Table
 
 from dominowave.chain.build import ChainParams
 from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push
-from dominowave.chain.wave import fit_speed, local_speeds, unsettled_reason
+from dominowave.chain.wave import check_fit_from, fit_speed, local_speeds, unsettled_reason
 from dominowave.checks import check_in_range
 from dominowave.cli.compiling import notice_if_compiling
 from dominowave.io.atomic import ensure_writable_dir
@@ -123,11 +123,50 @@ def _what_to_quote(run: ChainRun, ens: ChainEnsemble | None) -> str:
     )
 
 
+PRESET_DEFAULTS = {
+    "height": 0.05,
+    "thickness": 0.005,
+    "width": 0.025,
+    "density": 1000.0,
+    "stiffness_ratio": None,
+    "kn": None,
+    "young": None,
+    "friction_floor": 0.3,
+    "friction_dominoes": 0.0,
+    "restitution": None,
+    "restitution_dominoes": None,
+    "restitution_floor": None,
+    "d_over_l": 0.4,
+}
+"""The physical options a preset sets itself (their command defaults)."""
+
+
+def _preset_params(preset, gap, floor, n, physical, others) -> ChainParams:
+    """``ChainParams`` of ``--preset standard --gap --floor``; a physical option the
+    preset sets itself may not be given too (one error naming them)."""
+    from dominowave.chain.presets import standard_domino
+
+    if preset != "standard":
+        raise ValueError(
+            f"--preset {preset!r} is not one of standard (give it with --gap, --floor)"
+        )
+    if gap is None or floor is None:
+        raise ValueError("--preset standard needs --gap [m] and --floor (felt, glass, ...)")
+    clash = [k for k, v in physical.items() if v != PRESET_DEFAULTS[k]]
+    if clash:
+        names = ", ".join("--" + k.replace("_", "-") for k in clash)
+        raise ValueError(f"{names}: set by --preset standard from materials.toml, give not both")
+    unset = ("model", "shape", "rounding", "base", "held", "spheres_per_column")
+    overrides = {k: v for k, v in others.items() if not (k in unset and v is None)}
+    return standard_domino(gap=gap, floor=floor, n_dominoes=n, **overrides)
+
+
 def chain_command(
     n: Annotated[int, typer.Option("--n", help="number of dominoes")] = 30,
     shape: Annotated[
-        str, typer.Option(help="clump (of spheres, the paper's) | box (rounded cuboid)")
-    ] = "clump",
+        str | None,
+        typer.Option(help="clump (of spheres, the paper's; default) | box (rounded cuboid)"),
+    ] = None,
     d_over_l: Annotated[float, typer.Option(help="gap d over height l")] = 0.4,
     height: Annotated[float, typer.Option(help="domino height l [m]")] = 0.05,
     thickness: Annotated[
@@ -158,7 +197,9 @@ def chain_command(
     restitution_floor: Annotated[
         float | None, typer.Option(help="box: restitution with the floor")
     ] = None,
-    model: Annotated[str, typer.Option(help="2d | 3d")] = "2d",
+    model: Annotated[
+        str | None, typer.Option(help="2d | 3d (default 2d; 3d with --preset)")
+    ] = None,
     base: Annotated[
         str | None, typer.Option(help="clump: one | two base spheres (default one)")
     ] = None,
@@ -168,13 +209,40 @@ def chain_command(
     spheres_per_column: Annotated[
         int | None, typer.Option(help="clump: spheres per column, default round(l/s)")
     ] = None,
-    asymmetry: Annotated[float, typer.Option(help="3D random yaw amplitude [rad]")] = 0.0,
+    asymmetry: Annotated[
+        float, typer.Option(help="placement error: yaw amplitude of each domino (3D) [rad]")
+    ] = 0.0,
+    placement_along: Annotated[
+        float, typer.Option(help="placement error: shift along the line, amplitude [m]")
+    ] = 0.0,
+    placement_across: Annotated[
+        float, typer.Option(help="placement error: shift across the line, amplitude (3D) [m]")
+    ] = 0.0,
+    push_error: Annotated[
+        float, typer.Option(help="placement error of the push, relative (x N(0, 1))")
+    ] = 0.0,
+    placement_seed: Annotated[int, typer.Option(help="seed of the placement errors")] = 0,
+    vary_placement: Annotated[
+        bool, typer.Option(help="ensemble: each member set up anew (own placement errors)")
+    ] = False,
+    fit_from: Annotated[
+        int | None,
+        typer.Option(help="fit the front speed from domino K on (pitch-based, as cameras do)"),
+    ] = None,
     push_omega: Annotated[float, typer.Option(help="push in units of sqrt(g/l)")] = 1.0,
     impulse: Annotated[float | None, typer.Option(help="push as impulse [N s]")] = None,
     impulse_height: Annotated[float | None, typer.Option(help="impulse height [m]")] = None,
     members: Annotated[int, typer.Option(help="ensemble members (perturbed pushes)")] = 1,
     seed: Annotated[int, typer.Option(help="ensemble seed")] = 0,
     jitter: Annotated[float, typer.Option(help="relative push perturbation")] = 1e-3,
+    preset: Annotated[
+        str | None,
+        typer.Option(help="standard: the 48 x 24 x 7.5 mm domino from materials.toml"),
+    ] = None,
+    gap: Annotated[float | None, typer.Option(help="with --preset: clear gap d [m]")] = None,
+    floor: Annotated[
+        str | None, typer.Option(help="with --preset: felt, glass, hardwood, laminate")
+    ] = None,
     out: Annotated[Path | None, typer.Option(help="directory for CSV + PNG")] = None,
 ) -> None:
     """Run one DEM domino chain (or an ensemble): per-domino table, speed vs theory, plot."""
@@ -183,33 +251,50 @@ def chain_command(
     check_in_range("seed", seed, 0, math.inf, lo_inclusive=True)
     if out is not None:
         ensure_writable_dir(out)  # before the run, not after it
-    p = ChainParams(
-        n_dominoes=n,
-        shape=shape,
-        height=height,
-        thickness=thickness,
-        width=width,
-        d_over_l=d_over_l,
-        density=density,
-        rounding=rounding,
-        stiffness_ratio=stiffness_ratio,
-        kn=kn,
-        young=young,
-        young_rule=young_rule,
-        kt_ratio=kt_ratio,
-        shear_kinematics=shear_kinematics,
-        friction_floor=friction_floor,
-        friction_dominoes=friction_dominoes,
-        damping=damping,
-        restitution=restitution,
-        restitution_dominoes=restitution_dominoes,
-        restitution_floor=restitution_floor,
-        model=model,
-        base=base,
-        held=held,
-        spheres_per_column=spheres_per_column,
-        lateral_asymmetry=asymmetry,
-    )
+    physical = {
+        "height": height,
+        "thickness": thickness,
+        "width": width,
+        "density": density,
+        "stiffness_ratio": stiffness_ratio,
+        "kn": kn,
+        "young": young,
+        "friction_floor": friction_floor,
+        "friction_dominoes": friction_dominoes,
+        "restitution": restitution,
+        "restitution_dominoes": restitution_dominoes,
+        "restitution_floor": restitution_floor,
+        "d_over_l": d_over_l,
+    }
+    imperfections = {
+        "lateral_asymmetry": asymmetry,
+        "placement_along": placement_along,
+        "placement_across": placement_across,
+        "push_error": push_error,
+        "asymmetry_seed": placement_seed,
+    }
+    numerics = {
+        "shape": shape,
+        "rounding": rounding,
+        "young_rule": young_rule,
+        "kt_ratio": kt_ratio,
+        "shear_kinematics": shear_kinematics,
+        "damping": damping,
+        "model": model,
+        "base": base,
+        "held": held,
+        "spheres_per_column": spheres_per_column,
+    }
+    if preset is not None or gap is not None or floor is not None:
+        p = _preset_params(preset, gap, floor, n, physical, {**numerics, **imperfections})
+        d_over_l = p.d_over_l
+    else:
+        numerics["model"] = model or "2d"
+        numerics["shape"] = shape or "clump"
+        p = ChainParams(n_dominoes=n, **physical, **numerics, **imperfections)
+    if fit_from is not None:
+        check_fit_from(fit_from, n)
+
     if impulse is not None:
         push = Push(impulse=impulse, height=impulse_height)
     else:
@@ -217,7 +302,16 @@ def chain_command(
     chain = DominoChain(p)
     compiling = notice_if_compiling("dem")
     start = time.perf_counter()
-    ens = chain.ensemble(push, members=members, seed=seed, jitter=jitter) if members > 1 else None
+    ens = None
+    if members > 1:
+        ens = chain.ensemble(
+            push,
+            members=members,
+            seed=seed,
+            jitter=jitter,
+            fit_from=fit_from,
+            vary_placement=vary_placement,
+        )
     run = ens.runs[0] if ens is not None else chain.run(push)
     wall = time.perf_counter() - start
     console = Console(width=140)
@@ -255,8 +349,17 @@ def chain_command(
         )
     else:
         _print_unsettled(console, run, scale)
+    if fit_from is not None:
+        fit = chain.speed_from(run, fit_from)
+        console.print(
+            f"front speed from domino {fit_from} on (pitch-based): {_fmt(fit.speed)} ± "
+            f"{_fmt(fit.speed_err, 2)} m/s over dominoes {fit.first}..{fit.last}"
+            if fit.settled
+            else f"front speed from domino {fit_from} on: the wave reached {fit.reached} dominoes"
+        )
     if ens is not None:
-        console.print(f"ensemble ({members} members): {ens.speed} m/s{_unsettled(ens)}")
+        how = "settled-region fit" if fit_from is None else f"fit from domino {fit_from} on"
+        console.print(f"ensemble ({members} members, {how}): {ens.speed} m/s{_unsettled(ens)}")
         for i, r in enumerate(ens.runs):
             if not r.wave.settled:
                 reason = unsettled_reason(r.arrival, r.positions)
@@ -285,11 +388,11 @@ def chain_command(
                     {
                         "member": i,
                         "push_omega": r.omega_1,
-                        "speed": r.wave.speed,
-                        "speed_err": r.wave.speed_err,
-                        "settled": r.wave.settled,
+                        "speed": f.speed,
+                        "speed_err": f.speed_err,
+                        "settled": f.settled,
                     }
-                    for i, r in enumerate(ens.runs)
+                    for i, (r, f) in enumerate(zip(ens.runs, ens.fits, strict=True))
                 ],
             )
         from dominowave.plots.chain import plot_chain_run

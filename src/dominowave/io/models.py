@@ -186,10 +186,60 @@ class _ChainRun(ScenarioModel):
     RECORDS_FRAMES: ClassVar = True
     ALTERNATIVES: ClassVar = (("stiffness_ratio", "kn", "young"),)
 
+    PRESET_FIELDS: ClassVar = (
+        "shape",
+        "height",
+        "thickness",
+        "width",
+        "d_over_l",
+        "density",
+        "young",
+        "young_rule",
+        "friction_dominoes",
+        "friction_floor",
+        "restitution_dominoes",
+        "restitution_floor",
+    )
+    """The fields a ``preset`` sets from the material data (``standard_domino``)."""
+
     @model_validator(mode="before")
     @classmethod
     def _given_field_unsets_its_alternatives(cls, data):
+        data = cls._expand_preset(data)
         return _HingedRun._given_field_unsets_its_alternatives.__func__(cls, data)
+
+    @classmethod
+    def _expand_preset(cls, data):
+        """``preset = "standard"`` with ``gap`` and ``floor``: the fields of
+        :func:`dominowave.chain.presets.standard_domino` (``model`` may be given; a field the
+        preset sets may be given only with the preset's own value, as in a stored config)."""
+        if not isinstance(data, dict) or data.get("preset") is None:
+            if isinstance(data, dict) and (data.get("gap") is not None or data.get("floor")):
+                raise ValueError("gap and floor are the options of a preset: give preset too")
+            return data
+        if data["preset"] != "standard":
+            raise ValueError(f"preset = {data['preset']!r} is not one of 'standard'")
+        if data.get("gap") is None or data.get("floor") is None:
+            raise ValueError("preset = 'standard' needs gap [m] and floor (felt, glass, ...)")
+        from dominowave.chain.presets import standard_domino
+
+        extra = {"model": data["model"]} if "model" in data else {}
+        if "n_dominoes" in data:
+            extra["n_dominoes"] = data["n_dominoes"]
+        params = standard_domino(gap=data["gap"], floor=data["floor"], **extra)
+        filled = {"model": params.model, **data}
+        for name in cls.PRESET_FIELDS:
+            value = getattr(params, name)
+            if name in data and data[name] is not None and data[name] != value:
+                raise ValueError(
+                    f"{name} = {data[name]!r} is set by preset = 'standard' (to {value!r});"
+                    " leave it out"
+                )
+            filled[name] = value
+        for name in ("stiffness_ratio", "kn"):
+            if data.get(name) is not None:
+                raise ValueError(f"{name} = {data[name]!r}: preset = 'standard' sets young")
+        return filled
 
     @model_validator(mode="after")
     def _valid_chain(self):
@@ -204,6 +254,10 @@ class _ChainRun(ScenarioModel):
         # DEM can resolve the stiffness and hold the run (so `config` refuses what `run`
         # would), at no cost: nothing is simulated or allocated
         DominoChain(self.params(), steps_per_collision=self.steps_per_collision)
+        if self.fit_from is not None:
+            from dominowave.chain.wave import check_fit_from
+
+            check_fit_from(self.fit_from, self.n_dominoes)
         return self
 
     def params(self, **changes) -> ChainParams:
@@ -243,7 +297,7 @@ ChainScenario = create_model(
         "DEM chain of sphere clumps (dominowave.chain on dominowave.dem, paper section 3)."
         "\n\nThe physical fields are those of :class:`dominowave.chain.ChainParams`, derived"
         " from its declarations (names, defaults, units, ranges), plus how the run is"
-        " driven: ``push_omega`` and ``steps_per_collision``."
+        " driven: ``push_omega``, ``steps_per_collision`` and ``fit_from``."
     ),
     __module__=__name__,
     **fields_from_parameters(ChainParams),
@@ -254,5 +308,32 @@ ChainScenario = create_model(
     steps_per_collision=(
         int,
         quantity(50, "", "time steps per theory collision time T_c (sets dt)", ge=10),
+    ),
+    preset=(
+        Literal["standard"] | None,
+        quantity(
+            None,
+            "",
+            "standard: 48 x 24 x 7.5 mm box dominoes, every value from materials.toml"
+            " (chain.presets.standard_domino; with gap and floor)",
+        ),
+    ),
+    gap=(
+        float | None,
+        quantity(None, "m", "with preset: clear gap d between neighbours", gt=0),
+    ),
+    floor=(
+        str | None,
+        quantity(None, "", "with preset: named floor (felt, glass, hardwood, laminate)"),
+    ),
+    fit_from=(
+        int | None,
+        quantity(
+            None,
+            "",
+            "also fit the front speed from domino K on (pitch-based, as cameras do);"
+            " summary speed_fit_from",
+            ge=1,
+        ),
     ),
 )

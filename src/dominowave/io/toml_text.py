@@ -54,8 +54,8 @@ def toml_value(value) -> str:
         return f'"{escaped}"'
     if isinstance(value, list | tuple):
         return "[" + ", ".join(toml_value(v) for v in value) + "]"
-    if isinstance(value, dict):
-        items = ", ".join(f"{_key(k)} = {toml_value(v)}" for k, v in value.items())
+    if isinstance(value, dict):  # TOML has no null: a key not set is left out
+        items = ", ".join(f"{_key(k)} = {toml_value(v)}" for k, v in value.items() if v is not None)
         return "{" + items + "}"
     raise TypeError(f"cannot write {type(value).__name__} to TOML")
 

@@ -15,6 +15,7 @@ through :func:`dominowave.sweep.longrun.run_stepping` (checkpoints, resume, Ctrl
 from __future__ import annotations
 
 import functools
+import math
 
 import numpy as np
 
@@ -142,15 +143,25 @@ class ChainScenarioStepper(ScenarioStepper):
     def result(self) -> RunResult:
         run = self.stepper.result(keep_record=True)
         return chain_result(
-            self.chain, run, spheres=self.spheres, contacts=self.stepper.contact_frames()
+            self.chain,
+            run,
+            spheres=self.spheres,
+            contacts=self.stepper.contact_frames(),
+            fit_from=self.cfg.fit_from,
         )
 
 
 def chain_result(
-    chain: DominoChain, run: ChainRun, spheres: bool = False, contacts=None
+    chain: DominoChain,
+    run: ChainRun,
+    spheres: bool = False,
+    contacts=None,
+    fit_from: int | None = None,
 ) -> RunResult:
     """Summary, per-domino events, tilt/omega time series and trajectory of ``run``
-    (with ``contacts``, ``dem.ContactFrames`` of its frames, the VTK force lines too)."""
+    (with ``contacts``, ``dem.ContactFrames`` of its frames, the VTK force lines too).
+    ``fit_from = K``: the summary's ``speed_fit_from`` is the front speed fitted from
+    domino ``K`` on (``chain.wave.speed_from``; NaN when not asked for)."""
     import xarray as xr
 
     params = chain.params
@@ -168,6 +179,11 @@ def chain_result(
         "speed_err": run.wave.speed_err,
         "speed_settled": bool(run.wave.settled),
         "speed_note": unsettled_reason(run.arrival, run.positions),
+        "fit_from": -1 if fit_from is None else int(fit_from),
+        "speed_fit_from": math.nan if fit_from is None else chain.speed_from(run, fit_from).speed,
+        "speed_fit_from_err": (
+            math.nan if fit_from is None else chain.speed_from(run, fit_from).speed_err
+        ),
         "dominoes_toppled": int(run.wave.reached),
         "speed_theory": run.theory_speed,
         "speed_theory_window": run.theory_window_speed,
@@ -196,6 +212,12 @@ def chain_result(
         events=events,
         timeseries=timeseries,
         trajectory=traj,
-        may_be_nan=("speed", "speed_err", "speed_theory_window"),
+        may_be_nan=(
+            "speed",
+            "speed_err",
+            "speed_theory_window",
+            "speed_fit_from",
+            "speed_fit_from_err",
+        ),
         spheres=sphere_trajectory(chain, record, run.push, contacts) if spheres else None,
     )

@@ -1,0 +1,127 @@
+"""Command ``dominowave predict``: a real chain's front speed with the band of its materials.
+
+Inputs in SI units (the gap in metres). Bad input raises ``ValueError`` (one line, exit 2).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
+
+from dominowave.cli.compiling import notice_if_compiling
+from dominowave.io.atomic import ensure_writable_dir
+
+__all__ = ["register"]
+
+PRESETS = ("standard",)
+"""Domino presets: ``standard`` is :func:`dominowave.chain.presets.standard_domino`."""
+
+
+def _fmt(x: float, digits: int = 3) -> str:
+    return "-" if not math.isfinite(x) else f"{x:.{digits}g}"
+
+
+def predict_command(
+    gap: Annotated[float, typer.Option(help="clear gap d between neighbours [m]")],
+    floor: Annotated[str, typer.Option(help="named floor: felt, glass, hardwood, laminate")],
+    preset: Annotated[str, typer.Option(help="domino preset (standard: 48 x 24 x 7.5 mm)")] = (
+        "standard"
+    ),
+    samples: Annotated[
+        int, typer.Option(help="Saltelli base size N (power of 2): N (D + 2) runs")
+    ] = 4,
+    n: Annotated[int, typer.Option("--n", help="dominoes in each chain")] = 12,
+    fit_from: Annotated[int, typer.Option(help="front speed fitted from domino K on")] = 3,
+    seed: Annotated[int, typer.Option(help="scramble seed of the Sobol' sequence")] = 0,
+    model: Annotated[str, typer.Option(help="3d | 2d")] = "3d",
+    out: Annotated[Path, typer.Option(help="sweep folder (re-run to resume)")] = Path("predict"),
+    workers: Annotated[int | None, typer.Option(help="processes (default min(2, cores))")] = None,
+    scheduler: Annotated[
+        str | None, typer.Option(help="address of an existing Dask scheduler (tcp://host:port)")
+    ] = None,
+) -> None:
+    """Predict the front speed of a real chain with the band of its material data."""
+    from dominowave.cli.chain import exit_if_incomplete
+    from dominowave.cli.workflow import check_cluster_options
+    from dominowave.sweep.predict import SOBOL_MIN_BASE, predict
+
+    if preset not in PRESETS:
+        raise ValueError(f"--preset {preset!r} is not one of {', '.join(PRESETS)}")
+    if model not in ("2d", "3d"):
+        raise ValueError(f"--model {model!r} is not one of '2d', '3d'")
+    check_cluster_options(workers, scheduler)
+    ensure_writable_dir(out)
+    console = Console(width=120)
+    start = time.perf_counter()
+    if scheduler is None:
+        notice_if_compiling("dem")
+
+    def progress(row):
+        console.print(
+            f"  sample {row['sample']}: v = {_fmt(row['speed'], 4)} m/s"
+            f" ({row['dominoes_toppled']} toppled, {row['wall_time']:.1f} s)"
+        )
+
+    pred = predict(
+        gap,
+        floor,
+        out,
+        samples,
+        n_dominoes=n,
+        fit_from=fit_from,
+        seed=seed,
+        model=model,
+        workers=workers,
+        scheduler=scheduler,
+        progress=progress,
+    )
+    console.print(pred.run.report.line())
+    lo, mid, hi = pred.band
+    console.print(
+        f"predicted front speed ({preset} domino, gap {gap:g} m, {floor}, from domino"
+        f" {fit_from} of {n}, pitch-based): median {_fmt(mid, 4)} m/s, 90 % band"
+        f" [{_fmt(lo, 4)}, {_fmt(hi, 4)}] m/s, mean {_fmt(pred.mean, 4)} m/s over"
+        f" {pred.speed.size - pred.n_died - pred.n_failed} of {pred.speed.size} runs"
+        + (f" ({pred.n_died} waves died before the end)" if pred.n_died else "")
+        + (f" ({pred.n_failed} runs failed: see failure.json)" if pred.n_failed else "")
+    )
+    table = Table(  # escaped: rich would read "[m/s]" as markup
+        title=escape(
+            "sensitivity of the speed: change over each value's range [m/s];"
+            f" Sobol' indices ± 95 % confidence (from --samples {SOBOL_MIN_BASE} on)"
+        )
+    )
+    for header in ("value", "range", "effect [m/s]", "first order S1", "total ST"):
+        table.add_column(escape(header), justify="right")
+    for j, name in enumerate(pred.names):
+        lo_v, hi_v = pred.bounds[j]
+        table.add_row(
+            name,
+            f"{lo_v:.3g} .. {hi_v:.3g}",
+            _fmt(pred.effect[j], 2),
+            f"{_fmt(pred.sobol_first[j], 2)} ± {_fmt(pred.sobol_first_conf[j], 2)}",
+            f"{_fmt(pred.sobol_total[j], 2)} ± {_fmt(pred.sobol_total_conf[j], 2)}",
+        )
+    console.print(table)
+    console.print(
+        "the band is the spread the material ranges allow (several are assumptions:"
+        " docs/real_dominoes.md), not a measurement's confidence interval; few samples"
+        " give rough indices (see their confidence)"
+    )
+    console.print(
+        f"wrote {out}/samples.csv, samples.nc, prediction.csv in"
+        f" {time.perf_counter() - start:.1f} s"
+    )
+    exit_if_incomplete(pred.run)
+
+
+def register(app: typer.Typer) -> None:
+    """Add ``predict`` to the ``dominowave`` app."""
+    app.command("predict")(predict_command)
