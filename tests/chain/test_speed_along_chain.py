@@ -59,7 +59,9 @@ def test_plot_speed_along_chain_writes_a_png(tmp_path):
     x = 0.02 * np.arange(30)
     members = np.vstack([x / 1.0, x / 1.1])
     panel = SpeedPanel("2d, d/l = 0.3", x, members, x / 1.2, 1.5, 0.7)
-    out = plot_speed_along_chain([panel, panel], tmp_path / "speed.png", window=5)
+    out = plot_speed_along_chain([panel, panel, panel], tmp_path / "speed.png", 5, ncols=2)
     assert out.stat().st_size > 1000
+    with pytest.raises(ValueError, match=r"ncols = 4 .*\[1, 3\]"):
+        plot_speed_along_chain([panel, panel, panel], tmp_path / "bad.png", 5, ncols=4)
     with pytest.raises(ValueError, match="panels is empty"):
         plot_speed_along_chain([], tmp_path / "none.png")

@@ -54,13 +54,18 @@ class SpeedPanel:
     scale: float
 
 
-def plot_speed_along_chain(panels: list[SpeedPanel], path: Path, window: int = 10) -> Path:
-    """Write the figure of ``panels`` (one row each) to ``path`` (PNG); returns ``path``."""
+def plot_speed_along_chain(
+    panels: list[SpeedPanel], path: Path, window: int = 10, ncols: int = 1
+) -> Path:
+    """Write the figure of ``panels`` (row by row, ``ncols`` per row) to ``path`` (PNG);
+    returns ``path``."""
     if not panels:
         raise ValueError("panels is empty: nothing to draw")
-    fig = Figure(figsize=(6.4, 2.2 * len(panels) + 0.6))
-    axes = np.atleast_1d(fig.subplots(len(panels), 1, sharex=True))
-    for ax, p in zip(axes, panels, strict=True):
+    check_in_range("ncols", ncols, 1, len(panels), lo_inclusive=True, hi_inclusive=True)
+    nrows = -(-len(panels) // ncols)
+    fig = Figure(figsize=(4.2 * ncols, 2.2 * nrows + 0.6))
+    axes = np.atleast_1d(fig.subplots(nrows, ncols, sharex=True, squeeze=False)).ravel()
+    for ax, p in zip(axes, panels, strict=False):
         n = np.arange(p.positions.size - window) + window / 2
         for k, member in enumerate(np.atleast_2d(p.members)):
             v = window_speed(member, p.positions, window) / p.scale
@@ -70,10 +75,13 @@ def plot_speed_along_chain(panels: list[SpeedPanel], path: Path, window: int = 1
         ax.plot(n, v_th, "k--", label="theory transient (same push)")
         ax.axhline(p.limit / p.scale, color="k", lw=0.8, label="eq 34 limit (clump mapping)")
         ax.set_title(p.title, fontsize=9)
-        ax.set_ylabel(f"v / sqrt(g l)\nover {window} dominoes")
+        ax.set_ylabel(f"v / sqrt(g l), {window} dominoes", fontsize=8)
         ax.set_ylim(bottom=0)
+    for ax in axes[len(panels) :]:
+        ax.set_visible(False)
     axes[0].legend(fontsize=7, loc="lower right")
-    axes[-1].set_xlabel("domino n (window centre)")
+    for ax in axes[(nrows - 1) * ncols :]:
+        ax.set_xlabel("domino n (window centre)")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     return path
