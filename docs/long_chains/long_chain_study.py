@@ -30,7 +30,7 @@ whose wide-spacing wave stopped and says where and how.
         --phi 0.3,0.6,1.0 --members 8
     python docs/long_chains/long_chain_study.py --report \\
         --figure docs/long_chains/speed_along_chain.png > docs/long_chains/long_chain_study.txt
-    nice -n 15 python docs/long_chains/long_chain_study.py --diagnose \\
+    nice -n 15 python docs/long_chains/long_chain_study.py --diagnose --models 2d,3d \\
         > docs/long_chains/stopped_waves.txt
 
 Chain shapes: the studies take every chain from ``CHAINS`` below, a name -> ChainParams
@@ -61,6 +61,8 @@ CHAINS: dict[str, dict] = {
     "damp_small": {"damping": 0.02},
     "mu2": {"friction_floor": 2.0},
     "s19": {"spheres_per_column": 19},
+    "2d_phid": {"friction_dominoes": 0.5},
+    "3d_phid": {"model": "3d", "friction_dominoes": 0.5},
 }
 """Chain name -> ``ChainParams`` changes from the Fig 6 base chain (paper_fig6.CONFIGS)."""
 
@@ -239,6 +241,16 @@ def _stats(values) -> str:
     return f"{v.mean():.2f} +- {v.std(ddof=1) / math.sqrt(v.size):.2f}"
 
 
+def _lags(group: list[dict]) -> str:
+    """Median lag of the second contacts behind the first ones, per block of pairs [ms]."""
+    lag = np.array([[np.nan if x is None else x for x in r["secondary_lag"]] for r in group])
+    cells = []
+    for first, last in ((1, 29), (30, 99), (100, 199), (200, lag.shape[1] - 1)):
+        block = lag[:, first : last + 1]
+        cells.append(f"{1e3 * np.nanmedian(block):.1f}" if np.isfinite(block).any() else "-")
+    return " / ".join(cells)
+
+
 def report_long() -> str:
     rows = _rows("long/")
     scale = math.sqrt(9.80665 * 0.05)
@@ -259,11 +271,13 @@ def report_long() -> str:
         " before the wave reaches n+2) over pairs 1-29 / 30-299; mechanism II share and mean"
         " |base slip| over dominoes 1-298; the secondary (re-contact) wave: members whose lag"
         " behind the first contacts shrinks significantly, and the first pair where it has"
-        " caught up (lag <= T_c; chain.wave.secondary_wave).",
+        " caught up (lag <= T_c; chain.wave.secondary_wave), and the median lag over"
+        " members and pairs of each block.",
         "",
         "| chain | d/l | N | multiple hits 1-29 | multiple hits 30-299 | mechanism II "
-        "| mean abs slip [cm] | secondary catching up | caught up at pair |",
-        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+        "| mean abs slip [cm] | secondary catching up | caught up at pair "
+        "| re-contact lag [ms], pairs 1-29 / 30-99 / 100-199 / 200-298 |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
     ]
     groups = sorted({tuple(r["key"].split("/")[1:4]) for r in rows})
     for name, d, n in groups:
@@ -292,7 +306,7 @@ def report_long() -> str:
             f"{100 * np.mean(hits[:, 30:-2] > 1):.0f} % | {100 * np.mean(mech == 2):.0f} % | "
             f"{100 * np.mean(np.abs(slip)):.1f} | "
             f"{sum(bool(r['secondary_catching_up']) for r in g)}/{len(g)} | "
-            f"{', '.join(str(m) for m in merged) or 'none'} |"
+            f"{', '.join(str(m) for m in merged) or 'none'} | {_lags(g)} |"
         )
     return "\n".join(out + collisions)
 
@@ -339,7 +353,7 @@ def report_wide() -> str:
     return "\n".join(out)
 
 
-def diagnose() -> str:
+def diagnose(models: list[str]) -> str:
     """Re-run every wide-spacing member whose wave stopped (same machine: the same
     trajectory) and say where and how it stopped: the last domino reached (n_s), whether
     it toppled, its largest forward tilt, its Fig 5A mechanism, whether the wave had
@@ -348,7 +362,11 @@ def diagnose() -> str:
     by less than 60 deg, roll of the long axis out of the chain's plane) [deg]."""
     from dominowave.chain.events import rotate_vectors
 
-    rows = [r for r in _rows("wide/") if r["reached"] < int(r["key"].split("/")[4])]
+    rows = [
+        r
+        for r in _rows("wide/")
+        if r["reached"] < int(r["key"].split("/")[4]) and r["key"].split("/")[1] in models
+    ]
     out = [
         "## Where the wide-spacing waves stopped (members whose wave did not reach the end)",
         "",
@@ -419,7 +437,7 @@ def main(argv=None) -> None:
         "--diagnose", action="store_true", help="re-run the stopped wide-spacing waves: where"
     )
     parser.add_argument("--configs", default="2d", help="long: chains of CHAINS")
-    parser.add_argument("--models", default="2d,3d", help="wide: chains of CHAINS")
+    parser.add_argument("--models", default="2d,3d", help="wide, --diagnose: chains of CHAINS")
     parser.add_argument("--d-over-l", default=None)
     parser.add_argument("--phi", default=None, help="wide: floor frictions phi_f")
     parser.add_argument("--n", type=int, default=None, help="dominoes per chain")
@@ -438,7 +456,7 @@ def main(argv=None) -> None:
         if args.figure:
             figure(args.figure)
     if args.diagnose:
-        print(diagnose())
+        print(diagnose(args.models.split(",")))
     if args.report or args.diagnose:
         return
     if args.part is None:
