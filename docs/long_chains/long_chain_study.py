@@ -24,14 +24,14 @@ re-run skips the members already there (a killed study loses at most one member)
 ``--report`` writes the tables from ``runs.jsonl``; ``--diagnose`` re-runs the members
 whose wide-spacing wave stopped and says where and how.
 
-    nice -n 15 python docs/long_chains/long_chain_study.py long --d-over-l 0.2,0.5 \\
-        --configs 2d,k1e3,k1e5,damp_small --n 300 --members 3
-    nice -n 15 python docs/long_chains/long_chain_study.py wide --models 2d,3d \\
-        --phi 0.3,0.6,1.0 --members 8
-    python docs/long_chains/long_chain_study.py --report \\
-        --figure docs/long_chains/speed_along_chain.png > docs/long_chains/long_chain_study.txt
-    nice -n 15 python docs/long_chains/long_chain_study.py --diagnose --models 2d,3d \\
-        > docs/long_chains/stopped_waves.txt
+    S=docs/long_chains/long_chain_study.py
+    nice -n 15 python $S long --configs 2d,mu2,damp_small,k1e3 --members 3   # N = 300
+    nice -n 15 python $S wide --models 2d,3d --phi 0.3,0.6,1.0 --members 8    # N = 30
+    python $S --report --figure docs/long_chains/speed_along_chain.png \\
+        > docs/long_chains/long_chain_study.txt
+    nice -n 15 python $S --diagnose --models 2d,3d > docs/long_chains/stopped_waves.txt
+
+(every command of the committed results: docs/long_chains.md).
 
 Chain shapes: the studies take every chain from ``CHAINS`` below, a name -> ChainParams
 changes table; a chain of the shape-true box dominoes is one more entry there once
@@ -419,7 +419,10 @@ def figure(path: Path) -> None:
 
     rows = _rows("long/")
     panels = []
-    for name, d, n in sorted({tuple(r["key"].split("/")[1:4]) for r in rows}):
+    groups = {tuple(r["key"].split("/")[1:4]) for r in rows}
+    spacings = {name: sum(g[0] == name for g in groups) for name, _, _ in groups}
+    # chains run at every spacing first (one row each), the others after them
+    for name, d, n in sorted(groups, key=lambda g: (-spacings[g[0]], g)):
         g = [r for r in rows if tuple(r["key"].split("/")[1:4]) == (name, d, n)]
         p = chain_params(name, float(d), int(n))
         omega = math.sqrt(p.g / p.height) * member_push_factor(0, 0, 1e-3)
