@@ -56,6 +56,7 @@ BACKWARD_LEAN = (math.radians(60), math.radians(150))
 CHAINS: dict[str, dict] = {
     "2d": {},
     "3d": {"model": "3d"},
+    "3d_asym": {"model": "3d", "lateral_asymmetry": 0.02},
     "k1e3": {"stiffness_ratio": 1e3},
     "k1e5": {"stiffness_ratio": 1e5},
     "damp_small": {"damping": 0.02},
