@@ -67,7 +67,7 @@ KINDS: dict[str, ScenarioKind] = {
         "dominowave.sweep.run_chain:run_chain",
         steppable=True,
     ),
-    # the points of the study presets (dominowave paper-fig6, compare-rods)
+    # the points of the study presets (dominowave paper-fig6, compare-rods, predict)
     "paper_fig6_member": ScenarioKind(
         "dominowave.sweep.fig6:Fig6Member",
         "dominowave.sweep.fig6:run_fig6_member",
@@ -81,6 +81,11 @@ KINDS: dict[str, ScenarioKind] = {
     "rods_omega_profile": ScenarioKind(
         "dominowave.sweep.compare_rods:OmegaProfilePoint",
         "dominowave.sweep.compare_rods:run_omega_profile",
+        in_studies=False,
+    ),
+    "predict_sample": ScenarioKind(
+        "dominowave.sweep.predict:PredictSample",
+        "dominowave.sweep.predict:run_predict_sample",
         in_studies=False,
     ),
 }
