@@ -420,7 +420,6 @@ def _hertz_radius(ra, rb, wall):
     return 2.0 * ra * rb / (ra + rb)
 
 
-
 @njit(cache=True, error_model="numpy", inline="always")
 def _continuation_distance(boxes, a, j):
     """Distance [m] within which a contact point of box a and partner j whose feature
