@@ -34,8 +34,9 @@ whose wide-spacing wave stopped and says where and how.
 (every command of the committed results: docs/long_chains.md).
 
 Chain shapes: the studies take every chain from ``CHAINS`` below, a name -> ChainParams
-changes table; a chain of the shape-true box dominoes is one more entry there once
-``ChainParams`` knows them. One process, no pool (the machine is shared).
+changes table; ``box`` and ``box_3d`` are chains of the rounded-cuboid dominoes
+(docs/shape.md) with the clump chain's other parameters. One process, no pool (the
+machine is shared).
 """
 
 from __future__ import annotations
@@ -64,6 +65,8 @@ CHAINS: dict[str, dict] = {
     "s19": {"spheres_per_column": 19},
     "2d_phid": {"friction_dominoes": 0.5},
     "3d_phid": {"model": "3d", "friction_dominoes": 0.5},
+    "box": {"shape": "box"},
+    "box_3d": {"shape": "box", "model": "3d"},
 }
 """Chain name -> ``ChainParams`` changes from the Fig 6 base chain (paper_fig6.CONFIGS)."""
 
