@@ -223,10 +223,14 @@ def run_study(args) -> None:
                     if key in done:
                         continue
                     start = time.perf_counter()
-                    if args.part == "long":
-                        row = long_member(name, d, args.n, m)
-                    else:
-                        row = wide_member(name, d, phi, args.n, m)
+                    try:
+                        if args.part == "long":
+                            row = long_member(name, d, args.n, m)
+                        else:
+                            row = wide_member(name, d, phi, args.n, m)
+                    except RuntimeError as err:  # an aborted engine run: say so, go on
+                        print(key, "ABORTED:", err, flush=True)
+                        continue
                     row.update(
                         key=key,
                         wall=time.perf_counter() - start,
