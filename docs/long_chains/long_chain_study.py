@@ -169,13 +169,13 @@ def wide_member(name: str, d_over_l: float, phi_f: float, n: int, member: int) -
 
 
 def theory_regime(name: str, d_over_l: float, phi_f: float) -> str:
-    """Fig 5A regime of section 2.4 for this chain: peak force eq 37 (clump mass, k_n)."""
+    """Fig 5A regime of section 2.4 for this chain: peak force eq 37 (the domino's mass,
+    clump or box, and its pair spring)."""
     from dominowave import theory
-    from dominowave.chain.build import domino_shape
     from dominowave.chain.compare import beta_from_spacing
 
     p = chain_params(name, d_over_l, 30, phi_f)
-    m = domino_shape(p).mass
+    m = p.mass
     beta = beta_from_spacing(d_over_l)
     fm = theory.peak_contact_force(beta, p.height, m, p.pair_stiffness, p.g, "contact")
     cls = theory.classify_regime(beta, fm / (m * p.g), phi_f, p.thickness / p.height)
