@@ -27,6 +27,7 @@ whose wide-spacing wave stopped and says where and how.
     S=docs/long_chains/long_chain_study.py
     nice -n 15 python $S long --configs 2d,mu2,damp_small,k1e3 --members 3   # N = 300
     nice -n 15 python $S wide --models 2d,3d --phi 0.3,0.6,1.0 --members 8    # N = 30
+    nice -n 15 python $S long --configs box,box_3d --members 3              # box dominoes
     python $S --report --figure docs/long_chains/speed_along_chain.png \\
         > docs/long_chains/long_chain_study.txt
     nice -n 15 python $S --diagnose --models 2d,3d > docs/long_chains/stopped_waves.txt
