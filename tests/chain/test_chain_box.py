@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from dominowave import dem
-from dominowave.chain.build import ChainParams
+from dominowave.chain.build import ChainParams, domino_shape
 from dominowave.chain.scenario import DominoChain, Push
 from reference.rounded_tipping import rounded_first_contact_time
 
@@ -71,6 +71,11 @@ def test_bad_shape_options(changes, fragments):
     assert "\n" not in message
     for fragment in fragments:
         assert fragment in message
+
+
+def test_the_clump_shape_of_a_box_domino_is_refused():
+    with pytest.raises(ValueError, match=r"shape = 'box'.*domino_box"):
+        domino_shape(ChainParams(shape="box"))
 
 
 def test_changing_shape_drops_the_other_shapes_options():

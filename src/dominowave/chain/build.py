@@ -436,6 +436,11 @@ class DominoShape:
 
 def domino_shape(p: ChainParams) -> DominoShape:
     """The spheres of one domino for parameters ``p`` (see the module docstring)."""
+    if p.shape != "clump":
+        raise ValueError(
+            f"shape = {p.shape!r}: domino_shape builds the clump of spheres (shape = 'clump');"
+            " the box domino is domino_box"
+        )
     r = p.radius
     nz = p.n_column
     # bead density keeping the mass of the touching column (resolution independence)

@@ -34,7 +34,7 @@ def plot_chain_run(run: ChainRun, ens: ChainEnsemble | None, path: Path) -> Path
     ax1.legend(fontsize=8)
     v_th = local_speeds(run.theory_arrival, run.positions)
     ax2.plot(n[1:], v_th, "k--", label="theory transient")
-    ax2.axhline(run.theory_speed, color="k", lw=0.8, label="eq 34 limit (clump mapping)")
+    ax2.axhline(run.theory_speed, color="k", lw=0.8, label="eq 34 limit (mapped parameters)")
     if run.wave.settled:
         ax2.axhline(run.wave.speed, color="C3", label="DEM steady fit")
         ax2.axvspan(run.wave.first, run.wave.last, color="C3", alpha=0.1)

@@ -73,7 +73,7 @@ def plot_speed_along_chain(
             ax.plot(n, v, "-", color="C0", alpha=0.5, lw=0.8, label=label)
         v_th = window_speed(p.theory, p.positions, window) / p.scale
         ax.plot(n, v_th, "k--", label="theory transient (same push)")
-        ax.axhline(p.limit / p.scale, color="k", lw=0.8, label="eq 34 limit (clump mapping)")
+        ax.axhline(p.limit / p.scale, color="k", lw=0.8, label="eq 34 limit (mapped parameters)")
         ax.set_title(p.title, fontsize=9)
         ax.set_ylabel(f"v / sqrt(g l), {window} dominoes", fontsize=8)
         ax.set_ylim(bottom=0)
