@@ -51,17 +51,14 @@ from pathlib import Path
 
 import numpy as np
 
+from dominowave.chain.paper_fig6 import CONFIGS
+
 RUNS = Path(__file__).with_name("runs.jsonl")
 BLOCKS = ((10, 29), (30, 99), (100, 199), (200, 299))  # dominoes first..last of a block fit
 BACKWARD_LEAN = (math.radians(60), math.radians(150))
 
 CHAINS: dict[str, dict] = {
-    "2d": {},
-    "3d": {"model": "3d"},
-    "3d_asym": {"model": "3d", "lateral_asymmetry": 0.02},
-    "k1e3": {"stiffness_ratio": 1e3},
-    "k1e5": {"stiffness_ratio": 1e5},
-    "damp_small": {"damping": 0.02},
+    **{name: CONFIGS[name] for name in ("2d", "3d", "3d_asym", "k1e3", "k1e5", "damp_small")},
     "mu2": {"friction_floor": 2.0},
     "s19": {"spheres_per_column": 19},
     "2d_phid": {"friction_dominoes": 0.5},

@@ -20,16 +20,13 @@ Run: ``python docs/shape/box_vs_clump.py [--members 8] [--d-over-l 0.2,0.4,0.6]
 from __future__ import annotations
 
 import argparse
-import csv
 import time
 from pathlib import Path
 
 import numpy as np
+from tail_speed import mean_and_stderr, tail_speeds, write_rows
 
 from dominowave.chain import ChainParams, DominoChain
-
-TAIL = 10
-"""Pitches of the tail speed ``(x_{N-1} - x_{N-1-TAIL}) / (t_{N-1} - t_{N-1-TAIL})``."""
 
 STANDARD = {"height": 0.048, "width": 0.024, "thickness": 0.0075}
 """The common toppling domino's outer size [m]."""
@@ -54,11 +51,8 @@ def main() -> None:
                 start = time.perf_counter()
                 ens = DominoChain(p).ensemble(members=args.members, seed=0)
                 settled = [r.wave.settled for r in ens.runs]
-                tail = [
-                    TAIL * p.pitch / (r.arrival[-1] - r.arrival[-1 - TAIL])
-                    for r in ens.runs
-                    if r.reached_all
-                ]
+                tail = tail_speeds(ens, p.pitch)
+                tail_mean, tail_stderr = mean_and_stderr(tail)
                 rows.append(
                     {
                         "model": model,
@@ -70,10 +64,8 @@ def main() -> None:
                         "reached_all": int(sum(r.reached_all for r in ens.runs)),
                         "speed": ens.speed.mean,
                         "speed_stderr": ens.speed.stderr,
-                        "tail_speed": np.mean(tail) if tail else np.nan,
-                        "tail_speed_stderr": np.std(tail, ddof=1) / np.sqrt(len(tail))
-                        if len(tail) > 1
-                        else np.nan,
+                        "tail_speed": tail_mean,
+                        "tail_speed_stderr": tail_stderr,
                         "theory_speed": ens.theory_speed,
                         "mass": p.mass,
                         "kn": p.contact_stiffness,
@@ -81,10 +73,7 @@ def main() -> None:
                     }
                 )
                 print(rows[-1], flush=True)
-    with args.out.open("w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    write_rows(args.out, rows)
 
 
 if __name__ == "__main__":

@@ -14,16 +14,12 @@ two-sphere base, not held).
 from __future__ import annotations
 
 import argparse
-import csv
 import time
 from pathlib import Path
 
-import numpy as np
+from tail_speed import mean_and_stderr, tail_speeds, write_rows
 
 from dominowave.chain import ChainParams, DominoChain
-
-TAIL = 10
-"""Pitches of the tail speed ``(x_{N-1} - x_{N-1-TAIL}) / (t_{N-1} - t_{N-1-TAIL})``."""
 
 RESOLUTIONS = (5, 10, 20, 40)
 
@@ -49,13 +45,8 @@ def main() -> None:
             p = ChainParams(d_over_l=d, **common, **shape)
             start = time.perf_counter()
             ens = DominoChain(p).ensemble(members=args.members, seed=0)
-            tail = np.array(
-                [
-                    TAIL * p.pitch / (r.arrival[-1] - r.arrival[-1 - TAIL])
-                    for r in ens.runs
-                    if r.reached_all
-                ]
-            )
+            tail = tail_speeds(ens, p.pitch)
+            tail_mean, tail_stderr = mean_and_stderr(tail)
             rows.append(
                 {
                     "model": args.model,
@@ -70,18 +61,13 @@ def main() -> None:
                     "n_settled": int(sum(r.wave.settled for r in ens.runs)),
                     "speed": ens.speed.mean,
                     "speed_stderr": ens.speed.stderr,
-                    "tail_speed": tail.mean() if tail.size else np.nan,
-                    "tail_speed_stderr": tail.std(ddof=1) / np.sqrt(tail.size)
-                    if tail.size > 1
-                    else np.nan,
+                    "tail_speed": tail_mean,
+                    "tail_speed_stderr": tail_stderr,
                     "wall_time": time.perf_counter() - start,
                 }
             )
             print(rows[-1], flush=True)
-    with args.out.open("w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    write_rows(args.out, rows)
 
 
 if __name__ == "__main__":

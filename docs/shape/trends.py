@@ -11,17 +11,13 @@ Run: ``python docs/shape/trends.py [--members 2] [--d-over-l 0.4] --out CSV``
 from __future__ import annotations
 
 import argparse
-import csv
 import time
 from pathlib import Path
 
-import numpy as np
+from tail_speed import mean_and_stderr, tail_speeds, write_rows
 
 from dominowave.chain import DominoChain
 from dominowave.chain.paper_fig6 import CONFIGS, fig6_params
-
-TAIL = 10
-"""Pitches of the tail speed ``(x_{N-1} - x_{N-1-TAIL}) / (t_{N-1} - t_{N-1-TAIL})``."""
 
 PLANAR = ("2d", "k1e3", "k1e5", "damp_small", "damp_large", "mu0.6")
 """The 2D configurations of Fig 6 (the 3D ones are ``3d`` and ``3d_asym``)."""
@@ -42,13 +38,8 @@ def main() -> None:
                 p = p.with_(held=None)  # a box stands by itself
             start = time.perf_counter()
             ens = DominoChain(p).ensemble(members=args.members, seed=0)
-            tail = np.array(
-                [
-                    TAIL * p.pitch / (r.arrival[-1] - r.arrival[-1 - TAIL])
-                    for r in ens.runs
-                    if r.reached_all
-                ]
-            )
+            tail = tail_speeds(ens, p.pitch)
+            tail_mean, tail_stderr = mean_and_stderr(tail)
             rows.append(
                 {
                     "config": config,
@@ -59,18 +50,13 @@ def main() -> None:
                     "reached_all": tail.size,
                     "speed": ens.speed.mean,
                     "speed_stderr": ens.speed.stderr,
-                    "tail_speed": tail.mean() if tail.size else np.nan,
-                    "tail_speed_stderr": tail.std(ddof=1) / np.sqrt(tail.size)
-                    if tail.size > 1
-                    else np.nan,
+                    "tail_speed": tail_mean,
+                    "tail_speed_stderr": tail_stderr,
                     "wall_time": time.perf_counter() - start,
                 }
             )
             print(rows[-1], flush=True)
-    with args.out.open("w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    write_rows(args.out, rows)
 
 
 if __name__ == "__main__":
