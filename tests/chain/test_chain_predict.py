@@ -193,6 +193,19 @@ def test_predict_command_bad_input_is_one_line(args, fragment, tmp_path):
             "--friction-floor: set by --preset standard from materials.toml",
         ),
         (["--preset", "standard", "--gap", "0.1", "--floor", "felt"], "gap = 0.1 is outside"),
+        # a value equal to the chain's own default is refused too: the preset would
+        # otherwise replace it without a word
+        (
+            [
+                *("--preset", "standard", "--gap", "0.01", "--floor", "felt"),
+                *("--friction-dominoes", "0", "--friction-floor", "0.3"),
+            ],
+            "--friction-floor, --friction-dominoes: set by --preset standard",
+        ),
+        (
+            ["--preset", "standard", "--gap", "0.01", "--floor", "felt", "--density", "1000"],
+            "--density: set by --preset standard",
+        ),
     ],
 )
 def test_chain_command_preset_bad_input_is_one_line(args, fragment):

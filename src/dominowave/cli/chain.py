@@ -123,24 +123,6 @@ def _what_to_quote(run: ChainRun, ens: ChainEnsemble | None) -> str:
     )
 
 
-PRESET_DEFAULTS = {
-    "height": 0.05,
-    "thickness": 0.005,
-    "width": 0.025,
-    "density": 1000.0,
-    "stiffness_ratio": None,
-    "kn": None,
-    "young": None,
-    "friction_floor": 0.3,
-    "friction_dominoes": 0.0,
-    "restitution": None,
-    "restitution_dominoes": None,
-    "restitution_floor": None,
-    "d_over_l": 0.4,
-}
-"""The physical options a preset sets itself (their command defaults)."""
-
-
 def _preset_params(preset, gap, floor, n, physical, others) -> ChainParams:
     """``ChainParams`` of ``--preset standard --gap --floor``; a physical option the
     preset sets itself may not be given too (one error naming them)."""
@@ -152,7 +134,9 @@ def _preset_params(preset, gap, floor, n, physical, others) -> ChainParams:
         )
     if gap is None or floor is None:
         raise ValueError("--preset standard needs --gap [m] and --floor (felt, glass, ...)")
-    clash = [k for k, v in physical.items() if v != PRESET_DEFAULTS[k]]
+    # every physical option defaults to None, so a value given on the command line is
+    # refused even when it equals the chain's default (the preset would override it)
+    clash = [k for k, v in physical.items() if v is not None]
     if clash:
         names = ", ".join("--" + k.replace("_", "-") for k in clash)
         raise ValueError(f"{names}: set by --preset standard from materials.toml, give not both")
@@ -167,13 +151,19 @@ def chain_command(
         str | None,
         typer.Option(help="clump (of spheres, the paper's; default) | box (rounded cuboid)"),
     ] = None,
-    d_over_l: Annotated[float, typer.Option(help="gap d over height l")] = 0.4,
-    height: Annotated[float, typer.Option(help="domino height l [m]")] = 0.05,
+    d_over_l: Annotated[
+        float | None, typer.Option(help="gap d over height l [default 0.4]")
+    ] = None,
+    height: Annotated[float | None, typer.Option(help="domino height l [m; default 0.05]")] = None,
     thickness: Annotated[
-        float, typer.Option(help="thickness s (clump: sphere diameter) [m]")
-    ] = 0.005,
-    width: Annotated[float, typer.Option(help="width w (3D clump, every box) [m]")] = 0.025,
-    density: Annotated[float, typer.Option(help="bead or box density [kg/m^3]")] = 1000.0,
+        float | None, typer.Option(help="thickness s (clump: sphere diameter) [m; default 0.005]")
+    ] = None,
+    width: Annotated[
+        float | None, typer.Option(help="width w (3D clump, every box) [m; default 0.025]")
+    ] = None,
+    density: Annotated[
+        float | None, typer.Option(help="bead or box density [kg/m^3; default 1000]")
+    ] = None,
     rounding: Annotated[
         float | None, typer.Option(help="box: edge rounding r [m], default s/20")
     ] = None,
@@ -187,8 +177,12 @@ def chain_command(
     shear_kinematics: Annotated[
         str, typer.Option(help="contact_point | yade (YADE's ratcheting-free shear rate)")
     ] = "contact_point",
-    friction_floor: Annotated[float, typer.Option(help="phi_f, floor and bottom layer")] = 0.3,
-    friction_dominoes: Annotated[float, typer.Option(help="phi_d between dominoes")] = 0.0,
+    friction_floor: Annotated[
+        float | None, typer.Option(help="phi_f, floor and bottom layer [default 0.3]")
+    ] = None,
+    friction_dominoes: Annotated[
+        float | None, typer.Option(help="phi_d between dominoes [default 0]")
+    ] = None,
     damping: Annotated[float, typer.Option(help="local damping in [0, 1)")] = 0.0,
     restitution: Annotated[float | None, typer.Option(help="normal restitution")] = None,
     restitution_dominoes: Annotated[
@@ -287,11 +281,12 @@ def chain_command(
     }
     if preset is not None or gap is not None or floor is not None:
         p = _preset_params(preset, gap, floor, n, physical, {**numerics, **imperfections})
-        d_over_l = p.d_over_l
     else:
         numerics["model"] = model or "2d"
         numerics["shape"] = shape or "clump"
-        p = ChainParams(n_dominoes=n, **physical, **numerics, **imperfections)
+        given = {k: v for k, v in physical.items() if v is not None}
+        p = ChainParams(n_dominoes=n, **given, **numerics, **imperfections)
+    d_over_l = p.d_over_l
     if fit_from is not None:
         check_fit_from(fit_from, n)
 
