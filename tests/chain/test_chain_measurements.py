@@ -36,6 +36,15 @@ def test_every_measurement_is_cited_and_says_where_it_is_printed():
         assert 0.05 < m.speed < 10.0, m.key  # dominoes topple at walking pace, not faster
 
 
+def test_a_speed_the_source_does_not_print_comes_with_its_arithmetic():
+    """Where a source prints only raw observations (frames, times), the row says that the
+    speed is not printed and its note says how the speed was computed from them."""
+    derived = [m for m in load_measurements() if "speed itself is not printed" in m.where_printed]
+    assert derived  # the high-speed-camera rows of section 3
+    for m in derived:
+        assert "fitted here" in m.note or "computed here" in m.note, m.key
+
+
 def test_gap_and_pitch_convert_with_the_thickness(tmp_path):
     row = _good_row(spacing_m="0.020", spacing_basis="pitch", thickness_m="0.0075")
     (m,) = load_measurements(_write(tmp_path, [row]))

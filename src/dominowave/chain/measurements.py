@@ -5,7 +5,10 @@ measured speed: who measured it (a full citation), how (high-speed camera, sound
 ...), the dominoes (height, width, thickness [m], mass [kg], material), the floor, the
 spacing and its basis, the speed [m/s] with its uncertainty if given, whether it is an
 asymptotic (steady) speed or an average over the row, the number of dominoes, and where in
-the source the number is printed (a figure read-off says so, with its error).
+the source the number is printed (a figure read-off says so, with its error). Where a
+source prints only the raw observations (e.g. the frame of each domino's impact), the
+speed is computed from them: ``where_printed`` says that the speed is not printed, and
+``note`` gives the arithmetic.
 
 The spacing basis matters: some authors give the *gap* ``d`` between the faces of
 neighbours, others the *pitch* ``d + s`` (distance between equivalent points). Both are
