@@ -48,30 +48,18 @@ def _sliding_scene(planar):
     return scene, R, core_a, core_b
 
 
-@pytest.mark.parametrize(
-    "planar, kernels",
-    [
-        (True, True),
-        (True, False),
-        pytest.param(
-            False,
-            False,
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="3D: when a vertex crosses the side plane of the reference face, the "
-                "clipped incident face gains two corners at nearly full depth (1 point -> 2): "
-                "the normal force jumps by 0.94 of itself for a few steps (docs/dem.md)",
-            ),
-        ),
-    ],
-)
+@pytest.mark.parametrize("planar, kernels", [(True, True), (True, False), (False, False)])
 def test_validate_corner_sliding_over_a_corner_keeps_force_and_energy_smooth(planar, kernels):
     """A corner of box A slides at constant velocity, in full slip, along B's top face and
     over B's rounded edge until the bodies part: the touching feature pair changes from
-    corner-face to corner-corner (the clip point, then the exact vertex-edge point; the
-    contact's feature key changes twice).  Planar: a corner of the rectangle, i.e. an edge
-    of the cuboid along y over B's parallel edge (planar kernels, and the general 3D ones:
-    both ends of the edge at once); 3D: a vertex of a turned box.  Against the
+    corner-face to corner-corner, the normal turning over the rounded edge (planar
+    kernels: the clip point, then the exact vertex-edge point, the contact's feature key
+    changes twice; the general kernels keep one point per vertex with its key, the
+    vertex's exact distance once it is past the face's side plane).  Planar: a corner of
+    the rectangle, i.e. an edge of the cuboid along y over B's parallel edge (planar
+    kernels, and the general 3D ones: both ends of the edge at once); 3D: a vertex of a
+    turned box, whose incident face the clipping cuts into two corners on the side plane
+    as the vertex crosses it.  Against the
     quasi-static force of the exact core distance (reference.sliding_contact, eq F;
     planar: twice, for the two ends of the edge along y): every step's contact force and
     stored energy to 1e-6 of their maxima, and no step changes the force by more than the
@@ -83,7 +71,7 @@ def test_validate_corner_sliding_over_a_corner_keeps_force_and_energy_smooth(pla
     dt = sim.dt
     kt = KT_RATIO * KN
     count = 2.0 if planar else 1.0
-    force, ref_force, energy, ref_energy, keys = [], [], [], [], []
+    force, ref_force, energy, ref_energy, keys, tilt = [], [], [], [], [], []
     while True:
         x = sim.bodies.pos[1].copy()  # the step's forces act at these positions
         f_ref, e_ref, delta = sliding_contact(x, R, core_a, R_A, np.zeros(3), np.eye(3), core_b,
@@ -98,10 +86,17 @@ def test_validate_corner_sliding_over_a_corner_keeps_force_and_energy_smooth(pla
         ref_energy.append(count * e_ref)
         rows = sim.boxes.rows
         keys.append(tuple(rows.key[: rows.n[0]]))
+        tilt.append(np.arccos(np.abs(rows.normal[: rows.n[0], 2]).min()))
     force, ref_force = np.array(force), np.array(ref_force)
     energy, ref_energy = np.array(energy), np.array(ref_energy)
+    # the contact left the face over the rounded edge: its normal turned by the reference's
+    # (over 20 deg before the bodies part)
+    assert max(tilt) > math.radians(20.0)
     n_changes = sum(keys[k] != keys[k - 1] for k in range(1, len(keys)))
-    assert n_changes >= 2  # the feature pair did change
+    if kernels:
+        assert n_changes >= 2  # the feature key did change
+    else:  # a vertex (planar: both ends of the edge) throughout, over the edge too
+        assert {len(k) for k in keys} == {round(count)}
     # (the tangential spring loads to the Coulomb limit in the first steps: from then on)
     loaded = math.ceil(MU * KN * DEPTH / (kt * SPEED * dt)) + 1
     scale = np.abs(ref_force).max()
@@ -111,6 +106,9 @@ def test_validate_corner_sliding_over_a_corner_keeps_force_and_energy_smooth(pla
     jump = np.abs(np.diff(force[loaded:], axis=0)).max()
     ref_jump = np.abs(np.diff(ref_force[loaded:], axis=0)).max()
     assert jump <= ref_jump * (1 + 1e-6)
+    e_err = np.abs(energy - ref_energy)[loaded:].max() / ref_energy.max()
+    print(f"force {err / scale:.1e}, energy {e_err:.1e} of their maxima; largest step change "
+          f"{jump / scale:.2e} of the force (reference {ref_jump / scale:.2e})")  # fmt: skip
 
 
 # ----------------------------------------------------------------- 6. at rest
