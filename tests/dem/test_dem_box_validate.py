@@ -409,3 +409,38 @@ def test_validate_eccentric_restitution_converges_to_the_set_value_as_the_turn_v
     print(f"excess {excess_slow:.2e} at 0.05 m/s (turn {turn_slow:.2e} rad), {excess_fast:.2e} "
           f"at 0.5 m/s (turn {turn_fast:.2e} rad); turn ratio {turn_fast / turn_slow:.3f}, "
           f"excess per radian {per_slow:.3f} and {per_fast:.3f}")  # fmt: skip
+
+
+# ----------------------------------------------------------------- a 3D box chain
+
+
+@pytest.mark.slow
+def test_wide_spacing_3d_box_chain_member_runs_with_its_energy_balance():
+    """A regression test: the 30-domino 3D box chain at d/l = 0.8, floor friction 0.3,
+    member 6 of the wide-spacing study (docs/long_chains.md), aborted at t = 1.17 s before
+    the side-plane rule of shapes.cuboid (the ledger's total from 0.046 to 0.094 J, docs/
+    dem.md "Overlaps beyond the rounding").  Now it runs to its end, and the ledger's total
+    (kinetic + potential + elastic + dissipated) drifts by 4.3e-3 of the energy released
+    (the push and the falls): far more than the integration error of an impact (1e-7),
+    the mark of the overlaps beyond the rounding, whose cause is not removed.  The bound,
+    1e-2, separates that from a breakdown (the abort: a drift of the order of 1)."""
+    from dominowave.chain import ChainParams, DominoChain
+    from dominowave.chain.scenario import member_push_factor
+    from dominowave.chain.stepper import ChainStepper
+
+    params = ChainParams(n_dominoes=30, d_over_l=0.8, shape="box", model="3d",
+                         friction_floor=0.3)  # fmt: skip
+    chain = DominoChain(params)
+    push = chain.resolve(None).scaled(member_push_factor(0, 6, 1e-3))
+    stepper = ChainStepper(chain, push)
+    e0 = stepper.sim.energy()
+    while not stepper.advance(20000):
+        pass
+    e1 = stepper.sim.energy()
+    released = e0["kinetic_translational"] + e0["kinetic_rotational"]
+    released += e0["gravitational"] - e1["gravitational"]  # the push and the falls
+    drift = abs(e1["total"] - e0["total"])
+    print(f"to t = {stepper.time:.3f} s, {stepper.reached} reached: total energy drift "
+          f"{drift:.2e} J, {drift / released:.1e} of the {released:.2e} J released")  # fmt: skip
+    assert stepper.reached > 1
+    assert drift < 1e-2 * released
