@@ -48,30 +48,18 @@ def _sliding_scene(planar):
     return scene, R, core_a, core_b
 
 
-@pytest.mark.parametrize(
-    "planar, kernels",
-    [
-        (True, True),
-        (True, False),
-        pytest.param(
-            False,
-            False,
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="3D: when a vertex crosses the side plane of the reference face, the "
-                "clipped incident face gains two corners at nearly full depth (1 point -> 2): "
-                "the normal force jumps by 0.94 of itself for a few steps (docs/dem.md)",
-            ),
-        ),
-    ],
-)
+@pytest.mark.parametrize("planar, kernels", [(True, True), (True, False), (False, False)])
 def test_validate_corner_sliding_over_a_corner_keeps_force_and_energy_smooth(planar, kernels):
     """A corner of box A slides at constant velocity, in full slip, along B's top face and
     over B's rounded edge until the bodies part: the touching feature pair changes from
-    corner-face to corner-corner (the clip point, then the exact vertex-edge point; the
-    contact's feature key changes twice).  Planar: a corner of the rectangle, i.e. an edge
-    of the cuboid along y over B's parallel edge (planar kernels, and the general 3D ones:
-    both ends of the edge at once); 3D: a vertex of a turned box.  Against the
+    corner-face to corner-corner, the normal turning over the rounded edge (planar
+    kernels: the clip point, then the exact vertex-edge point, the contact's feature key
+    changes twice; the general kernels keep one point per vertex with its key, the
+    vertex's exact distance once it is past the face's side plane).  Planar: a corner of
+    the rectangle, i.e. an edge of the cuboid along y over B's parallel edge (planar
+    kernels, and the general 3D ones: both ends of the edge at once); 3D: a vertex of a
+    turned box, whose incident face the clipping cuts into two corners on the side plane
+    as the vertex crosses it.  Against the
     quasi-static force of the exact core distance (reference.sliding_contact, eq F;
     planar: twice, for the two ends of the edge along y): every step's contact force and
     stored energy to 1e-6 of their maxima, and no step changes the force by more than the
@@ -83,7 +71,7 @@ def test_validate_corner_sliding_over_a_corner_keeps_force_and_energy_smooth(pla
     dt = sim.dt
     kt = KT_RATIO * KN
     count = 2.0 if planar else 1.0
-    force, ref_force, energy, ref_energy, keys = [], [], [], [], []
+    force, ref_force, energy, ref_energy, keys, tilt = [], [], [], [], [], []
     while True:
         x = sim.bodies.pos[1].copy()  # the step's forces act at these positions
         f_ref, e_ref, delta = sliding_contact(x, R, core_a, R_A, np.zeros(3), np.eye(3), core_b,
@@ -98,10 +86,17 @@ def test_validate_corner_sliding_over_a_corner_keeps_force_and_energy_smooth(pla
         ref_energy.append(count * e_ref)
         rows = sim.boxes.rows
         keys.append(tuple(rows.key[: rows.n[0]]))
+        tilt.append(np.arccos(np.abs(rows.normal[: rows.n[0], 2]).min()))
     force, ref_force = np.array(force), np.array(ref_force)
     energy, ref_energy = np.array(energy), np.array(ref_energy)
+    # the contact left the face over the rounded edge: its normal turned by the reference's
+    # (over 20 deg before the bodies part)
+    assert max(tilt) > math.radians(20.0)
     n_changes = sum(keys[k] != keys[k - 1] for k in range(1, len(keys)))
-    assert n_changes >= 2  # the feature pair did change
+    if kernels:
+        assert n_changes >= 2  # the feature key did change
+    else:  # a vertex (planar: both ends of the edge) throughout, over the edge too
+        assert {len(k) for k in keys} == {round(count)}
     # (the tangential spring loads to the Coulomb limit in the first steps: from then on)
     loaded = math.ceil(MU * KN * DEPTH / (kt * SPEED * dt)) + 1
     scale = np.abs(ref_force).max()
@@ -111,6 +106,9 @@ def test_validate_corner_sliding_over_a_corner_keeps_force_and_energy_smooth(pla
     jump = np.abs(np.diff(force[loaded:], axis=0)).max()
     ref_jump = np.abs(np.diff(ref_force[loaded:], axis=0)).max()
     assert jump <= ref_jump * (1 + 1e-6)
+    e_err = np.abs(energy - ref_energy)[loaded:].max() / ref_energy.max()
+    print(f"force {err / scale:.1e}, energy {e_err:.1e} of their maxima; largest step change "
+          f"{jump / scale:.2e} of the force (reference {ref_jump / scale:.2e})")  # fmt: skip
 
 
 # ----------------------------------------------------------------- 6. at rest
@@ -353,3 +351,96 @@ def test_validate_sharp_edge_limit_of_the_first_touch():
     diff_sim = times[20][0] - times[200][0]
     diff_ref = times[20][1] - times[200][1]
     assert abs(diff_sim - diff_ref) < 10 * delta / rho * times[200][1]
+
+
+# ----------------------------------------------------------------- 4. eccentric restitution
+
+
+def _eccentric_hertz_impact(v, restitution):
+    """A 7.5 x 24 x 48 mm box (r = 0.5 mm, E = 2.5 GPa, nu = 0.35, Hertz law, Tsuji
+    dashpot) falling at speed v [m/s] corner-first onto the floor, tilted so that the
+    corner is off the vertical through the centre (no gravity): the measured restitution
+    of the corner's normal velocity and the angle [rad] the box turned during the contact."""
+    half, r = np.array([0.00375, 0.012, 0.024]), 0.0005
+    core = _corners(half - r)
+    R = Rotation.from_rotvec([0.35, -0.5, 0.0]).as_matrix()
+    low = int(np.argmin((core @ R.T)[:, 2]))
+    scene = Scene(gravity=(0.0, 0.0, 0.0), normal_law="hertz")
+    m = scene.add_material(Material(density=RHO, young=2.5e9, poisson=0.35,
+                                    restitution=restitution))  # fmt: skip
+    scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), m)
+    scene.add_box(np.array([0.0, 0.0, r + 1e-6]) - R @ core[low], half, r, m, orientation=R,
+                  velocity=(0.0, 0.0, -v))  # fmt: skip
+    sim = scene.build(safety=0.02)
+
+    def corner_velocity():
+        b = sim.bodies
+        return (b.vel_full[0] + np.cross(b.omega_full[0], b.rot[0] @ core[low]))[2]
+
+    before = corner_velocity()
+    rot_on = None
+    while rot_on is None or sim.boxes.rows.n[0] > 0:
+        rot_on = sim.bodies.rot[0].copy() if rot_on is None and sim.boxes.rows.n[0] else rot_on
+        sim.run(n_steps=1)
+    turn = Rotation.from_matrix(sim.bodies.rot[0] @ rot_on.T).magnitude()
+    return -corner_velocity() / before, turn
+
+
+def test_validate_eccentric_restitution_converges_to_the_set_value_as_the_turn_vanishes():
+    """The dashpot of a point takes the effective mass at the point at the onset (the
+    restitution set holds for that mass); in an eccentric impact the body turns during
+    the contact, the lever arm and that mass change, and the measured restitution
+    differs from the set one.  To first order the difference is proportional to the
+    angle turned during the contact, which for a Hertz contact goes as omega t_c ~ v
+    v^{-1/5} = v^{4/5} (t_c ~ v^{-1/5}, Johnson 1985 sec. 11.4): from 0.05 to 0.5 m/s the
+    angle grows by 10^{4/5} = 6.31, and the excess of the restitution with it.  So the
+    measured restitution converges to the set one in the rigid limit (slow or stiff
+    impacts), and its excess at a given speed is a definite amount, not an error."""
+    e = 0.7
+    slow, turn_slow = _eccentric_hertz_impact(0.05, e)
+    fast, turn_fast = _eccentric_hertz_impact(0.5, e)
+    assert turn_fast / turn_slow == pytest.approx(10**0.8, rel=0.02)
+    excess_slow, excess_fast = slow / e - 1.0, fast / e - 1.0
+    assert excess_slow > 0.0
+    # (the second-order part, ~ turn^2, is below 1e-2 of the first at 0.5 m/s)
+    assert (excess_fast / turn_fast) / (excess_slow / turn_slow) == pytest.approx(1.0, rel=1e-2)
+    assert abs(excess_slow) < 1e-2  # (within validation 4's 1 % at 0.05 m/s)
+    per_slow, per_fast = excess_slow / turn_slow, excess_fast / turn_fast
+    print(f"excess {excess_slow:.2e} at 0.05 m/s (turn {turn_slow:.2e} rad), {excess_fast:.2e} "
+          f"at 0.5 m/s (turn {turn_fast:.2e} rad); turn ratio {turn_fast / turn_slow:.3f}, "
+          f"excess per radian {per_slow:.3f} and {per_fast:.3f}")  # fmt: skip
+
+
+# ----------------------------------------------------------------- a 3D box chain
+
+
+@pytest.mark.slow
+def test_wide_spacing_3d_box_chain_member_runs_with_its_energy_balance():
+    """A regression test: the 30-domino 3D box chain at d/l = 0.8, floor friction 0.3,
+    member 6 of the wide-spacing study (docs/long_chains.md), aborted at t = 1.17 s before
+    the side-plane rule of shapes.cuboid (the ledger's total from 0.046 to 0.094 J, docs/
+    dem.md "Overlaps beyond the rounding").  Now it runs to its end, and the ledger's total
+    (kinetic + potential + elastic + dissipated) drifts by 4.3e-3 of the energy released
+    (the push and the falls): far more than the integration error of an impact (1e-7),
+    the mark of the overlaps beyond the rounding, whose cause is not removed.  The bound,
+    1e-2, separates that from a breakdown (the abort: a drift of the order of 1)."""
+    from dominowave.chain import ChainParams, DominoChain
+    from dominowave.chain.scenario import member_push_factor
+    from dominowave.chain.stepper import ChainStepper
+
+    params = ChainParams(n_dominoes=30, d_over_l=0.8, shape="box", model="3d",
+                         friction_floor=0.3)  # fmt: skip
+    chain = DominoChain(params)
+    push = chain.resolve(None).scaled(member_push_factor(0, 6, 1e-3))
+    stepper = ChainStepper(chain, push)
+    e0 = stepper.sim.energy()
+    while not stepper.advance(20000):
+        pass
+    e1 = stepper.sim.energy()
+    released = e0["kinetic_translational"] + e0["kinetic_rotational"]
+    released += e0["gravitational"] - e1["gravitational"]  # the push and the falls
+    drift = abs(e1["total"] - e0["total"])
+    print(f"to t = {stepper.time:.3f} s, {stepper.reached} reached: total energy drift "
+          f"{drift:.2e} J, {drift / released:.1e} of the {released:.2e} J released")  # fmt: skip
+    assert stepper.reached > 1
+    assert drift < 1e-2 * released

@@ -241,6 +241,91 @@ def _clip(src, n_src, dst, axis, side, limit, label):
     return m
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _incident_corner(xB, RB, hB, kB, sB, k):
+    """World position (3 floats) of corner k (0..3, cyclic) of face ``(kB, sB)`` of box B;
+    edge k of the face runs from corner k to corner k + 1."""
+    m1, m2 = (kB + 1) % 3, (kB + 2) % 3
+    s1 = 1.0 if k == 0 or k == 3 else -1.0
+    s2 = 1.0 if k < 2 else -1.0
+    e0 = xB[0] + sB * hB[kB] * RB[0, kB] + s1 * hB[m1] * RB[0, m1] + s2 * hB[m2] * RB[0, m2]
+    e1 = xB[1] + sB * hB[kB] * RB[1, kB] + s1 * hB[m1] * RB[1, m1] + s2 * hB[m2] * RB[1, m2]
+    e2 = xB[2] + sB * hB[kB] * RB[2, kB] + s1 * hB[m1] * RB[2, m1] + s2 * hB[m2] * RB[2, m2]
+    return e0, e1, e2
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _beyond_side_plane(xA, RA, hA, ku, kv, c0, c1, c2, n0, n1, n2, xB, RB, hB, kB, sB, row,
+                       edge, plane):  # fmt: skip
+    """The contact that a clipped corner on a side plane stands for.
+
+    ``row`` (u, v, height above the reference face, label) is the corner where incident
+    edge ``edge`` of box B crosses side plane ``plane`` (0..3: +u, -u, +v, -v) of the
+    reference face of box A (centre ``c``, outward normal ``n``, face axes ``ku``, ``kv``).
+    If the edge rises beyond the plane, the corner is the contact (the lowest point of
+    the edge over the face; a face resting across an edge): returns ``(-1, ...)``.  If it
+    dips (its outer end lower) from a corner above the face, the edge's nearest approach
+    to A's core lies beyond the plane, over A's rounded edge: at its outer vertex (a
+    corner sliding off the face) or inside the edge.  Then returns ``(vertex, t, d, u (3),
+    q (3))``: the outer vertex (0..3), the position t in [0, 1] of the nearest approach
+    along the edge from the corner (1: the vertex), its core distance ``d`` [m] from A, the
+    unit vector ``u`` from A's nearest core point ``q`` towards it.  Beyond the side plane
+    the edge is outside A's core, and its nearest approach is at its outer end or nearest
+    to an edge of A's core (within a face region the distance is linear along the edge):
+    the vertex, or the nearest of the 12 segment-segment closest points (Ericson 2005,
+    sec. 5.1.9).
+
+    So the manifold is continuous where a vertex of the incident face crosses a side
+    plane: the clipped polygon trades the vertex for two corners on the plane, at its
+    depth at that instant; a dipping edge's corner is replaced by the vertex again (with
+    the vertex's key, once for both edges), which keeps its exact distance (over the
+    rounded edge) and its shear history.
+    """
+    axis = plane // 2
+    side = 1.0 if plane % 2 == 0 else -1.0
+    limit = hA[ku] if axis == 0 else hA[kv]
+    vertex = edge
+    a0, a1, a2 = _incident_corner(xB, RB, hB, kB, sB, edge)
+    b0, b1, b2 = _incident_corner(xB, RB, hB, kB, sB, (edge + 1) % 4)
+    Ru0, Ru1, Ru2 = RA[0, ku], RA[1, ku], RA[2, ku]
+    Rv0, Rv1, Rv2 = RA[0, kv], RA[1, kv], RA[2, kv]
+    ca = (a0 - c0) * (Ru0 if axis == 0 else Rv0) + (a1 - c1) * (Ru1 if axis == 0 else Rv1)
+    ca += (a2 - c2) * (Ru2 if axis == 0 else Rv2)
+    if side * ca <= limit:  # the edge's outer end is corner edge + 1
+        vertex = (edge + 1) % 4
+        a0, a1, a2 = b0, b1, b2
+    height = (a0 - c0) * n0 + (a1 - c1) * n1 + (a2 - c2) * n2
+    keep = (-1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    if height >= row[2] or row[2] <= 0.0:  # (at or below the face: the edge enters A's core)
+        return keep
+    # the crossing p in world coordinates, the edge beyond it p + t g, t in [0, 1]
+    p0 = c0 + row[0] * Ru0 + row[1] * Rv0 + row[2] * n0
+    p1 = c1 + row[0] * Ru1 + row[1] * Rv1 + row[2] * n1
+    p2 = c2 + row[0] * Ru2 + row[1] * Rv2 + row[2] * n2
+    g0, g1, g2 = a0 - p0, a1 - p1, a2 - p2
+    end = point_box_distance(xA, RA, hA, a0, a1, a2)
+    t = 1.0
+    for e in range(12 if g0 * g0 + g1 * g1 + g2 * g2 > 0.0 else 0):  # nearest to A's edges
+        ax, k1, k2 = e // 4, (e // 4 + 1) % 3, (e // 4 + 2) % 3
+        s1 = hA[k1] if e & 2 else -hA[k1]
+        s2 = hA[k2] if e & 1 else -hA[k2]
+        q0 = xA[0] + s1 * RA[0, k1] + s2 * RA[0, k2]
+        q1 = xA[1] + s1 * RA[1, k1] + s2 * RA[1, k2]
+        q2 = xA[2] + s1 * RA[2, k1] + s2 * RA[2, k2]
+        m0, m1, m2 = p0 + 0.5 * g0 - q0, p1 + 0.5 * g1 - q1, p2 + 0.5 * g2 - q2
+        sm, _ = _segment_closest(
+            m0, m1, m2, 0.5 * g0, 0.5 * g1, 0.5 * g2,
+            hA[ax] * RA[0, ax], hA[ax] * RA[1, ax], hA[ax] * RA[2, ax],
+        )  # fmt: skip
+        te = 0.5 * (1.0 + sm)
+        near = point_box_distance(xA, RA, hA, p0 + te * g0, p1 + te * g1, p2 + te * g2)
+        if near[0] < end[0]:
+            end, t = near, te
+    if end[0] <= 1e-9 * (hA[0] + hA[1] + hA[2]):  # (touching A's core: no normal)
+        return keep
+    return float(vertex), t, end[0], end[1], end[2], end[3], end[4], end[5], end[6]
+
+
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work, out):
     """Clip the incident face of box B against the reference face ``kA`` of box A.
@@ -266,14 +351,9 @@ def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work,
             best = dot
             kB = m
     sB = -_sign(n0 * RB[0, kB] + n1 * RB[1, kB] + n2 * RB[2, kB])
-    m1, m2 = (kB + 1) % 3, (kB + 2) % 3
     poly = work[0]
     for k in range(4):  # corners in cyclic order; edge k runs from corner k to k + 1
-        s1 = 1.0 if k == 0 or k == 3 else -1.0
-        s2 = 1.0 if k < 2 else -1.0
-        e0 = xB[0] + sB * hB[kB] * RB[0, kB] + s1 * hB[m1] * RB[0, m1] + s2 * hB[m2] * RB[0, m2]
-        e1 = xB[1] + sB * hB[kB] * RB[1, kB] + s1 * hB[m1] * RB[1, m1] + s2 * hB[m2] * RB[1, m2]
-        e2 = xB[2] + sB * hB[kB] * RB[2, kB] + s1 * hB[m1] * RB[2, m1] + s2 * hB[m2] * RB[2, m2]
+        e0, e1, e2 = _incident_corner(xB, RB, hB, kB, sB, k)
         e0, e1, e2 = e0 - c0, e1 - c1, e2 - c2
         poly[k, 0] = e0 * RA[0, ku] + e1 * RA[1, ku] + e2 * RA[2, ku]
         poly[k, 1] = e0 * RA[0, kv] + e1 * RA[1, kv] + e2 * RA[2, kv]
@@ -296,10 +376,39 @@ def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work,
     n = 0
     for k in range(count):
         pn = src[k, 2]
-        if pn >= reach:
-            continue
         label_in = int(src[k - 1 if k > 0 else count - 1, 3])
         label_out = int(src[k, 3])
+        if (label_in < 4) != (label_out < 4):  # a side-plane crossing of an incident edge
+            edge = min(label_in, label_out)
+            plane = max(label_in, label_out) - 4
+            w = _beyond_side_plane(
+                xA, RA, hA, ku, kv, c0, c1, c2, n0, n1, n2, xB, RB, hB, kB, sB, src[k], edge, plane
+            )
+            if w[0] >= 0:  # the incident edge dips beyond the side plane: see below
+                t, d, u0, u1, u2, q0, q1, q2 = w[1], w[2], w[3], w[4], w[5], w[6], w[7], w[8]
+                if d >= reach:
+                    continue
+                vertex = int(w[0])
+                label_in, label_out = vertex - 1 if vertex > 0 else 3, vertex
+                if t < 1.0:  # (inside the edge: the crossing's own key)
+                    label_in, label_out = edge, plane + 4
+                corner = base + min(label_in, label_out) * 8 + max(label_in, label_out)
+                duplicate = False
+                for c in range(n):
+                    duplicate = duplicate or key[c] == corner
+                if duplicate:  # (both edges of the vertex dip to it)
+                    continue
+                lift = 0.5 * (rA + d - rB)
+                point[n, 0] = q0 + lift * u0
+                point[n, 1] = q1 + lift * u1
+                point[n, 2] = q2 + lift * u2
+                normal[n, 0], normal[n, 1], normal[n, 2] = sign * u0, sign * u1, sign * u2
+                overlap[n] = rA + rB - d
+                key[n] = corner
+                n += 1
+                continue
+        if pn >= reach:
+            continue
         lift = 0.5 * (rA + pn - rB)  # midway between the two rounded surfaces
         point[n, 0] = c0 + src[k, 0] * RA[0, ku] + src[k, 1] * RA[0, kv] + lift * n0
         point[n, 1] = c1 + src[k, 0] * RA[1, ku] + src[k, 1] * RA[1, kv] + lift * n1
