@@ -226,8 +226,8 @@ def plot_fig6_beside(clump: list[dict], box: list[dict], out) -> list[Path]:
             if not here:
                 continue
             heading = (
-                f"Fig 6{panel}: {title}, {name} dominoes\n(lines: eq 34 from the {name}'s "
-                "mapped parameters, solid clump / dashed point mass; squares: transient)"
+                f"Fig 6{panel}: {title}, {name} dominoes\n(lines: eq 34 of the {name}, "
+                "solid clump / dashed point mass; squares: transient)"
             )
             _draw_panel(ax, ax2, summary, panel, here, scale, grid, heading)
         fig.tight_layout()
