@@ -28,6 +28,7 @@ whose wide-spacing wave stopped and says where and how.
     nice -n 15 python $S long --configs 2d,mu2,damp_small,k1e3 --members 3   # N = 300
     nice -n 15 python $S wide --models 2d,3d --phi 0.3,0.6,1.0 --members 8    # N = 30
     nice -n 15 python $S long --configs box,box_3d --members 3              # box dominoes
+    nice -n 15 python $S long --configs box_k1e3,box_k1e5 --members 3       # box stiffness
     python $S --report --figure docs/long_chains/speed_along_chain.png \\
         > docs/long_chains/long_chain_study.txt
     nice -n 15 python $S --diagnose --models 2d,3d > docs/long_chains/stopped_waves.txt
@@ -65,6 +66,8 @@ CHAINS: dict[str, dict] = {
     "3d_phid": {"model": "3d", "friction_dominoes": 0.5},
     "box": {"shape": "box"},
     "box_3d": {"shape": "box", "model": "3d"},
+    "box_k1e3": {"shape": "box", "stiffness_ratio": 1e3},
+    "box_k1e5": {"shape": "box", "stiffness_ratio": 1e5},
 }
 """Chain name -> ``ChainParams`` changes from the Fig 6 base chain (paper_fig6.CONFIGS)."""
 

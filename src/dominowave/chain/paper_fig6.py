@@ -20,13 +20,19 @@ scales the push by ``1 + jitter N(0,1)`` from ``default_rng([seed, i])``
 rule), and returns its measurements as one row. The sweep over configurations,
 spacings and members, and the ensemble statistics, are a study:
 :mod:`dominowave.sweep.fig6`.
+
+``shape = "box"`` builds every configuration of rounded cuboids instead of clumps
+(``ChainParams(shape="box")``: the same l, s, w and density, the cuboid's own mass,
+k/k* per box with ``k_n = k/4`` per contact point, the same friction and local damping;
+docs/shape.md). The box chain is not held until touched: a box stands on its own flat
+base, and holding is the clump's fix for its one rolling base sphere (docs/chain.md).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from dominowave.chain.build import ChainParams
+from dominowave.chain.build import ChainParams, Shape
 from dominowave.chain.compare import theory_speed
 from dominowave.chain.scenario import DominoChain, member_push_factor
 
@@ -67,17 +73,28 @@ MEMBER_FIELDS = (
 """What :func:`run_member` measures, in this order (SI units: rad/s, m/s, m, s)."""
 
 
-def fig6_params(config: str, d_over_l: float, n_dominoes: int) -> ChainParams:
-    """The chain of configuration ``config`` (a key of :data:`CONFIGS`) at gap ``d/l``."""
+def fig6_params(
+    config: str, d_over_l: float, n_dominoes: int, shape: Shape = "clump"
+) -> ChainParams:
+    """The chain of configuration ``config`` (a key of :data:`CONFIGS`) at gap ``d/l``,
+    of ``shape`` dominoes (``"clump"``, the paper's, or ``"box"``; not held: ``held``
+    keeps its default, off for a box)."""
     if config not in CONFIGS:
         raise ValueError(f"config = {config!r} is not one of {', '.join(CONFIGS)}")
-    return ChainParams(n_dominoes=n_dominoes, d_over_l=d_over_l, **CONFIGS[config])
+    return ChainParams(n_dominoes=n_dominoes, d_over_l=d_over_l, shape=shape, **CONFIGS[config])
 
 
 def run_member(
-    config: str, d_over_l: float, member: int, n_dominoes: int, seed: int, jitter: float
+    config: str,
+    d_over_l: float,
+    member: int,
+    n_dominoes: int,
+    seed: int,
+    jitter: float,
+    shape: Shape = "clump",
 ) -> dict:
-    """Run ensemble member ``member`` of ``(config, d/l)`` and measure its wave.
+    """Run ensemble member ``member`` of ``(config, d/l)`` of ``shape`` dominoes and
+    measure its wave.
 
     The push is the chain's default push (``omega = sqrt(g/l)``) scaled by
     :func:`member_push_factor` ``(seed, member, jitter)``. Returns
@@ -91,7 +108,7 @@ def run_member(
     fraction of dominoes in mechanism II (forward rotation + slip, Fig 5A), and the
     engine's wall time [s] and steps.
     """
-    p = fig6_params(config, d_over_l, n_dominoes)
+    p = fig6_params(config, d_over_l, n_dominoes, shape)
     chain = DominoChain(p)
     base = chain.resolve(None)
     run = chain.run(base.scaled(member_push_factor(seed, member, jitter)))

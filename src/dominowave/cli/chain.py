@@ -399,17 +399,25 @@ def chain_command(
 def paper_fig6_command(
     out: Annotated[Path, typer.Option(help="output directory")] = Path("fig6"),
     quick: Annotated[bool, typer.Option(help="small preset for CI")] = False,
+    shape: Annotated[
+        str, typer.Option(help="domino shape: clump (of spheres, the paper's) | box")
+    ] = "clump",
     workers: Annotated[int | None, typer.Option(help="processes (default min(2, cores))")] = None,
     scheduler: Annotated[
         str | None, typer.Option(help="address of an existing Dask scheduler (tcp://host:port)")
     ] = None,
 ) -> None:
-    """Reproduce the paper's Fig 6 B-E (a resumable DEM sweep): PNG + CSV in OUT."""
+    """Reproduce the paper's Fig 6 B-E (a resumable DEM sweep): PNG + CSV in OUT.
+
+    ``--shape box`` runs every configuration with rounded-cuboid dominoes (docs/shape.md).
+    """
     from dominowave.cli.workflow import check_cluster_options
     from dominowave.plots.fig6 import plot_fig6
     from dominowave.sweep.fig6 import (
         FULL,
+        FULL_BOX,
         QUICK,
+        QUICK_BOX,
         RUNS_CSV,
         read_rows,
         run_fig6,
@@ -417,11 +425,16 @@ def paper_fig6_command(
         write_summary,
     )
 
+    if shape not in ("clump", "box"):
+        raise ValueError(f"shape = {shape!r} is not one of 'clump', 'box'")
     ensure_writable_dir(out)
     check_cluster_options(workers, scheduler)
     notice_if_compiling("dem")  # each worker process loads (or compiles) them
 
-    preset = QUICK if quick else FULL
+    if shape == "box":
+        preset = QUICK_BOX if quick else FULL_BOX
+    else:
+        preset = QUICK if quick else FULL
     console = Console()
     start = time.perf_counter()
 

@@ -23,7 +23,7 @@ from dominowave.chain.paper_fig6 import CONFIGS
 from dominowave.plots.unsettled import mark_unsettled
 from dominowave.units import speed_scale
 
-__all__ = ["PANELS", "plot_fig6"]
+__all__ = ["PANELS", "plot_fig6", "plot_fig6_beside"]
 
 PANELS: dict[str, tuple[str, tuple[str, ...]]] = {
     "B": ("2D vs 3D model", ("2d", "3d", "3d_asym")),
@@ -45,16 +45,25 @@ LABELS = {
 COLORS = dict(zip(CONFIGS, ["C0", "C1", "C2", "C3", "C4", "C5", "C6", "C7"], strict=True))
 
 
-def _theory_curve(config: str, grid: np.ndarray, mapping: str) -> np.ndarray:
+def _theory_curve(config: str, grid: np.ndarray, mapping: str, shape: str) -> np.ndarray:
+    """eq 34 [m/s] on ``grid`` (d/l) from the mapped parameters of ``shape`` dominoes."""
     return np.array(
-        [theory_speed(ChainParams(d_over_l=x, **CONFIGS[config]), mapping) for x in grid]
+        [
+            theory_speed(ChainParams(d_over_l=x, shape=shape, **CONFIGS[config]), mapping)
+            for x in grid
+        ]
     )
+
+
+def _shape_of(summary: list[dict]) -> str:
+    """The domino shape of a summary: a box summary has a ``shape`` column."""
+    return summary[0].get("shape", "clump") if summary else "clump"
 
 
 def _series(summary: list[dict], config: str) -> dict[str, np.ndarray]:
     rows = sorted((r for r in summary if r["config"] == config), key=lambda r: r["d_over_l"])
     keys = rows[0].keys() if rows else []
-    return {k: np.array([r[k] for r in rows]) for k in keys if k != "config"}
+    return {k: np.array([r[k] for r in rows]) for k in keys if k not in ("config", "shape")}
 
 
 def _settled_counts(ax, x, y, settled, members, color) -> None:
@@ -106,26 +115,64 @@ def _speed_axes(ax, summary, configs, scale, grid, theory_configs):
             color=COLORS[c],
             ms=7,
         )
+    shape = _shape_of(summary)
     for c in theory_configs:
-        ax.plot(grid, _theory_curve(c, grid, "clump") / scale, "-", color=COLORS[c], lw=1)
-        ax.plot(grid, _theory_curve(c, grid, "point") / scale, "--", color=COLORS[c], lw=1)
+        for mapping, style in (("clump", "-"), ("point", "--")):
+            v = _theory_curve(c, grid, mapping, shape)
+            ax.plot(grid, v / scale, style, color=COLORS[c], lw=1)
     ax.set_xlabel("d / l")
     ax.set_ylabel("v / sqrt(g l)")
     ax.set_yscale("log")
     ax.grid(alpha=0.3)
 
 
+def _draw_panel(ax, ax2, summary, panel, present, scale, grid, title) -> None:
+    """One panel of Fig 6 (the speeds on ``ax``, panel E's re-hit fraction on ``ax2``)."""
+    theory_configs = present if panel == "C" else present[:1]
+    _speed_axes(ax, summary, present, scale, grid, theory_configs)
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=7)
+    if ax2 is not None:
+        for c in present:
+            s = _series(summary, c)
+            ax2.plot(
+                s["d_over_l"],
+                s["multiple_collision_fraction"],
+                "o-",
+                color=COLORS[c],
+                label=LABELS[c],
+            )
+        ax2.set_ylabel("fraction of pairs hit > once\nbefore the next arrival")
+        ax2.set_xlabel("d / l")
+        ax2.grid(alpha=0.3)
+
+
+def _write_csv(rows: list[dict], path: Path) -> None:
+    fields = list(dict.fromkeys(k for r in rows for k in r))  # clump rows have no shape
+    with path.open("w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=fields)
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def _grid(summaries) -> np.ndarray:
+    dls = sorted({r["d_over_l"] for s in summaries for r in s})
+    return np.linspace(max(0.05, min(dls) - 0.05), min(0.9, max(dls) + 0.05), 60)
+
+
 def plot_fig6(summary: list[dict], out) -> list[Path]:
     """Write ``fig6B..E.png`` and ``fig6B..E.csv`` (the plotted ensemble data) to ``out``.
 
-    ``summary`` is :func:`dominowave.sweep.fig6.summarise` output. Returns the written paths.
+    ``summary`` is :func:`dominowave.sweep.fig6.summarise` output (of clump or of box
+    dominoes: eq 34 is drawn from the mapped parameters of that shape). Returns the
+    written paths.
     """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     l, g = ChainParams().height, ChainParams().g
     scale = float(speed_scale(l, g))
-    dls = sorted({r["d_over_l"] for r in summary})
-    grid = np.linspace(max(0.05, min(dls) - 0.05), min(0.9, max(dls) + 0.05), 60)
+    grid = _grid([summary])
+    boxes = " (box dominoes)" if _shape_of(summary) == "box" else ""
     written = []
     for panel, (title, configs) in PANELS.items():
         present = [c for c in configs if any(r["config"] == c for r in summary)]
@@ -136,35 +183,57 @@ def plot_fig6(summary: list[dict], out) -> list[Path]:
             ax, ax2 = fig.subplots(2, 1, sharex=True)
         else:
             ax, ax2 = fig.subplots(), None
-        theory_configs = present if panel == "C" else present[:1]
-        _speed_axes(ax, summary, present, scale, grid, theory_configs)
-        ax.set_title(
-            f"Fig 6{panel}: {title}\n(lines: eq 34, solid clump / dashed point mass; "
-            "squares: transient theory)",
-            fontsize=9,
+        heading = (
+            f"Fig 6{panel}: {title}{boxes}\n(lines: eq 34, solid clump / dashed point mass; "
+            "squares: transient theory)"
         )
-        ax.legend(fontsize=7)
-        if ax2 is not None:
-            for c in present:
-                s = _series(summary, c)
-                ax2.plot(
-                    s["d_over_l"],
-                    s["multiple_collision_fraction"],
-                    "o-",
-                    color=COLORS[c],
-                    label=LABELS[c],
-                )
-            ax2.set_ylabel("fraction of pairs hit > once\nbefore the next arrival")
-            ax2.set_xlabel("d / l")
-            ax2.grid(alpha=0.3)
+        _draw_panel(ax, ax2, summary, panel, present, scale, grid, heading)
         fig.tight_layout()
         png = out / f"fig6{panel}.png"
         fig.savefig(png, dpi=120)
-        rows = [r for r in summary if r["config"] in present]
         path = out / f"fig6{panel}.csv"
-        with path.open("w", newline="") as fh:
-            writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
-            writer.writeheader()
-            writer.writerows(rows)
+        _write_csv([r for r in summary if r["config"] in present], path)
+        written += [png, path]
+    return written
+
+
+def plot_fig6_beside(clump: list[dict], box: list[dict], out) -> list[Path]:
+    """Fig 6B-E with clump dominoes (left) beside box dominoes (right), same axes.
+
+    ``clump`` and ``box`` are :func:`dominowave.sweep.fig6.summarise` outputs of a clump
+    and a box preset. Writes ``fig6B..E_beside.png`` and ``.csv`` (the rows of both,
+    the box rows with ``shape = box``) to ``out``; returns the written paths.
+    """
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    l, g = ChainParams().height, ChainParams().g
+    scale = float(speed_scale(l, g))
+    grid = _grid([clump, box])
+    written = []
+    for panel, (title, configs) in PANELS.items():
+        present = [c for c in configs if any(r["config"] == c for r in clump + box)]
+        if not present:
+            continue
+        fig = Figure(figsize=(12.0, 7.2 if panel == "E" else 5.0))
+        if panel == "E":
+            axes = fig.subplots(2, 2, sharex=True, sharey="row")
+            pairs = [(axes[0, 0], axes[1, 0]), (axes[0, 1], axes[1, 1])]
+        else:
+            axes = fig.subplots(1, 2, sharey=True)
+            pairs = [(axes[0], None), (axes[1], None)]
+        for (ax, ax2), summary, name in zip(pairs, (clump, box), ("clump", "box"), strict=True):
+            here = [c for c in present if any(r["config"] == c for r in summary)]
+            if not here:
+                continue
+            heading = (
+                f"Fig 6{panel}: {title}, {name} dominoes\n(lines: eq 34 of the {name}, "
+                "solid clump / dashed point mass; squares: transient)"
+            )
+            _draw_panel(ax, ax2, summary, panel, here, scale, grid, heading)
+        fig.tight_layout()
+        png = out / f"fig6{panel}_beside.png"
+        fig.savefig(png, dpi=110)
+        path = out / f"fig6{panel}_beside.csv"
+        _write_csv([r for r in clump + box if r["config"] in present], path)
         written += [png, path]
     return written

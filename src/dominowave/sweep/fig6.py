@@ -9,6 +9,11 @@ stored points; Ctrl-C or SIGTERM stops cleanly). ``runs.csv`` then holds one row
 stored member, and :func:`summarise` turns the rows into ensemble statistics per
 (configuration, d/l), summed in member order: the same members give the same
 summary to the last bit, whichever worker ran them when.
+
+A preset's ``shape`` is the shape of its dominoes (``"clump"``, the paper's, or
+``"box"``, :data:`QUICK_BOX` and :data:`FULL_BOX`). A box preset's ``runs.csv`` and
+summary carry a ``shape`` column after ``config``; a clump preset's have the columns
+they always had.
 """
 
 from __future__ import annotations
@@ -17,13 +22,14 @@ import csv
 import math
 import os
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Literal
 
 import numpy as np
 from pydantic import Field
 
+from dominowave.chain.build import Shape
 from dominowave.chain.paper_fig6 import CONFIGS, MEMBER_FIELDS, run_member
 from dominowave.chain.wave import ensemble_stats
 from dominowave.io.results import RunResult
@@ -34,11 +40,14 @@ from dominowave.sweep.presets import PresetRun, run_preset
 __all__ = [
     "FIELDS",
     "FULL",
+    "FULL_BOX",
     "QUICK",
+    "QUICK_BOX",
     "RUNS_CSV",
     "Fig6Member",
     "Fig6Preset",
     "fig6_points",
+    "preset_fields",
     "read_rows",
     "run_fig6",
     "run_fig6_member",
@@ -50,7 +59,7 @@ RUNS_CSV = "runs.csv"
 """One row per stored member, written into the sweep folder after each sweep."""
 
 FIELDS = ["config", "d_over_l", "member", *MEMBER_FIELDS]
-"""The columns of ``runs.csv``."""
+"""The columns of a clump preset's ``runs.csv``."""
 
 
 @dataclass(frozen=True)
@@ -73,12 +82,26 @@ class Fig6Preset:
     )
     seed: int = 0
     jitter: float = 1e-3
+    shape: Shape = "clump"
 
 
 QUICK = Fig6Preset("quick", d_over_l=(0.3, 0.6), members=2, n_dominoes=12)
 FULL = Fig6Preset(
     "full", d_over_l=(0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8), members=8, n_dominoes=30
 )
+QUICK_BOX = replace(QUICK, name="quick-box", shape="box")
+FULL_BOX = replace(FULL, name="full-box", members=4, shape="box")
+"""The full preset with box dominoes, 4 members (members 0-3 of the clump preset's
+seeds). A box chain scatters much less than a clump chain (at k/k* = 1e4, d/l = 0.4 its
+2D members agree to 1e-5, docs/shape.md), but a 30-box wave does not settle in every
+member at every spacing, and the lateral asymmetry scatters 3D members by several per
+cent: with 4 members (256 runs) most ensembles have a standard error."""
+
+
+def preset_fields(preset: Fig6Preset) -> list[str]:
+    """The columns of ``preset``'s ``runs.csv``: :data:`FIELDS`, and ``shape`` after
+    ``config`` for a box preset."""
+    return FIELDS if preset.shape == "clump" else ["config", "shape", *FIELDS[1:]]
 
 
 class Fig6Member(ScenarioModel):
@@ -91,14 +114,17 @@ class Fig6Member(ScenarioModel):
     n_dominoes: int = Field(30, ge=3, description="dominoes in the chain")
     seed: int = Field(0, ge=0, description="ensemble seed")
     jitter: float = quantity(1e-3, "-", "relative push perturbation", ge=0.0)
+    shape: Shape = Field("clump", description="domino shape: clump (the paper's) or box")
 
 
 def run_fig6_member(cfg: Fig6Member, ctx: RunContext | None = None) -> RunResult:
     """Run one member (the sweep engine's run function of ``paper_fig6_member``)."""
     measured = run_member(
-        cfg.config, cfg.d_over_l, cfg.member, cfg.n_dominoes, cfg.seed, cfg.jitter
+        cfg.config, cfg.d_over_l, cfg.member, cfg.n_dominoes, cfg.seed, cfg.jitter, cfg.shape
     )
     row = {"config": cfg.config, "d_over_l": cfg.d_over_l, "member": cfg.member} | measured
+    if cfg.shape != "clump":
+        row["shape"] = cfg.shape
     # a wave that does not settle has no speed: NaN is a result here, not a failure
     undefined = tuple(k for k, v in row.items() if isinstance(v, float))
     return RunResult(summary=row, may_be_nan=undefined)
@@ -128,6 +154,7 @@ def fig6_points(preset: Fig6Preset) -> list[Fig6Member]:
                         n_dominoes=preset.n_dominoes,
                         seed=preset.seed,
                         jitter=preset.jitter,
+                        shape=preset.shape,
                     )
                 )
     return points
@@ -167,10 +194,11 @@ def run_fig6(
         (s for s in done.summaries if s is not None),
         key=lambda r: (preset.configs.index(r["config"]), r["d_over_l"], r["member"]),
     )
+    fields = preset_fields(preset)
     with (out_dir / RUNS_CSV).open("w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=FIELDS)
+        writer = csv.DictWriter(fh, fieldnames=fields)
         writer.writeheader()
-        writer.writerows({k: r[k] for k in FIELDS} for r in rows)
+        writer.writerows({k: r[k] for k in fields} for r in rows)
     return done
 
 
@@ -178,12 +206,15 @@ def summarise(rows: Iterable[dict]) -> list[dict]:
     """Ensemble statistics per (configuration, d/l) from run rows (CSV dicts or dicts).
 
     Speeds of members whose wave did not settle are NaN and counted in ``n_failed``.
+    Rows of box dominoes (a ``shape`` column) are summarised apart from clump rows, and
+    their summary has a ``shape`` column after ``config``.
     """
-    groups: dict[tuple[str, float], list[dict]] = {}
+    groups: dict[tuple[str, float, str], list[dict]] = {}
     for r in rows:
-        groups.setdefault((r["config"], float(r["d_over_l"])), []).append(r)
+        key = (r["config"], float(r["d_over_l"]), r.get("shape", "clump"))
+        groups.setdefault(key, []).append(r)
     out = []
-    for (config, dl), unordered in sorted(groups.items()):
+    for (config, dl, shape), unordered in sorted(groups.items()):
         # member order, not the workers' completion order: the sums are then reproducible
         # to the last bit
         rs = sorted(unordered, key=lambda r: int(r["member"]))
@@ -194,8 +225,9 @@ def summarise(rows: Iterable[dict]) -> list[dict]:
         speed = ensemble_stats(col("speed"))
         window = ensemble_stats(col("theory_window_speed"))
         out.append(
-            {
-                "config": config,
+            {"config": config}
+            | ({} if shape == "clump" else {"shape": shape})
+            | {
                 "d_over_l": dl,
                 "members": len(rs),
                 "speed_mean": speed.mean,
