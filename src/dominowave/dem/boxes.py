@@ -88,9 +88,13 @@ from dominowave.dem.state import Spheres
 __all__ = [
     "BoxContacts",
     "Boxes",
+    "box_contact_forces",
     "box_energies",
     "box_forces",
+    "box_peak_force",
     "box_power",
+    "box_state",
+    "boxes_from_state",
     "build_box_candidates",
     "empty_boxes",
 ]
@@ -759,3 +763,94 @@ def box_energies(boxes, out):
     out[3] += en
     out[4] += es
     out[8] += en + es
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def box_contact_forces(boxes, first_id, first, second, point, force):
+    """The contact forces of the last :func:`box_forces`, one row per contact row, in the
+    layout of contact.active_contact_forces (the engine's contact-force recorder).
+
+    Shapes are numbered spheres first, then boxes: box x is shape ``first_id + x``
+    (``first_id`` = the number of spheres).  Box-box row: ``first``, ``second`` the two
+    boxes, ``force`` the force on ``second``; box-wall row: ``first = -(wall + 1)``,
+    ``second`` the box, ``force`` the force on the box.  ``force`` (3,) [N] is the force
+    as applied in the last kick, ``mult (fn n - kt u)`` (a planar row stands for ``mult``
+    points of the 3D body: their sum), ``point`` (3,) [m] the contact point.  The end
+    impulse of a point that opened in the last drift is not a row.  Writes from row 0 on
+    and returns the number of rows.
+    """
+    rows = boxes.rows
+    for c in range(rows.n[0]):
+        n = rows.normal[c]
+        u = rows.shear[c]
+        fn, kt, m = rows.fn[c], rows.kt[c], rows.mult[c]
+        sign = 1.0  # (on the partner box)
+        if rows.j[c] >= 0:
+            first[c] = first_id + rows.i[c]
+            second[c] = first_id + rows.j[c]
+        else:
+            sign = -1.0  # (on the box)
+            first[c] = rows.j[c]
+            second[c] = first_id + rows.i[c]
+        for d in range(3):
+            point[c, d] = rows.point[c, d]
+            force[c, d] = sign * m * (fn * n[d] - kt * u[d])
+    return rows.n[0]
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def box_peak_force(boxes, peak):
+    """Raise ``peak[a, b]`` (a < b bodies, [N]) to the normal force of any box-box contact
+    point of the pair (as engine.py records the sphere contacts' peak force)."""
+    rows = boxes.rows
+    for c in range(rows.n[0]):
+        if rows.j[c] >= 0:
+            bi = boxes.body[rows.i[c]]
+            bj = boxes.body[rows.j[c]]
+            a = min(bi, bj)
+            b = max(bi, bj)
+            if rows.fn[c] > peak[a, b]:
+                peak[a, b] = rows.fn[c]
+
+
+# --- checkpoints -----------------------------------------------------------------------------
+_BOX_ARRAYS = ("body", "half", "radius", "material", "normal_law", "cand", "n_cand", "cand_start")
+"""Arrays of :class:`Boxes` a resumed run depends on; the rest is per-step scratch (the
+rows being built, the manifold of one pair, the change list), written before it is read."""
+
+
+def box_state(boxes) -> dict[str, np.ndarray]:
+    """The box state a run resumes from, as a flat dict of NumPy arrays (copies): the
+    bodies' shapes and materials, the normal law, the candidate list, and the contact
+    rows of the last step (their used part: feature keys, shear histories, stiffness,
+    dashpot, overlap, normal velocity) under ``rows.<field>``."""
+    out = {name: np.array(getattr(boxes, name), copy=True) for name in _BOX_ARRAYS}
+    n = int(boxes.rows.n[0])
+    for name, value in boxes.rows._asdict().items():
+        out[f"rows.{name}"] = np.array(value if name == "n" else value[:n], copy=True)
+    return out
+
+
+def boxes_from_state(state: dict) -> Boxes:
+    """The :class:`Boxes` of a :func:`box_state` dict (keys without a prefix), with the
+    row capacity of a freshly built scene of the same boxes (:func:`empty_boxes`)."""
+    boxes = empty_boxes(
+        state["body"], state["half"], state["radius"], state["material"],
+        int(np.asarray(state["normal_law"]).reshape(-1)[0]),
+    )  # fmt: skip
+    n = int(np.asarray(state["rows.n"]).reshape(-1)[0])
+    rows = boxes.rows
+    if n > rows.i.shape[0]:
+        raise ValueError(
+            f"state['boxes.rows.n'] = {n} contact rows, more than the {rows.i.shape[0]} the"
+            " scene's boxes hold"
+        )
+    for name, value in rows._asdict().items():
+        if name != "n":
+            value[:n] = np.asarray(state[f"rows.{name}"]).astype(value.dtype)
+    rows.n[0] = n
+    return boxes._replace(
+        cand=np.array(state["cand"], np.int64),
+        n_cand=np.array(state["n_cand"], np.int64).reshape(1),
+        cand_start=np.array(state["cand_start"], np.int64),
+    )

@@ -25,7 +25,14 @@ from collections import namedtuple
 
 from numba import njit
 
-from dominowave.dem.boxes import box_energies, box_forces, box_power, build_box_candidates
+from dominowave.dem.boxes import (
+    box_contact_forces,
+    box_energies,
+    box_forces,
+    box_peak_force,
+    box_power,
+    build_box_candidates,
+)
 from dominowave.dem.contact import (
     CHANGE_CONTACT,
     CHANGE_KIND,
@@ -341,8 +348,9 @@ def _record_frame(bodies, rec, t):
 
 
 @njit(cache=True, error_model="numpy")
-def _record_contact_forces(spheres, walls, contacts, rec):
-    """Append the active contacts of this step as the rows of trajectory frame traj_n."""
+def _record_contact_forces(spheres, walls, contacts, rec, boxes):
+    """Append the active contacts of this step as the rows of trajectory frame traj_n
+    (the spheres', then the boxes' rows: boxes.box_contact_forces)."""
     k0 = rec.cf_n[0]
     rec.cf_start[rec.traj_n[0]] = k0
     rec.cf_n[0] = k0 + active_contact_forces(
@@ -354,6 +362,16 @@ def _record_contact_forces(spheres, walls, contacts, rec):
         rec.cf_point[k0:],
         rec.cf_force[k0:],
     )
+    if boxes.body.shape[0] > 0:
+        k0 = rec.cf_n[0]
+        rec.cf_n[0] = k0 + box_contact_forces(
+            boxes,
+            spheres.body.shape[0],
+            rec.cf_first[k0:],
+            rec.cf_second[k0:],
+            rec.cf_point[k0:],
+            rec.cf_force[k0:],
+        )
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -493,7 +511,8 @@ def run_loop(
         if energy_due and rec.energy_n[0] == rec.energy_t.shape[0]:
             return GROW_ENERGY, done
         forces_due = traj_due and rec.cf_on[0] == 1
-        if forces_due and rec.cf_first.shape[0] - rec.cf_n[0] < contacts.i.shape[0]:
+        cf_room = contacts.i.shape[0] + (boxes.rows.i.shape[0] if has_boxes else 0)
+        if forces_due and rec.cf_first.shape[0] - rec.cf_n[0] < cf_room:
             return GROW_CONTACT_FORCES, done
         if rebuild_due or (has_boxes and boxes.n_cand[0] < 0):
             if not _finite(bodies):
@@ -537,6 +556,8 @@ def run_loop(
             _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, step == 0)
         if settings.record_peak_force:
             _record_peak_force(spheres, contacts, rec)
+            if has_boxes:
+                box_peak_force(boxes, rec.peak_force)
         # stop conditions, decided at t_n
         code = -1
         if touched_body >= 0 and rec.touched[touched_body]:
@@ -572,7 +593,7 @@ def run_loop(
                 rec.power[LAST_POWER_DAMPING] = p_damping
                 rec.power[LAST_POWER_FRICTION] = p_contacts[POWER_FRICTION]
             if forces_due:  # (before _record_frame: the frame index is traj_n)
-                _record_contact_forces(spheres, walls, contacts, rec)
+                _record_contact_forces(spheres, walls, contacts, rec, boxes)
             if traj_due:
                 _record_frame(bodies, rec, t)
             if energy_due:
