@@ -122,6 +122,8 @@ Boxes = namedtuple(
         "cand",  # (P,) int64 candidate pairs (_pair_code), ascending (build_box_candidates)
         "n_cand",  # (1,) int64 candidates listed; -1: no list, every pair is a candidate
         "cand_start",  # (nx + 1,) int64 first candidate of each box (CSR of cand)
+        "sphere_rows",  # BoxContacts of the box-sphere contacts (box_sphere.py), j: sphere
+        "sphere_next",  # BoxContacts being built (scratch)
     ],
 )
 
@@ -198,6 +200,8 @@ def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR)
         cand=np.zeros(8 * nx + 16, np.int64),
         n_cand=np.full(1, -1, np.int64),
         cand_start=np.zeros(nx + 1, np.int64),
+        sphere_rows=_empty_rows(capacity),
+        sphere_next=_empty_rows(capacity),
     )
 
 
@@ -823,11 +827,14 @@ def box_state(boxes) -> dict[str, np.ndarray]:
     """The box state a run resumes from, as a flat dict of NumPy arrays (copies): the
     bodies' shapes and materials, the normal law, the candidate list, and the contact
     rows of the last step (their used part: feature keys, shear histories, stiffness,
-    dashpot, overlap, normal velocity) under ``rows.<field>``."""
+    dashpot, overlap, normal velocity) under ``rows.<field>``, those of the box-sphere
+    contacts (box_sphere.py) under ``sphere_rows.<field>``."""
     out = {name: np.array(getattr(boxes, name), copy=True) for name in _BOX_ARRAYS}
-    n = int(boxes.rows.n[0])
-    for name, value in boxes.rows._asdict().items():
-        out[f"rows.{name}"] = np.array(value if name == "n" else value[:n], copy=True)
+    for group in ("rows", "sphere_rows"):
+        rows = getattr(boxes, group)
+        n = int(rows.n[0])
+        for name, value in rows._asdict().items():
+            out[f"{group}.{name}"] = np.array(value if name == "n" else value[:n], copy=True)
     return out
 
 
@@ -838,17 +845,20 @@ def boxes_from_state(state: dict) -> Boxes:
         state["body"], state["half"], state["radius"], state["material"],
         int(np.asarray(state["normal_law"]).reshape(-1)[0]),
     )  # fmt: skip
-    n = int(np.asarray(state["rows.n"]).reshape(-1)[0])
-    rows = boxes.rows
-    if n > rows.i.shape[0]:
-        raise ValueError(
-            f"state['boxes.rows.n'] = {n} contact rows, more than the {rows.i.shape[0]} the"
-            " scene's boxes hold"
-        )
-    for name, value in rows._asdict().items():
-        if name != "n":
-            value[:n] = np.asarray(state[f"rows.{name}"]).astype(value.dtype)
-    rows.n[0] = n
+    for group in ("rows", "sphere_rows"):
+        if f"{group}.n" not in state:  # (box-sphere rows: a state of a scene without any)
+            continue
+        n = int(np.asarray(state[f"{group}.n"]).reshape(-1)[0])
+        rows = getattr(boxes, group)
+        if n > rows.i.shape[0]:
+            raise ValueError(
+                f"state['boxes.{group}.n'] = {n} contact rows, more than the {rows.i.shape[0]}"
+                " the scene's boxes hold"
+            )
+        for name, value in rows._asdict().items():
+            if name != "n":
+                value[:n] = np.asarray(state[f"{group}.{name}"]).astype(value.dtype)
+        rows.n[0] = n
     return boxes._replace(
         cand=np.array(state["cand"], np.int64),
         n_cand=np.array(state["n_cand"], np.int64).reshape(1),

@@ -25,6 +25,12 @@ from collections import namedtuple
 
 from numba import njit
 
+from dominowave.dem.box_sphere import (
+    box_sphere_contact_forces,
+    box_sphere_energies,
+    box_sphere_forces,
+    box_sphere_power,
+)
 from dominowave.dem.boxes import (
     box_contact_forces,
     box_energies,
@@ -372,6 +378,15 @@ def _record_contact_forces(spheres, walls, contacts, rec, boxes):
             rec.cf_point[k0:],
             rec.cf_force[k0:],
         )
+        k0 = rec.cf_n[0]
+        rec.cf_n[0] = k0 + box_sphere_contact_forces(
+            boxes,
+            spheres.body.shape[0],
+            rec.cf_first[k0:],
+            rec.cf_second[k0:],
+            rec.cf_point[k0:],
+            rec.cf_force[k0:],
+        )
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -511,7 +526,9 @@ def run_loop(
         if energy_due and rec.energy_n[0] == rec.energy_t.shape[0]:
             return GROW_ENERGY, done
         forces_due = traj_due and rec.cf_on[0] == 1
-        cf_room = contacts.i.shape[0] + (boxes.rows.i.shape[0] if has_boxes else 0)
+        cf_room = contacts.i.shape[0]
+        if has_boxes:
+            cf_room += boxes.rows.i.shape[0] + boxes.sphere_rows.i.shape[0]
         if forces_due and rec.cf_first.shape[0] - rec.cf_n[0] < cf_room:
             return GROW_CONTACT_FORCES, done
         if rebuild_due or (has_boxes and boxes.n_cand[0] < 0):
@@ -550,6 +567,7 @@ def run_loop(
             )
         if has_boxes:
             box_forces(bodies, boxes, walls, mats, dt, rec.ledger, step == 0, planar)
+            box_sphere_forces(bodies, spheres, boxes, mats, dt, rec.ledger, step == 0, planar)
             if boxes.n_changes[0] > 0:
                 _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t)
         if n_changes > 0:
@@ -581,6 +599,7 @@ def run_loop(
                     contact_power(bodies, spheres, walls, contacts, p_contacts)
                 if has_boxes:
                     box_power(bodies, boxes, p_contacts)
+                    box_sphere_power(bodies, spheres, boxes, p_contacts)
                 # trapezoidal rule for the work of the non-conservative forces since t_{n-1}
                 if step > 0:
                     viscous = rec.power[LAST_POWER_VISCOUS] + p_contacts[POWER_VISCOUS]
@@ -602,12 +621,14 @@ def run_loop(
                 energies(bodies, contacts, settings.gravity, rec.ledger, rec.energy_val[g])
                 if has_boxes:
                     box_energies(boxes, rec.energy_val[g])
+                    box_sphere_energies(boxes, rec.energy_val[g])
                 rec.energy_n[0] = g + 1
             # sanity checks at t_n, before the drift
             if check_due:
                 energies(bodies, contacts, settings.gravity, rec.ledger, rec.energy_now)
                 if has_boxes:
                     box_energies(boxes, rec.energy_now)
+                    box_sphere_energies(boxes, rec.energy_now)
                 if not _finite(bodies):
                     return ABORT_NAN, done
                 rec.clock[CLOCK_ENERGY_SCALE] = max(

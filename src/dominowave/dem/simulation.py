@@ -11,6 +11,7 @@ import numpy as np
 
 from dominowave.checks import check_finite, check_in_range, check_positive
 from dominowave.dem import engine
+from dominowave.dem.box_sphere import box_sphere_energies, box_sphere_forces
 from dominowave.dem.boxes import (
     box_energies,
     box_forces,
@@ -348,11 +349,15 @@ class Simulation:
         boxes = self.boxes
         if self.rec.step[0] == 0 and boxes.body.size:  # (the box contacts at start, on a copy)
             boxes = copy.deepcopy(boxes)
+            bodies, planar = copy.deepcopy(self.bodies), self.planar_kernels and self.planar
             box_forces(
-                copy.deepcopy(self.bodies), boxes, self.walls, self.mats, self.dt, np.zeros(3),
-                True, self.planar_kernels and self.planar,
+                bodies, boxes, self.walls, self.mats, self.dt, np.zeros(3), True, planar,
             )  # fmt: skip
+            box_sphere_forces(
+                bodies, self.spheres, boxes, self.mats, self.dt, np.zeros(3), True, planar
+            )
         box_energies(boxes, self.rec.energy_now)
+        box_sphere_energies(boxes, self.rec.energy_now)
 
     # ------------------------------------------------------------------ running
     def run(
@@ -532,7 +537,8 @@ class Simulation:
                 **{k: _grow_rows(getattr(r, k), need) for k in ("energy_t", "energy_val")}
             )
         elif code == engine.GROW_CONTACT_FORCES:
-            need = 2 * r.cf_first.shape[0] + self.contacts.i.shape[0] + self.boxes.rows.i.shape[0]
+            need = 2 * r.cf_first.shape[0] + self.contacts.i.shape[0]
+            need += self.boxes.rows.i.shape[0] + self.boxes.sphere_rows.i.shape[0]
             self.rec = r._replace(
                 **{
                     k: _grow_rows(getattr(r, k), need)
