@@ -98,8 +98,9 @@ def test_validate_ball_bouncing_on_a_box_face(planar, restitution):
     assert np.abs(sim.bodies.omega_full).max() < 1e-12
 
 
-def _oblique(planar, mu):
-    """A spinning ball hits a turning, tilted free box off-centre, no gravity, elastic."""
+def _oblique(planar, mu, skin=None, balls=1):
+    """A spinning ball hits a turning, tilted free box off-centre, no gravity, elastic
+    (``balls`` > 1: more balls far away, in a row along x)."""
     scene = Scene(gravity=(0.0, 0.0, 0.0))
     m = scene.add_material(Material(density=RHO, kn=5e4, friction=mu, restitution=1.0))
     blocked = PLANAR if planar else ""
@@ -110,7 +111,9 @@ def _oblique(planar, mu):
                   angular_velocity=spin)  # fmt: skip
     scene.add_sphere((0.004, 0.0, 0.022), R_BALL, m, blocked=blocked, velocity=(0.05, 0.0, -0.4),
                      angular_velocity=(0.0, -20.0, 0.0))  # fmt: skip
-    return scene.build(safety=0.02)
+    for k in range(1, balls):
+        scene.add_sphere((0.05 * k, 0.0, 0.0), R_BALL, m, blocked=blocked)
+    return scene.build(safety=0.02, skin=skin)
 
 
 def _momenta(sim):
@@ -216,3 +219,20 @@ def test_validate_ball_rolling_off_a_box_edge(planar):
     slope, intercept = np.polyfit(cos_t[on_edge], normal[on_edge], 1)
     cos_theory = (10.0 + 7.0 * v0**2 / (G * rho)) / 17.0
     assert -intercept / slope == pytest.approx(cos_theory, abs=3e-4)
+
+
+@pytest.mark.parametrize("planar", [False, True])
+def test_box_sphere_candidates_do_not_change_the_trajectory(planar):
+    """The neighbour list of box-sphere pairs (box_sphere.build_box_sphere_candidates)
+    holds only the pairs near each box, and a run with a small skin (many builds) has
+    the trajectory of one whose skin lists every pair, bit for bit."""
+    small = _oblique(planar, 0.5, skin=2e-4, balls=6)
+    large = _oblique(planar, 0.5, skin=10.0, balls=6)
+    a = small.run(n_steps=20_000, trajectory_every=1000)
+    b = large.run(n_steps=20_000, trajectory_every=1000)
+    assert large.boxes.n_sphere_cand[0] == 6
+    assert 0 <= small.boxes.n_sphere_cand[0] < 6
+    assert small.rec.n_rebuilds[0] > 3 * large.rec.n_rebuilds[0]
+    np.testing.assert_array_equal(a.positions, b.positions)
+    np.testing.assert_array_equal(a.angular_velocities, b.angular_velocities)
+    np.testing.assert_array_equal(small.boxes.sphere_rows.shear, large.boxes.sphere_rows.shear)

@@ -18,8 +18,10 @@ stands for one point (no doubling along y).  Hertz scenes hold no spheres
 Rows live in ``Boxes.sphere_rows`` (the layout of the box rows, ``j`` the sphere id), in
 pair order (box, then sphere).  Onsets and ends of a pair enter ``Boxes.changes`` after
 those of box_forces, so the engine books them as the box pairs' (events, pair
-statistics, release of held bodies).  Pairs are tested by bounding spheres each step:
-the sphere's centre closer to the box's centre than the box's reach plus ``R`` plus the
+statistics, release of held bodies).  Pairs within reach are found in two stages, as for
+the box pairs: a neighbour list of candidates (:func:`build_box_sphere_candidates`, built
+with the spheres' Verlet list), and each step the bounding test on the candidates: the
+sphere's centre closer to the box's centre than the box's reach plus ``R`` plus the
 margin (half the smaller of ``R`` and the box's smallest outer half-extent, so that a
 point is seen opening: its end impulse).  The sphere's centre is computed from its owner
 body (``Spheres.pos`` is kept only for spheres in the Verlet list).
@@ -27,10 +29,12 @@ body (``Spheres.pos`` is kept only for spheres in the Verlet list).
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from dominowave.dem.boxes import (
     _apply,
+    _copy_rows,
     _end,
     _lag,
     _reach_of,
@@ -41,6 +45,7 @@ from dominowave.dem.boxes import (
 from dominowave.dem.contact import (
     END,
     ONSET,
+    _candidate_pairs,
     cundall_strack,
     onset_averaged_overlap,
     pair_friction_restitution,
@@ -52,12 +57,14 @@ from dominowave.dem.contact import (
 from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
 from dominowave.dem.shapes.cuboid import box_sphere
 from dominowave.dem.shapes.rectangle import rect_sphere
+from dominowave.dem.state import Spheres
 
 __all__ = [
     "box_sphere_contact_forces",
     "box_sphere_energies",
     "box_sphere_forces",
     "box_sphere_power",
+    "build_box_sphere_candidates",
 ]
 
 
@@ -124,9 +131,11 @@ def _drop(old, boxes, spheres, bodies, o, code, ns, ledger):
 @njit(cache=True, error_model="numpy", _nrt=False)
 def box_sphere_forces(bodies, spheres, boxes, mats, dt, ledger, first_step, planar):
     """Add the forces and torques of every box-sphere contact to the bodies (after
-    box_forces), rebuild ``boxes.sphere_rows``, book the change of the energy stored in
-    their shear springs in ``ledger[LEDGER_FRICTION]``, append the body pairs whose
-    contact started or ended to ``boxes.changes``."""
+    box_forces; the pairs of :func:`build_box_sphere_candidates`' list, or all pairs
+    without one: the same pairs pass, in the same order), rebuild
+    ``boxes.sphere_rows``, book the change of the energy stored in their shear springs
+    in ``ledger[LEDGER_FRICTION]``, append the body pairs whose contact started or
+    ended to ``boxes.changes``."""
     old, new = boxes.sphere_rows, boxes.sphere_next
     nx = boxes.body.shape[0]
     ns = spheres.body.shape[0]
@@ -139,7 +148,10 @@ def box_sphere_forces(bodies, spheres, boxes, mats, dt, ledger, first_step, plan
         ba = boxes.body[a]
         xa, Ra, ha, ra = bodies.pos[ba], bodies.rot[ba], boxes.half[a], boxes.radius[a]
         reach = _reach_of(boxes, a)
-        for s in range(ns):
+        listed = boxes.n_sphere_cand[0] >= 0
+        lo, hi = (boxes.sphere_cand_start[a], boxes.sphere_cand_start[a + 1]) if listed else (0, ns)
+        for k in range(lo, hi):
+            s = boxes.sphere_cand[k] - a * ns if listed else k
             bs = spheres.body[s]
             if bs == ba or (bodies.held[ba] == 1 and bodies.held[bs] == 1):
                 continue
@@ -237,29 +249,7 @@ def box_sphere_forces(bodies, spheres, boxes, mats, dt, ledger, first_step, plan
             if fresh:
                 _log_pair(boxes, ba, bs, ONSET, _lag(overlap, -vn, dt, first_step))
     _drop(old, boxes, spheres, bodies, o, 2**62, ns, ledger)
-    _copy(new, old, n_new)
-
-
-@njit(cache=True, error_model="numpy", _nrt=False)
-def _copy(src, dst, n):
-    for c in range(n):
-        dst.i[c] = src.i[c]
-        dst.j[c] = src.j[c]
-        dst.key[c] = src.key[c]
-        dst.mult[c] = src.mult[c]
-        dst.overlap[c] = src.overlap[c]
-        dst.vn[c] = src.vn[c]
-        dst.fn[c] = src.fn[c]
-        dst.fn_viscous[c] = src.fn_viscous[c]
-        dst.kn[c] = src.kn[c]
-        dst.kt[c] = src.kt[c]
-        dst.mu[c] = src.mu[c]
-        dst.cn[c] = src.cn[c]
-        for d in range(3):
-            dst.shear[c, d] = src.shear[c, d]
-            dst.point[c, d] = src.point[c, d]
-            dst.normal[c, d] = src.normal[c, d]
-    dst.n[0] = n
+    _copy_rows(new, old, n_new)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -310,3 +300,77 @@ def box_sphere_contact_forces(boxes, n_spheres, first, second, point, force):
             point[c, d] = rows.point[c, d]
             force[c, d] = rows.fn[c] * n[d] - rows.kt[c] * u[d]
     return rows.n[0]
+
+
+# (allocates: compiled with numba's reference counting, as boxes.build_box_candidates)
+@njit(cache=True, error_model="numpy", _nrt=True)
+def build_box_sphere_candidates(bodies, spheres, boxes, walls, skin):
+    """The neighbour list of the box-sphere contacts: every (box, sphere) pair of
+    different bodies whose bounding spheres come closer than ``skin`` [m], into
+    ``boxes.sphere_cand`` (codes ``box * n_spheres + sphere``, ascending) and
+    ``boxes.sphere_cand_start`` (first candidate of each box).  Returns their number, or
+    ``-needed`` if ``boxes.sphere_cand`` is too short (then ``n_sphere_cand`` is -1:
+    every pair is a candidate until the caller grows it and builds again).
+
+    Bounding spheres: the box's core half-diagonal plus its rounding (the reach of
+    :func:`box_sphere_forces`' test), the sphere's radius plus the largest margin,
+    ``1.5 R``; so a pair passes that test only if their bounding spheres overlap, and
+    with every core point and sphere centre moving at most skin/2 between builds
+    (engine.py rebuilds both lists with the spheres' Verlet list) no pair outside the
+    list can.  The search is the linked-cell search of the spheres (contact.py) over
+    both kinds of bounding sphere."""
+    nx = boxes.body.shape[0]
+    ns = spheres.body.shape[0]
+    if ns == 0:  # (a scene of boxes only: an empty list)
+        boxes.sphere_cand_start[:] = 0
+        boxes.n_sphere_cand[0] = 0
+        return 0
+    nt = nx + ns
+    pos = np.empty((nt, 3))
+    radius = np.empty(nt)
+    body = np.empty(nt, np.int64)
+    centre = np.empty(3)
+    for x in range(nx):
+        for d in range(3):
+            pos[x, d] = bodies.pos[boxes.body[x], d]
+        radius[x] = _reach_of(boxes, x)
+        body[x] = boxes.body[x]
+    for s in range(ns):
+        _sphere_centre(bodies, spheres, s, centre)
+        for d in range(3):
+            pos[nx + s, d] = centre[d]
+        radius[nx + s] = 1.5 * spheres.radius[s]
+        body[nx + s] = spheres.body[s]
+    listed = np.arange(nt)
+    bound = Spheres(
+        body=body,
+        radius=radius,
+        local=pos,
+        material=np.zeros(nt, np.int64),
+        pos=pos,
+        listed=listed,
+        n_listed=np.full(1, nt, np.int64),
+    )
+    keys, _ = _candidate_pairs(bound, walls, skin)
+    stride = nt + walls.point.shape[0]
+    n = 0
+    for k in range(keys.shape[0]):
+        i, jj = keys[k] // stride, keys[k] % stride
+        if i < nx and nx <= jj < nt:
+            n += 1
+    if n > boxes.sphere_cand.shape[0]:
+        boxes.n_sphere_cand[0] = -1
+        return -n
+    start = boxes.sphere_cand_start
+    start[:] = 0
+    n = 0
+    for k in range(keys.shape[0]):
+        i, jj = keys[k] // stride, keys[k] % stride
+        if i < nx and nx <= jj < nt:
+            boxes.sphere_cand[n] = i * ns + (jj - nx)
+            start[i + 1] += 1
+            n += 1
+    for x in range(nx):
+        start[x + 1] += start[x]
+    boxes.n_sphere_cand[0] = n
+    return n

@@ -124,6 +124,9 @@ Boxes = namedtuple(
         "cand_start",  # (nx + 1,) int64 first candidate of each box (CSR of cand)
         "sphere_rows",  # BoxContacts of the box-sphere contacts (box_sphere.py), j: sphere
         "sphere_next",  # BoxContacts being built (scratch)
+        "sphere_cand",  # (Q,) int64 candidate box-sphere pairs, box * ns + sphere, ascending
+        "n_sphere_cand",  # (1,) int64 candidates listed; -1: no list, every pair a candidate
+        "sphere_cand_start",  # (nx + 1,) int64 first candidate of each box
     ],
 )
 
@@ -202,6 +205,9 @@ def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR)
         cand_start=np.zeros(nx + 1, np.int64),
         sphere_rows=_empty_rows(capacity),
         sphere_next=_empty_rows(capacity),
+        sphere_cand=np.zeros(8 * nx + 16, np.int64),
+        n_sphere_cand=np.full(1, -1, np.int64),
+        sphere_cand_start=np.zeros(nx + 1, np.int64),
     )
 
 
@@ -819,6 +825,9 @@ def box_peak_force(boxes, peak):
 
 # --- checkpoints -----------------------------------------------------------------------------
 _BOX_ARRAYS = ("body", "half", "radius", "material", "normal_law", "cand", "n_cand", "cand_start")
+_SPHERE_LIST = ("sphere_cand", "n_sphere_cand", "sphere_cand_start")
+"""The box-sphere candidate list; a state without it restores none (every pair a
+candidate until the next build: the same forces)."""
 """Arrays of :class:`Boxes` a resumed run depends on; the rest is per-step scratch (the
 rows being built, the manifold of one pair, the change list), written before it is read."""
 
@@ -829,7 +838,7 @@ def box_state(boxes) -> dict[str, np.ndarray]:
     rows of the last step (their used part: feature keys, shear histories, stiffness,
     dashpot, overlap, normal velocity) under ``rows.<field>``, those of the box-sphere
     contacts (box_sphere.py) under ``sphere_rows.<field>``."""
-    out = {name: np.array(getattr(boxes, name), copy=True) for name in _BOX_ARRAYS}
+    out = {name: np.array(getattr(boxes, name), copy=True) for name in _BOX_ARRAYS + _SPHERE_LIST}
     for group in ("rows", "sphere_rows"):
         rows = getattr(boxes, group)
         n = int(rows.n[0])
@@ -859,6 +868,10 @@ def boxes_from_state(state: dict) -> Boxes:
             if name != "n":
                 value[:n] = np.asarray(state[f"{group}.{name}"]).astype(value.dtype)
         rows.n[0] = n
+    if "n_sphere_cand" in state:
+        boxes = boxes._replace(
+            **{name: np.array(state[name], np.int64).reshape(-1) for name in _SPHERE_LIST}
+        )
     return boxes._replace(
         cand=np.array(state["cand"], np.int64),
         n_cand=np.array(state["n_cand"], np.int64).reshape(1),

@@ -30,6 +30,7 @@ from dominowave.dem.box_sphere import (
     box_sphere_energies,
     box_sphere_forces,
     box_sphere_power,
+    build_box_sphere_candidates,
 )
 from dominowave.dem.boxes import (
     box_contact_forces,
@@ -531,7 +532,7 @@ def run_loop(
             cf_room += boxes.rows.i.shape[0] + boxes.sphere_rows.i.shape[0]
         if forces_due and rec.cf_first.shape[0] - rec.cf_n[0] < cf_room:
             return GROW_CONTACT_FORCES, done
-        if rebuild_due or (has_boxes and boxes.n_cand[0] < 0):
+        if rebuild_due or (has_boxes and min(boxes.n_cand[0], boxes.n_sphere_cand[0]) < 0):
             if not _finite(bodies):
                 return ABORT_NAN, done
             update_sphere_positions(bodies, spheres, planar)  # the search sees every sphere
@@ -540,6 +541,10 @@ def run_loop(
             rec.n_rebuilds[0] += 1
             # (the box list with the spheres': both rely on the same displacement test)
             if has_boxes and build_box_candidates(bodies, boxes, walls, settings.skin) < 0:
+                return GROW_BOX_CANDIDATES, done
+            if has_boxes and (
+                build_box_sphere_candidates(bodies, spheres, boxes, walls, settings.skin) < 0
+            ):
                 return GROW_BOX_CANDIDATES, done
         if planar:
             n_changes = compute_forces_planar(

@@ -503,7 +503,14 @@ class Simulation:
     def _grow(self, code):
         r = self.rec
         if code == engine.GROW_BOX_CANDIDATES:
-            self.boxes = self.boxes._replace(cand=np.zeros(2 * self.boxes.cand.shape[0], np.int64))
+            boxes = self.boxes
+            if boxes.n_cand[0] < 0:
+                boxes = boxes._replace(cand=np.zeros(2 * boxes.cand.shape[0], np.int64))
+            if boxes.n_sphere_cand[0] < 0:  # (box_sphere.build_box_sphere_candidates)
+                boxes = boxes._replace(
+                    sphere_cand=np.zeros(2 * boxes.sphere_cand.shape[0], np.int64)
+                )
+            self.boxes = boxes
         elif code == engine.GROW_CONTACTS:
             self.contacts = _grown_contacts(self.contacts)
             self.rec = r._replace(changes=np.zeros((self.contacts.i.shape[0], 2), np.int64))
