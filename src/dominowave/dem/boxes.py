@@ -809,18 +809,25 @@ def box_contact_forces(boxes, first_id, first, second, point, force):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def box_peak_force(boxes, peak):
-    """Raise ``peak[a, b]`` (a < b bodies, [N]) to the normal force of any box-box contact
-    point of the pair (as engine.py records the sphere contacts' peak force)."""
+def box_peak_force(boxes, spheres, peak):
+    """Raise ``peak[a, b]`` (a < b bodies, [N]) to the normal force of any box-box or
+    box-sphere contact point of the pair (as engine.py records the sphere contacts' peak
+    force)."""
     rows = boxes.rows
     for c in range(rows.n[0]):
         if rows.j[c] >= 0:
-            bi = boxes.body[rows.i[c]]
-            bj = boxes.body[rows.j[c]]
-            a = min(bi, bj)
-            b = max(bi, bj)
-            if rows.fn[c] > peak[a, b]:
-                peak[a, b] = rows.fn[c]
+            _raise_peak(peak, boxes.body[rows.i[c]], boxes.body[rows.j[c]], rows.fn[c])
+    rows = boxes.sphere_rows
+    for c in range(rows.n[0]):
+        _raise_peak(peak, boxes.body[rows.i[c]], spheres.body[rows.j[c]], rows.fn[c])
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _raise_peak(peak, bi, bj, fn):
+    a = min(bi, bj)
+    b = max(bi, bj)
+    if fn > peak[a, b]:
+        peak[a, b] = fn
 
 
 # --- checkpoints -----------------------------------------------------------------------------

@@ -580,7 +580,7 @@ def run_loop(
         if settings.record_peak_force:
             _record_peak_force(spheres, contacts, rec)
             if has_boxes:
-                box_peak_force(boxes, rec.peak_force)
+                box_peak_force(boxes, spheres, rec.peak_force)
         # stop conditions, decided at t_n
         code = -1
         if touched_body >= 0 and rec.touched[touched_body]:
