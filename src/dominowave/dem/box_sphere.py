@@ -139,17 +139,21 @@ def box_sphere_forces(bodies, spheres, boxes, mats, dt, ledger, first_step, plan
     old, new = boxes.sphere_rows, boxes.sphere_next
     nx = boxes.body.shape[0]
     ns = spheres.body.shape[0]
+    if ns == 0:  # (a scene of boxes only: nothing to do, every step)
+        return
     capacity = new.i.shape[0]
     props = boxes.props
     c_s = boxes.work[0, 0, :3]  # (scratch: the sphere's centre)
     o = 0
     n_new = 0
     for a in range(nx):
+        listed = boxes.n_sphere_cand[0] >= 0
+        lo, hi = (boxes.sphere_cand_start[a], boxes.sphere_cand_start[a + 1]) if listed else (0, ns)
+        if lo == hi:  # (most boxes: no sphere near)
+            continue
         ba = boxes.body[a]
         xa, Ra, ha, ra = bodies.pos[ba], bodies.rot[ba], boxes.half[a], boxes.radius[a]
         reach = _reach_of(boxes, a)
-        listed = boxes.n_sphere_cand[0] >= 0
-        lo, hi = (boxes.sphere_cand_start[a], boxes.sphere_cand_start[a + 1]) if listed else (0, ns)
         for k in range(lo, hi):
             s = boxes.sphere_cand[k] - a * ns if listed else k
             bs = spheres.body[s]
