@@ -53,12 +53,6 @@ STUDY_CASES = [
         ["base = 'two'", "shape = 'clump' only"],
     ),
     (
-        "chain-box-checkpoint",
-        '[scenario]\nkind = "chain"\nshape = "box"\nn_dominoes = 3\n',
-        ["run", "--checkpoint", "steps=100"],
-        ["shape = 'box' chains cannot be checkpointed yet"],
-    ),
-    (
         "chain-clump-with-rounding",
         '[scenario]\nkind = "chain"\nrounding = 1e-4\n',
         [],

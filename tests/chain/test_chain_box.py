@@ -139,14 +139,6 @@ def test_impulse_push_on_a_free_box():
     assert omega_1 == pytest.approx(impulse * h / i_edge, rel=1e-12)
 
 
-def test_box_chain_refuses_a_checkpoint():
-    """The engine's state does not hold box contacts: no silently lossy checkpoint."""
-    stepper = DominoChain(ChainParams(shape="box", n_dominoes=2)).stepper()
-    stepper.advance(10)
-    with pytest.raises(ValueError, match="shape = 'box' chains cannot be checkpointed yet"):
-        stepper.get_state()
-
-
 # --- validation ----------------------------------------------------------------------------
 @pytest.mark.parametrize("model", ["2d", "3d"])
 def test_validate_box_first_touch_against_energy_quadrature(model):

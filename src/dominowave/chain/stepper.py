@@ -158,12 +158,6 @@ class ChainStepper:
     # --- checkpoints --------------------------------------------------------------------
     def get_state(self) -> dict[str, np.ndarray]:
         """Everything the rest of the run depends on, as NumPy arrays (copies)."""
-        if self.chain.params.shape == "box":
-            # a resumed run would lose the box contacts' shear histories, not retrace the run
-            raise ValueError(
-                "checkpoint: shape = 'box' chains cannot be checkpointed yet (the engine's"
-                " state does not hold box contacts)"
-            )
         self._compact()
         state = {f"sim.{k}": v for k, v in self.sim.get_state().items()}
         state.update({f"frames.{k}": v[0].copy() for k, v in self.frames.items()})

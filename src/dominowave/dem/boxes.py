@@ -88,9 +88,13 @@ from dominowave.dem.state import Spheres
 __all__ = [
     "BoxContacts",
     "Boxes",
+    "box_contact_forces",
     "box_energies",
     "box_forces",
+    "box_peak_force",
     "box_power",
+    "box_state",
+    "boxes_from_state",
     "build_box_candidates",
     "empty_boxes",
 ]
@@ -118,6 +122,11 @@ Boxes = namedtuple(
         "cand",  # (P,) int64 candidate pairs (_pair_code), ascending (build_box_candidates)
         "n_cand",  # (1,) int64 candidates listed; -1: no list, every pair is a candidate
         "cand_start",  # (nx + 1,) int64 first candidate of each box (CSR of cand)
+        "sphere_rows",  # BoxContacts of the box-sphere contacts (box_sphere.py), j: sphere
+        "sphere_next",  # BoxContacts being built (scratch)
+        "sphere_cand",  # (Q,) int64 candidate box-sphere pairs, box * ns + sphere, ascending
+        "n_sphere_cand",  # (1,) int64 candidates listed; -1: no list, every pair a candidate
+        "sphere_cand_start",  # (nx + 1,) int64 first candidate of each box
     ],
 )
 
@@ -194,6 +203,11 @@ def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR)
         cand=np.zeros(8 * nx + 16, np.int64),
         n_cand=np.full(1, -1, np.int64),
         cand_start=np.zeros(nx + 1, np.int64),
+        sphere_rows=_empty_rows(capacity),
+        sphere_next=_empty_rows(capacity),
+        sphere_cand=np.zeros(8 * nx + 16, np.int64),
+        n_sphere_cand=np.full(1, -1, np.int64),
+        sphere_cand_start=np.zeros(nx + 1, np.int64),
     )
 
 
@@ -759,3 +773,114 @@ def box_energies(boxes, out):
     out[3] += en
     out[4] += es
     out[8] += en + es
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def box_contact_forces(boxes, first_id, first, second, point, force):
+    """The contact forces of the last :func:`box_forces`, one row per contact row, in the
+    layout of contact.active_contact_forces (the engine's contact-force recorder).
+
+    Shapes are numbered spheres first, then boxes: box x is shape ``first_id + x``
+    (``first_id`` = the number of spheres).  Box-box row: ``first``, ``second`` the two
+    boxes, ``force`` the force on ``second``; box-wall row: ``first = -(wall + 1)``,
+    ``second`` the box, ``force`` the force on the box.  ``force`` (3,) [N] is the force
+    as applied in the last kick, ``mult (fn n - kt u)`` (a planar row stands for ``mult``
+    points of the 3D body: their sum), ``point`` (3,) [m] the contact point.  The end
+    impulse of a point that opened in the last drift is not a row.  Writes from row 0 on
+    and returns the number of rows.
+    """
+    rows = boxes.rows
+    for c in range(rows.n[0]):
+        n = rows.normal[c]
+        u = rows.shear[c]
+        fn, kt, m = rows.fn[c], rows.kt[c], rows.mult[c]
+        sign = 1.0  # (on the partner box)
+        if rows.j[c] >= 0:
+            first[c] = first_id + rows.i[c]
+            second[c] = first_id + rows.j[c]
+        else:
+            sign = -1.0  # (on the box)
+            first[c] = rows.j[c]
+            second[c] = first_id + rows.i[c]
+        for d in range(3):
+            point[c, d] = rows.point[c, d]
+            force[c, d] = sign * m * (fn * n[d] - kt * u[d])
+    return rows.n[0]
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def box_peak_force(boxes, spheres, peak):
+    """Raise ``peak[a, b]`` (a < b bodies, [N]) to the normal force of any box-box or
+    box-sphere contact point of the pair (as engine.py records the sphere contacts' peak
+    force)."""
+    rows = boxes.rows
+    for c in range(rows.n[0]):
+        if rows.j[c] >= 0:
+            _raise_peak(peak, boxes.body[rows.i[c]], boxes.body[rows.j[c]], rows.fn[c])
+    rows = boxes.sphere_rows
+    for c in range(rows.n[0]):
+        _raise_peak(peak, boxes.body[rows.i[c]], spheres.body[rows.j[c]], rows.fn[c])
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _raise_peak(peak, bi, bj, fn):
+    a = min(bi, bj)
+    b = max(bi, bj)
+    if fn > peak[a, b]:
+        peak[a, b] = fn
+
+
+# --- checkpoints -----------------------------------------------------------------------------
+_BOX_ARRAYS = ("body", "half", "radius", "material", "normal_law", "cand", "n_cand", "cand_start")
+_SPHERE_LIST = ("sphere_cand", "n_sphere_cand", "sphere_cand_start")
+"""The box-sphere candidate list; a state without it restores none (every pair a
+candidate until the next build: the same forces)."""
+"""Arrays of :class:`Boxes` a resumed run depends on; the rest is per-step scratch (the
+rows being built, the manifold of one pair, the change list), written before it is read."""
+
+
+def box_state(boxes) -> dict[str, np.ndarray]:
+    """The box state a run resumes from, as a flat dict of NumPy arrays (copies): the
+    bodies' shapes and materials, the normal law, the candidate list, and the contact
+    rows of the last step (their used part: feature keys, shear histories, stiffness,
+    dashpot, overlap, normal velocity) under ``rows.<field>``, those of the box-sphere
+    contacts (box_sphere.py) under ``sphere_rows.<field>``."""
+    out = {name: np.array(getattr(boxes, name), copy=True) for name in _BOX_ARRAYS + _SPHERE_LIST}
+    for group in ("rows", "sphere_rows"):
+        rows = getattr(boxes, group)
+        n = int(rows.n[0])
+        for name, value in rows._asdict().items():
+            out[f"{group}.{name}"] = np.array(value if name == "n" else value[:n], copy=True)
+    return out
+
+
+def boxes_from_state(state: dict) -> Boxes:
+    """The :class:`Boxes` of a :func:`box_state` dict (keys without a prefix), with the
+    row capacity of a freshly built scene of the same boxes (:func:`empty_boxes`)."""
+    boxes = empty_boxes(
+        state["body"], state["half"], state["radius"], state["material"],
+        int(np.asarray(state["normal_law"]).reshape(-1)[0]),
+    )  # fmt: skip
+    for group in ("rows", "sphere_rows"):
+        if f"{group}.n" not in state:  # (box-sphere rows: a state of a scene without any)
+            continue
+        n = int(np.asarray(state[f"{group}.n"]).reshape(-1)[0])
+        rows = getattr(boxes, group)
+        if n > rows.i.shape[0]:
+            raise ValueError(
+                f"state['boxes.{group}.n'] = {n} contact rows, more than the {rows.i.shape[0]}"
+                " the scene's boxes hold"
+            )
+        for name, value in rows._asdict().items():
+            if name != "n":
+                value[:n] = np.asarray(state[f"{group}.{name}"]).astype(value.dtype)
+        rows.n[0] = n
+    if "n_sphere_cand" in state:
+        boxes = boxes._replace(
+            **{name: np.array(state[name], np.int64).reshape(-1) for name in _SPHERE_LIST}
+        )
+    return boxes._replace(
+        cand=np.array(state["cand"], np.int64),
+        n_cand=np.array(state["n_cand"], np.int64).reshape(1),
+        cand_start=np.array(state["cand_start"], np.int64),
+    )

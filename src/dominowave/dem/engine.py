@@ -25,7 +25,21 @@ from collections import namedtuple
 
 from numba import njit
 
-from dominowave.dem.boxes import box_energies, box_forces, box_power, build_box_candidates
+from dominowave.dem.box_sphere import (
+    box_sphere_contact_forces,
+    box_sphere_energies,
+    box_sphere_forces,
+    box_sphere_power,
+    build_box_sphere_candidates,
+)
+from dominowave.dem.boxes import (
+    box_contact_forces,
+    box_energies,
+    box_forces,
+    box_peak_force,
+    box_power,
+    build_box_candidates,
+)
 from dominowave.dem.contact import (
     CHANGE_CONTACT,
     CHANGE_KIND,
@@ -341,8 +355,9 @@ def _record_frame(bodies, rec, t):
 
 
 @njit(cache=True, error_model="numpy")
-def _record_contact_forces(spheres, walls, contacts, rec):
-    """Append the active contacts of this step as the rows of trajectory frame traj_n."""
+def _record_contact_forces(spheres, walls, contacts, rec, boxes):
+    """Append the active contacts of this step as the rows of trajectory frame traj_n
+    (the spheres', then the boxes' rows: boxes.box_contact_forces)."""
     k0 = rec.cf_n[0]
     rec.cf_start[rec.traj_n[0]] = k0
     rec.cf_n[0] = k0 + active_contact_forces(
@@ -354,6 +369,25 @@ def _record_contact_forces(spheres, walls, contacts, rec):
         rec.cf_point[k0:],
         rec.cf_force[k0:],
     )
+    if boxes.body.shape[0] > 0:
+        k0 = rec.cf_n[0]
+        rec.cf_n[0] = k0 + box_contact_forces(
+            boxes,
+            spheres.body.shape[0],
+            rec.cf_first[k0:],
+            rec.cf_second[k0:],
+            rec.cf_point[k0:],
+            rec.cf_force[k0:],
+        )
+        k0 = rec.cf_n[0]
+        rec.cf_n[0] = k0 + box_sphere_contact_forces(
+            boxes,
+            spheres.body.shape[0],
+            rec.cf_first[k0:],
+            rec.cf_second[k0:],
+            rec.cf_point[k0:],
+            rec.cf_force[k0:],
+        )
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -493,9 +527,12 @@ def run_loop(
         if energy_due and rec.energy_n[0] == rec.energy_t.shape[0]:
             return GROW_ENERGY, done
         forces_due = traj_due and rec.cf_on[0] == 1
-        if forces_due and rec.cf_first.shape[0] - rec.cf_n[0] < contacts.i.shape[0]:
+        cf_room = contacts.i.shape[0]
+        if has_boxes:
+            cf_room += boxes.rows.i.shape[0] + boxes.sphere_rows.i.shape[0]
+        if forces_due and rec.cf_first.shape[0] - rec.cf_n[0] < cf_room:
             return GROW_CONTACT_FORCES, done
-        if rebuild_due or (has_boxes and boxes.n_cand[0] < 0):
+        if rebuild_due or (has_boxes and min(boxes.n_cand[0], boxes.n_sphere_cand[0]) < 0):
             if not _finite(bodies):
                 return ABORT_NAN, done
             update_sphere_positions(bodies, spheres, planar)  # the search sees every sphere
@@ -504,6 +541,10 @@ def run_loop(
             rec.n_rebuilds[0] += 1
             # (the box list with the spheres': both rely on the same displacement test)
             if has_boxes and build_box_candidates(bodies, boxes, walls, settings.skin) < 0:
+                return GROW_BOX_CANDIDATES, done
+            if has_boxes and (
+                build_box_sphere_candidates(bodies, spheres, boxes, walls, settings.skin) < 0
+            ):
                 return GROW_BOX_CANDIDATES, done
         if planar:
             n_changes = compute_forces_planar(
@@ -531,12 +572,15 @@ def run_loop(
             )
         if has_boxes:
             box_forces(bodies, boxes, walls, mats, dt, rec.ledger, step == 0, planar)
+            box_sphere_forces(bodies, spheres, boxes, mats, dt, rec.ledger, step == 0, planar)
             if boxes.n_changes[0] > 0:
                 _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t)
         if n_changes > 0:
             _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, step == 0)
         if settings.record_peak_force:
             _record_peak_force(spheres, contacts, rec)
+            if has_boxes:
+                box_peak_force(boxes, spheres, rec.peak_force)
         # stop conditions, decided at t_n
         code = -1
         if touched_body >= 0 and rec.touched[touched_body]:
@@ -560,6 +604,7 @@ def run_loop(
                     contact_power(bodies, spheres, walls, contacts, p_contacts)
                 if has_boxes:
                     box_power(bodies, boxes, p_contacts)
+                    box_sphere_power(bodies, spheres, boxes, p_contacts)
                 # trapezoidal rule for the work of the non-conservative forces since t_{n-1}
                 if step > 0:
                     viscous = rec.power[LAST_POWER_VISCOUS] + p_contacts[POWER_VISCOUS]
@@ -572,7 +617,7 @@ def run_loop(
                 rec.power[LAST_POWER_DAMPING] = p_damping
                 rec.power[LAST_POWER_FRICTION] = p_contacts[POWER_FRICTION]
             if forces_due:  # (before _record_frame: the frame index is traj_n)
-                _record_contact_forces(spheres, walls, contacts, rec)
+                _record_contact_forces(spheres, walls, contacts, rec, boxes)
             if traj_due:
                 _record_frame(bodies, rec, t)
             if energy_due:
@@ -581,12 +626,14 @@ def run_loop(
                 energies(bodies, contacts, settings.gravity, rec.ledger, rec.energy_val[g])
                 if has_boxes:
                     box_energies(boxes, rec.energy_val[g])
+                    box_sphere_energies(boxes, rec.energy_val[g])
                 rec.energy_n[0] = g + 1
             # sanity checks at t_n, before the drift
             if check_due:
                 energies(bodies, contacts, settings.gravity, rec.ledger, rec.energy_now)
                 if has_boxes:
                     box_energies(boxes, rec.energy_now)
+                    box_sphere_energies(boxes, rec.energy_now)
                 if not _finite(bodies):
                     return ABORT_NAN, done
                 rec.clock[CLOCK_ENERGY_SCALE] = max(

@@ -11,7 +11,14 @@ import numpy as np
 
 from dominowave.checks import check_finite, check_in_range, check_positive
 from dominowave.dem import engine
-from dominowave.dem.boxes import box_energies, box_forces, empty_boxes
+from dominowave.dem.box_sphere import box_sphere_energies, box_sphere_forces
+from dominowave.dem.boxes import (
+    box_energies,
+    box_forces,
+    box_state,
+    boxes_from_state,
+    empty_boxes,
+)
 from dominowave.dem.contact import (
     RULE_GIVEN,
     SHEAR_CONTACT_POINT,
@@ -95,12 +102,14 @@ class ContactFrames:
     """Contact forces at the trajectory frames of one run (``record_contact_forces=True``).
 
     Flat rows, frame ``f`` owning rows ``start[f]:start[f + 1]`` (start (F + 1,) int64).
-    Per row (K,): ``first`` sphere id, or ``-(wall + 1)``; ``second`` sphere id;
+    Per row (K,): ``first`` shape id, or ``-(wall + 1)``; ``second`` shape id;
     ``point`` (K, 3) contact point [m] (midway through the overlap); ``force`` (K, 3) [N]
-    total contact force (normal elastic + dashpot + tangential) acting on sphere
-    ``second`` as applied at that step (``-force`` acts on ``first``).  Every active
-    sphere-sphere and sphere-wall contact; the one-kick end impulse of a contact that
-    opened in the last drift (contact.end_impulse) is not a row.
+    total contact force (normal elastic + dashpot + tangential) acting on shape
+    ``second`` as applied at that step (``-force`` acts on ``first``).  Shapes are
+    numbered spheres first (sphere id), then boxes (box x: ``n_spheres + x``).  Every
+    active sphere-sphere and sphere-wall contact, then every box contact point (a planar
+    row: the sum of the points it stands for, boxes.box_contact_forces); the one-kick end
+    impulse of a contact that opened in the last drift (contact.end_impulse) is not a row.
     """
 
     start: np.ndarray
@@ -119,8 +128,8 @@ class PairStats:
     """Per body pair (n_bodies, n_bodies), symmetric, cumulative over all runs.
 
     first_contact, last_separation [s] (nan: never); n_contacts: number of distinct
-    contacts; peak_normal_force [N]: largest normal force of one sphere contact of the pair
-    (only if ``record_peak_force``).
+    contacts; peak_normal_force [N]: largest normal force of one sphere contact or one box
+    contact point of the pair (only if ``record_peak_force``).
     """
 
     first_contact: np.ndarray
@@ -340,11 +349,15 @@ class Simulation:
         boxes = self.boxes
         if self.rec.step[0] == 0 and boxes.body.size:  # (the box contacts at start, on a copy)
             boxes = copy.deepcopy(boxes)
+            bodies, planar = copy.deepcopy(self.bodies), self.planar_kernels and self.planar
             box_forces(
-                copy.deepcopy(self.bodies), boxes, self.walls, self.mats, self.dt, np.zeros(3),
-                True, self.planar_kernels and self.planar,
+                bodies, boxes, self.walls, self.mats, self.dt, np.zeros(3), True, planar,
             )  # fmt: skip
+            box_sphere_forces(
+                bodies, self.spheres, boxes, self.mats, self.dt, np.zeros(3), True, planar
+            )
         box_energies(boxes, self.rec.energy_now)
+        box_sphere_energies(boxes, self.rec.energy_now)
 
     # ------------------------------------------------------------------ running
     def run(
@@ -490,7 +503,14 @@ class Simulation:
     def _grow(self, code):
         r = self.rec
         if code == engine.GROW_BOX_CANDIDATES:
-            self.boxes = self.boxes._replace(cand=np.zeros(2 * self.boxes.cand.shape[0], np.int64))
+            boxes = self.boxes
+            if boxes.n_cand[0] < 0:
+                boxes = boxes._replace(cand=np.zeros(2 * boxes.cand.shape[0], np.int64))
+            if boxes.n_sphere_cand[0] < 0:  # (box_sphere.build_box_sphere_candidates)
+                boxes = boxes._replace(
+                    sphere_cand=np.zeros(2 * boxes.sphere_cand.shape[0], np.int64)
+                )
+            self.boxes = boxes
         elif code == engine.GROW_CONTACTS:
             self.contacts = _grown_contacts(self.contacts)
             self.rec = r._replace(changes=np.zeros((self.contacts.i.shape[0], 2), np.int64))
@@ -525,6 +545,7 @@ class Simulation:
             )
         elif code == engine.GROW_CONTACT_FORCES:
             need = 2 * r.cf_first.shape[0] + self.contacts.i.shape[0]
+            need += self.boxes.rows.i.shape[0] + self.boxes.sphere_rows.i.shape[0]
             self.rec = r._replace(
                 **{
                     k: _grow_rows(getattr(r, k), need)
@@ -609,6 +630,8 @@ class Simulation:
                 if prefix == "rec" and name in self._PER_RUN:
                     continue
                 out[f"{prefix}.{name}"] = np.array(value, copy=True)
+        if self.boxes.body.size:  # (a scene without boxes keeps the layout of older files)
+            out.update({f"boxes.{k}": v for k, v in box_state(self.boxes).items()})
         return out
 
     def set_state(self, state: dict):
@@ -648,6 +671,7 @@ class Simulation:
         self.bodies, self.spheres, self.walls = new["bodies"], new["spheres"], new["walls"]
         self.mats, self.contacts, self.settings = new["mats"], new["contacts"], new["settings"]
         self.rec = new["rec"]
+        self.boxes = _restored_boxes(self.boxes, state)
         self.critical_dt = float(state["critical_dt"])
         self.planar_kernels = bool(state.get("planar_kernels", True))  # (older files lack it)
 
@@ -692,6 +716,7 @@ class Simulation:
             group("mats", MaterialTable),
             critical_dt=float(state["critical_dt"]),
             **settings,
+            boxes=_restored_boxes(empty_boxes(), state),
         )
         sim.set_state(state)
         return sim
@@ -706,6 +731,25 @@ class Simulation:
             "settings": self.settings,
             "rec": self.rec,
         }
+
+
+def _restored_boxes(boxes, state):
+    """The box state of ``state`` (keys ``boxes.*``, dem.boxes.box_state) for a scene whose
+    boxes are ``boxes``; a state without boxes fits a scene without boxes only."""
+    saved = {k[6:]: v for k, v in state.items() if k.startswith("boxes.")}
+    if not saved:
+        if boxes.body.size:
+            raise ValueError("state is missing 'boxes.body' (the scene has boxes)")
+        return boxes
+    restored = boxes_from_state(saved)
+    if boxes.body.size and not (
+        np.array_equal(restored.body, boxes.body) and restored.half.shape == boxes.half.shape
+    ):
+        raise ValueError(
+            f"state['boxes.body'] has bodies {restored.body.tolist()}, the scene's boxes are"
+            f" bodies {boxes.body.tolist()}"
+        )
+    return restored
 
 
 def _grow_rows(a, n):

@@ -166,11 +166,6 @@ def _check_checkpointing(config, checkpoint_dir: Path, key: str) -> None:
             f"--checkpoint: scenario {config.kind!r} has no time loop to checkpoint"
             f" (steppable: {', '.join(steppable_kinds()) or 'none yet'})"
         )
-    if getattr(config, "shape", None) == "box":
-        raise ValueError(
-            "--checkpoint: shape = 'box' chains cannot be checkpointed yet (the engine's"
-            " checkpoints do not hold box contacts); run them without --checkpoint"
-        )
     state = checkpoint_dir / "state.npz"
     if state.exists():
         load_checkpoint(state, key=key)

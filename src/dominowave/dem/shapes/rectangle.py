@@ -14,12 +14,14 @@ Arguments and output as in ``cuboid`` (y components of the normals 0).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
 from dominowave.dem.shapes.cuboid import merge_deepest, point_box_distance, rows_from
 
-__all__ = ["PLANAR_MULTIPLICITY", "edges_separate", "rect_plane", "rect_rect"]
+__all__ = ["PLANAR_MULTIPLICITY", "edges_separate", "rect_plane", "rect_rect", "rect_sphere"]
 
 PLANAR_MULTIPLICITY = 2  # the two ends y = +-b of a cuboid edge parallel to y
 KEY_VERTEX = 2 * 4 * 4 * 4
@@ -212,3 +214,55 @@ def rect_rect(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, normal, point, overlap, ke
         n = _edge_manifold(xi, Ri, hi, ri, k_i, xj, Rj, hj, rj, margin, 1.0, 0, out)
     m = _nearest_corners(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, rows_from(out, 8))
     return merge_deepest(out, n, 8, m, ri + rj, tol)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def rect_sphere(x, R, h, r, c, radius, margin, normal, point, overlap, key):
+    """Contact of a rounded box turning about y (body ``i``) with a sphere of centre ``c``
+    and ``radius``: cuboid.box_sphere in a planar scene.
+
+    A sphere is one point of contact, not an edge along y: the point is not doubled
+    (multiplicity 1).  The nearest point of the core to ``c`` in the box's xz coordinates
+    (clamped), and along y the core's extent ``+-h_1`` about the box's y (a sphere in the
+    box's own plane is within it); the distance ``d`` from that point, overlap ``r +
+    radius - d``, normal from it towards ``c``, point ``q + n (r - overlap/2)``.  A centre
+    inside the core's rectangle takes the nearest edge of the rectangle (an in-plane
+    normal).  Key 0.  Returns 0 or 1.
+    """
+    e0, e2 = c[0] - x[0], c[2] - x[2]
+    q0 = e0 * R[0, 0] + e2 * R[2, 0]
+    q2 = e0 * R[0, 2] + e2 * R[2, 2]
+    ey = c[1] - x[1]
+    oy = ey - min(max(ey, -h[1]), h[1])  # the centre beyond the core's y faces
+    if abs(q0) > h[0] or abs(q2) > h[2] or oy != 0.0:
+        k0 = min(max(q0, -h[0]), h[0])
+        k2 = min(max(q2, -h[2]), h[2])
+        c0 = x[0] + R[0, 0] * k0 + R[0, 2] * k2
+        c2 = x[2] + R[2, 0] * k0 + R[2, 2] * k2
+        u0, u1, u2 = c[0] - c0, oy, c[2] - c2
+        d = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
+        n0, n1, n2 = u0 / d, u1 / d, u2 / d
+        cy = c[1] - oy
+    else:  # inside: the edge of least depth
+        s0, s2 = _sign(q0), _sign(q2)
+        if h[0] - abs(q0) <= h[2] - abs(q2):
+            d = abs(q0) - h[0]
+            n0, n2 = s0 * R[0, 0], s0 * R[2, 0]
+            c0, c2 = c[0] - (h[0] - abs(q0)) * n0, c[2] - (h[0] - abs(q0)) * n2
+        else:
+            d = abs(q2) - h[2]
+            n0, n2 = s2 * R[0, 2], s2 * R[2, 2]
+            c0, c2 = c[0] - (h[2] - abs(q2)) * n0, c[2] - (h[2] - abs(q2)) * n2
+        n1 = 0.0
+        cy = c[1]
+    delta = r + radius - d
+    if delta <= -margin:
+        return 0
+    reach = r - 0.5 * delta
+    normal[0, 0], normal[0, 1], normal[0, 2] = n0, n1, n2
+    point[0, 0] = c0 + reach * n0
+    point[0, 1] = cy + reach * n1
+    point[0, 2] = c2 + reach * n2
+    overlap[0] = delta
+    key[0] = 0
+    return 1
