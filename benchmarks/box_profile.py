@@ -35,6 +35,8 @@ from dominowave.dem.boxes import (
     _manifold,
     _partner,
     _partner_range,
+    _source,
+    _visit_pairs,
     _within_reach,
     box_forces,
     build_box_candidates,
@@ -46,8 +48,9 @@ def _search(bodies, boxes, walls, planar, reps):
     nx, nw = boxes.body.shape[0], walls.point.shape[0]
     count = 0
     for _ in range(reps):
-        for a in range(nx):
-            lo, hi = _partner_range(boxes, a, nx, nw)
+        for g in range(_visit_pairs(bodies, boxes, nx, nw)):
+            a = _source(boxes, g)
+            lo, hi = _partner_range(boxes, g, a, nx, nw)
             for kk in range(lo, hi):
                 jj = _partner(boxes, a, kk, nx, nw)
                 j = jj if jj < nx else -(jj - nx) - 1
@@ -61,8 +64,9 @@ def _search_and_manifold(bodies, boxes, walls, planar, reps):
     nx, nw = boxes.body.shape[0], walls.point.shape[0]
     points = 0
     for _ in range(reps):
-        for a in range(nx):
-            lo, hi = _partner_range(boxes, a, nx, nw)
+        for g in range(_visit_pairs(bodies, boxes, nx, nw)):
+            a = _source(boxes, g)
+            lo, hi = _partner_range(boxes, g, a, nx, nw)
             for kk in range(lo, hi):
                 jj = _partner(boxes, a, kk, nx, nw)
                 j = jj if jj < nx else -(jj - nx) - 1

@@ -490,7 +490,12 @@ class Simulation:
     def _grow(self, code):
         r = self.rec
         if code == engine.GROW_BOX_CANDIDATES:
-            self.boxes = self.boxes._replace(cand=np.zeros(2 * self.boxes.cand.shape[0], np.int64))
+            size = 2 * self.boxes.cand.shape[0]
+            self.boxes = self.boxes._replace(
+                cand=np.zeros(size, np.int64),
+                rev=np.zeros(size, np.int64),
+                visit=np.zeros(size, np.int64),
+            )
         elif code == engine.GROW_CONTACTS:
             self.contacts = _grown_contacts(self.contacts)
             self.rec = r._replace(changes=np.zeros((self.contacts.i.shape[0], 2), np.int64))
