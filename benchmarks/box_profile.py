@@ -7,8 +7,9 @@ engine's, without numba's reference counting):
 
 * step: ``Simulation.run`` per step over the next --steps steps (engines only), on a copy
   of the chain;
-* search: the per-step tests of ``boxes.box_forces`` on the listed candidate pairs
-  (held pairs, bounding spheres, box-wall support), without the geometry;
+* search: the per-step selection of the pairs to visit (``boxes._visit_pairs``: the
+  candidates of the boxes that are not held) and the tests of ``boxes.box_forces`` on
+  them (bounding spheres, box-wall support), without the geometry;
 * manifold: search plus the contact geometry (``shapes``) of the pairs that pass;
 * forces: ``box_forces`` entire; law = forces - manifold (contact law, shear history,
   row bookkeeping, applying the forces);
