@@ -5,15 +5,17 @@ nominal mass, friction and restitution of the shipped material data, the given f
 gap), built here as ``DominoChain`` builds a box chain but with ``Scene(normal_law="hertz")``
 and materials giving Young's modulus and Poisson's ratio (E = --young, nu = --poisson;
 the chain itself knows only the linear law).  Every domino rests on the floor at its
-Hertz sink; domino 0 is pushed about its front bottom edge with the chain's default push;
-time step ``safety x`` the engine's critical estimate (timestep.py) unless --dt.  The run
+Hertz sink (--held: dominoes 1.. held there until touched, as the clump chain's); domino
+0 is pushed about its front bottom edge with the chain's default push; time step
+``--safety`` x the engine's critical estimate (timestep.py) unless --dt.  The run
 ends when no body-body contact has started for --quiet seconds (tested every --report
 simulated seconds), or at the chain's max_time.  Reported: the step, the steps, the CPU
 (process) time of the whole run (median of --repeat fresh runs, after one compilation
 run of a few steps), the dominoes reached, the arrival times (first contact with the
 previous domino) and the front speed fitted to the arrivals of the second half.
 
-Run:  python benchmarks/hertz_chain.py [--n 100] [--gap 0.02] [--repeat 3]
+Run:  python benchmarks/hertz_chain.py [--n 100] [--gap 0.02] [--repeat 3] [--held]
+      [--safety 0.02]
 """
 
 from __future__ import annotations
@@ -31,8 +33,11 @@ from dominowave.dem import Material, Scene
 from dominowave.dem.hertz import hertz_coefficient, hertz_modulus
 
 
-def hertz_chain(chain: DominoChain, young: float, poisson: float, dt: float | None, safety):
-    """The Hertz box chain of ``chain`` (module docstring); returns the Simulation."""
+def hertz_chain(
+    chain: DominoChain, young: float, poisson: float, dt: float | None, safety, held=False
+):
+    """The Hertz box chain of ``chain`` (module docstring); returns the Simulation.
+    ``held``: dominoes 1.. held until touched (dem.Scene.add_box)."""
     p = chain.params
     e_dominoes, e_floor = p.restitution_pairs
     scene = Scene(gravity=(0.0, 0.0, -p.g), normal_law="hertz", stiffness_rule="paper")
@@ -59,6 +64,7 @@ def hertz_chain(chain: DominoChain, young: float, poisson: float, dt: float | No
             orientation=yaw_matrix(yaw),
             velocity=v0 if n == 0 else (0.0, 0.0, 0.0),
             angular_velocity=w0 if n == 0 else (0.0, 0.0, 0.0),
+            held=held and n > 0,
         )
     return scene.build(
         dt=dt, safety=safety, skin=r, record_pairs=True, track_energy=False, damping=p.damping
@@ -82,6 +88,7 @@ def main():
     parser.add_argument("--safety", type=float, default=0.02)
     parser.add_argument("--quiet", type=float, default=0.2, help="end: no onset for [s]")
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--held", action="store_true", help="dominoes 1.. held until touched")
     parser.add_argument("--report", type=float, default=0.1, help="progress every [s]")
     args = parser.parse_args()
     params = standard_domino(
@@ -90,7 +97,7 @@ def main():
     chain = DominoChain(params)
 
     def fresh():
-        return hertz_chain(chain, args.young, args.poisson, args.dt, args.safety)
+        return hertz_chain(chain, args.young, args.poisson, args.dt, args.safety, args.held)
 
     fresh().run(n_steps=10)  # compilation
     times, sim = [], None
@@ -119,7 +126,8 @@ def main():
     speed = np.polyfit(arrival[tail], chain.positions[n[tail]], 1)[0] if tail.sum() > 2 else np.nan
     print(
         f"N = {args.n}, gap {args.gap} m, E = {args.young:.3g} Pa, nu = {args.poisson}, "
-        f"dt = {sim.dt:.3e} s, {steps} steps to t = {sim.time:.3f} s, "
+        f"held {args.held}, dt = {sim.dt:.3e} s ({sim.dt / sim.critical_dt:.3g} of the critical "
+        f"estimate), {steps} steps to t = {sim.time:.3f} s, "
         f"dominoes reached {touched} of {args.n}"
     )
     print(
