@@ -15,6 +15,7 @@ to those passage times (a rough measure: not the chain analysis of dominowave.ch
 which needs contact events).
 
 Run:  python benchmarks/box_chain_speed.py [--n 30] [--model 2d] [--steps 20000] [--free]
+      [--skin S]
 """
 
 from __future__ import annotations
@@ -31,8 +32,11 @@ from dominowave.chain import ChainParams, DominoChain
 from dominowave.dem import Material, Scene
 
 
-def box_chain(chain: DominoChain, omega: float, dt: float, held: bool = True):
-    """The box version of ``chain`` (see module docstring); returns the Simulation."""
+def box_chain(
+    chain: DominoChain, omega: float, dt: float, held: bool = True, skin: float | None = None
+):
+    """The box version of ``chain`` (see module docstring); returns the Simulation.
+    ``skin``: the Verlet skin [m] (default: one thickness, as the chain's boxes)."""
     p = chain.params
     half = np.array([p.thickness, p.width, p.height]) / 2
     r = p.thickness / 20
@@ -56,7 +60,8 @@ def box_chain(chain: DominoChain, omega: float, dt: float, held: bool = True):
         scene.add_box(
             centre, half, r, face, blocked=blocked, velocity=v, angular_velocity=w, held=hold
         )
-    sim = scene.build(dt=dt, track_energy=False, record_pairs=False)
+    skin = p.thickness if skin is None else skin
+    sim = scene.build(dt=dt, track_energy=False, record_pairs=False, skin=skin)
     # the box chain has no lateral asymmetry: in 3D it stays in its plane and the engine
     # would take the planar kernels; the 3D chain is timed with the general ones
     sim.planar_kernels = p.model == "2d"
@@ -85,20 +90,25 @@ def main():
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--until", type=float, default=3.0)
     parser.add_argument("--free", action="store_true", help="no held dominoes")
+    parser.add_argument("--skin", type=float, default=None, help="Verlet skin [m]")
     args = parser.parse_args()
     chain = DominoChain(ChainParams(n_dominoes=args.n, model=args.model, stiffness_ratio=1e4))
     push = chain.resolve(None)
     clump, _ = chain.build(push, record=False, track_energy=False)
-    box = box_chain(chain, push.omega, clump.dt, held=not args.free)
+    box = box_chain(chain, push.omega, clump.dt, held=not args.free, skin=args.skin)
     clump.run(n_steps=100)  # compilation
     box.run(n_steps=100)
     t_clump = cpu_per_step(clump, args.steps, args.repeat)
     t_box = cpu_per_step(box, args.steps, args.repeat)
-    print(f"N = {args.n}, model {args.model}, dt = {clump.dt:.3e} s, {args.steps} steps")
+    print(
+        f"N = {args.n}, model {args.model}, dt = {clump.dt:.3e} s, {args.steps} steps, "
+        f"box skin {box.settings.skin:.3g} m, list builds per step "
+        f"{box.rec.n_rebuilds[0] / max(int(box.rec.step[0]), 1):.3f}"
+    )
     print(f"clump chain: {1e6 * t_clump:.1f} us/step; box chain: {1e6 * t_box:.1f} us/step; "
           f"ratio box/clump = {t_box / t_clump:.2f}")  # fmt: skip
     # the wave: a fresh box chain, the first time each domino passes 45 degrees
-    box = box_chain(chain, push.omega, clump.dt, held=not args.free)
+    box = box_chain(chain, push.omega, clump.dt, held=not args.free, skin=args.skin)
     passed = np.full(args.n, np.nan)
     while box.time < args.until and np.isnan(passed).any():
         box.run(n_steps=200)

@@ -7,8 +7,9 @@ engine's, without numba's reference counting):
 
 * step: ``Simulation.run`` per step over the next --steps steps (engines only), on a copy
   of the chain;
-* search: the per-step tests of ``boxes.box_forces`` on the listed candidate pairs
-  (held pairs, bounding spheres, box-wall support), without the geometry;
+* search: the per-step selection of the pairs to visit (``boxes._visit_pairs``: the
+  candidates of the boxes that are not held) and the tests of ``boxes.box_forces`` on
+  them (bounding spheres, box-wall support), without the geometry;
 * manifold: search plus the contact geometry (``shapes``) of the pairs that pass;
 * forces: ``box_forces`` entire; law = forces - manifold (contact law, shear history,
   row bookkeeping, applying the forces);
@@ -35,6 +36,8 @@ from dominowave.dem.boxes import (
     _manifold,
     _partner,
     _partner_range,
+    _source,
+    _visit_pairs,
     _within_reach,
     box_forces,
     build_box_candidates,
@@ -46,8 +49,9 @@ def _search(bodies, boxes, walls, planar, reps):
     nx, nw = boxes.body.shape[0], walls.point.shape[0]
     count = 0
     for _ in range(reps):
-        for a in range(nx):
-            lo, hi = _partner_range(boxes, a, nx, nw)
+        for g in range(_visit_pairs(bodies, boxes, nx, nw)):
+            a = _source(boxes, g)
+            lo, hi = _partner_range(boxes, g, a, nx, nw)
             for kk in range(lo, hi):
                 jj = _partner(boxes, a, kk, nx, nw)
                 j = jj if jj < nx else -(jj - nx) - 1
@@ -61,8 +65,9 @@ def _search_and_manifold(bodies, boxes, walls, planar, reps):
     nx, nw = boxes.body.shape[0], walls.point.shape[0]
     points = 0
     for _ in range(reps):
-        for a in range(nx):
-            lo, hi = _partner_range(boxes, a, nx, nw)
+        for g in range(_visit_pairs(bodies, boxes, nx, nw)):
+            a = _source(boxes, g)
+            lo, hi = _partner_range(boxes, g, a, nx, nw)
             for kk in range(lo, hi):
                 jj = _partner(boxes, a, kk, nx, nw)
                 j = jj if jj < nx else -(jj - nx) - 1

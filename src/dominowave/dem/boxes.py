@@ -35,7 +35,9 @@ spheres' list when a body may have moved by half the skin), and each step the bo
 tests of :func:`box_forces` on the candidates only.  The candidates are a superset of the
 pairs that pass those tests, visited in the same order, so the forces do not depend on
 when the list was built.  Held boxes (engine.py) have no rows with walls or with other
-held boxes (:func:`_held_pair`).
+held boxes (:func:`_held_pair`); the loop of each step looks only at the candidates of
+the boxes that are not held (:func:`_visit_pairs`), so a chain of held dominoes costs
+what its moving part costs.
 """
 
 from __future__ import annotations
@@ -122,6 +124,11 @@ Boxes = namedtuple(
         "cand",  # (P,) int64 candidate pairs (_pair_code), ascending (build_box_candidates)
         "n_cand",  # (1,) int64 candidates listed; -1: no list, every pair is a candidate
         "cand_start",  # (nx + 1,) int64 first candidate of each box (CSR of cand)
+        "rev",  # (P,) int64 boxes a < b of the box-box candidates (a, b), by b (CSR)
+        "rev_start",  # (nx + 1,) int64 first entry of each box b in rev
+        "visit",  # (P,) int64 scratch: the candidates visited this step, ascending
+        "src",  # (nx,) int64 scratch: the boxes a of the visited pairs, ascending
+        "src_start",  # (nx + 1,) int64 scratch: first visited pair of each src entry
         "sphere_rows",  # BoxContacts of the box-sphere contacts (box_sphere.py), j: sphere
         "sphere_next",  # BoxContacts being built (scratch)
         "sphere_cand",  # (Q,) int64 candidate box-sphere pairs, box * ns + sphere, ascending
@@ -203,6 +210,11 @@ def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR)
         cand=np.zeros(8 * nx + 16, np.int64),
         n_cand=np.full(1, -1, np.int64),
         cand_start=np.zeros(nx + 1, np.int64),
+        rev=np.zeros(8 * nx + 16, np.int64),
+        rev_start=np.zeros(nx + 1, np.int64),
+        visit=np.zeros(8 * nx + 16, np.int64),
+        src=np.zeros(nx, np.int64),
+        src_start=np.zeros(nx + 1, np.int64),
         sphere_rows=_empty_rows(capacity),
         sphere_next=_empty_rows(capacity),
         sphere_cand=np.zeros(8 * nx + 16, np.int64),
@@ -280,24 +292,95 @@ def build_box_candidates(bodies, boxes, walls, skin):
         boxes.n_cand[0] = -1
         return -n
     stride = nx + walls.point.shape[0]
-    start = boxes.cand_start
+    start, rev_start = boxes.cand_start, boxes.rev_start
     start[:] = 0
+    rev_start[:] = 0
     for k in range(n):
         boxes.cand[k] = keys[k]
         start[keys[k] // stride + 1] += 1
+        b = keys[k] % stride
+        if b < nx:
+            rev_start[b + 1] += 1
     for x in range(nx):
         start[x + 1] += start[x]
+        rev_start[x + 1] += rev_start[x]
+    # (the reverse lists: keys ascend, so each box's boxes a come in ascending order)
+    fill = rev_start[:nx].copy()
+    for k in range(n):
+        b = keys[k] % stride
+        if b < nx:
+            boxes.rev[fill[b]] = keys[k] // stride
+            fill[b] += 1
     boxes.n_cand[0] = n
     return n
 
 
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _visit_pairs(bodies, boxes, nx, nw):
+    """The listed candidate pairs that are not held pairs (:func:`_held_pair`), ascending,
+    into ``boxes.visit``, grouped by their first box (``boxes.src``, ``boxes.src_start``);
+    returns the number of groups, or ``nx`` without a list (every box a source, every
+    pair a candidate: :func:`_partner_range`).
+
+    Only the boxes that are not held are looked at -- each with its own candidates
+    (a, j > a) and walls, and the held boxes a < b of its reverse list (``boxes.rev``) --
+    so a held box costs one test, however many candidates it has, and the list is not
+    rebuilt when a box is released.  Each candidate is in exactly one of those lists,
+    and the sort restores the pair order of the list (a reverse pair (a, b) comes before
+    b's own pairs): the pairs are visited in the order of the full list, so the forces
+    are the same to the bit."""
+    if boxes.n_cand[0] < 0:
+        return nx
+    held, body = bodies.held, boxes.body
+    visit, cand, rev = boxes.visit, boxes.cand, boxes.rev
+    stride = nx + nw
+    n = 0
+    for b in range(nx):
+        if held[body[b]]:
+            continue
+        for k in range(boxes.rev_start[b], boxes.rev_start[b + 1]):
+            a = rev[k]
+            if held[body[a]]:  # (a pair of two moving boxes is in a's own list)
+                visit[n] = a * stride + b
+                n += 1
+        for k in range(boxes.cand_start[b], boxes.cand_start[b + 1]):
+            visit[n] = cand[k]
+            n += 1
+    # insertion sort: the reverse pairs of a box are the only ones out of order
+    for k in range(1, n):
+        code = visit[k]
+        m = k - 1
+        while m >= 0 and visit[m] > code:
+            visit[m + 1] = visit[m]
+            m -= 1
+        visit[m + 1] = code
+    n_src = 0
+    for k in range(n):
+        a = visit[k] // stride
+        if n_src == 0 or boxes.src[n_src - 1] != a:
+            boxes.src[n_src] = a
+            boxes.src_start[n_src] = k
+            n_src += 1
+    boxes.src_start[n_src] = n
+    return n_src
+
+
 @njit(cache=True, error_model="numpy", inline="always")
-def _partner_range(boxes, a, nx, nw):
-    """Range of the partners of box a to visit: its candidates (:func:`_partner`), or,
-    without a list, every box after it and every wall."""
+def _source(boxes, g):
+    """Box a of group g of :func:`_visit_pairs` (without a list: box g)."""
+    if boxes.n_cand[0] < 0:
+        return g
+    return boxes.src[g]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _partner_range(boxes, g, a, nx, nw):
+    """Range of the partners to visit of box a, group g of :func:`_visit_pairs`: its
+    visited candidates (:func:`_partner`), or, without a list, every box after it and
+    every wall."""
     if boxes.n_cand[0] < 0:
         return a + 1, nx + nw
-    return boxes.cand_start[a], boxes.cand_start[a + 1]
+    return boxes.src_start[g], boxes.src_start[g + 1]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -306,7 +389,7 @@ def _partner(boxes, a, k, nx, nw):
     :func:`_partner_range`."""
     if boxes.n_cand[0] < 0:
         return k
-    return boxes.cand[k] - a * (nx + nw)
+    return boxes.visit[k] - a * (nx + nw)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -562,9 +645,10 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     hertz = boxes.normal_law[0] == LAW_HERTZ
     o = 0
     n_new = 0
-    for a in range(nx):
+    for g in range(_visit_pairs(bodies, boxes, nx, nw)):
+        a = _source(boxes, g)
         ba = boxes.body[a]
-        lo, hi = _partner_range(boxes, a, nx, nw)
+        lo, hi = _partner_range(boxes, g, a, nx, nw)
         for kk in range(lo, hi):
             jj = _partner(boxes, a, kk, nx, nw)
             j = jj if jj < nx else -(jj - nx) - 1
@@ -831,12 +915,16 @@ def _raise_peak(peak, bi, bj, fn):
 
 
 # --- checkpoints -----------------------------------------------------------------------------
-_BOX_ARRAYS = ("body", "half", "radius", "material", "normal_law", "cand", "n_cand", "cand_start")
+_BOX_ARRAYS = (
+    "body", "half", "radius", "material", "normal_law",
+    "cand", "n_cand", "cand_start", "rev", "rev_start",
+)  # fmt: skip
+"""Arrays of :class:`Boxes` a resumed run depends on; the rest is per-step scratch (the
+rows being built, the manifold of one pair, the visited pairs, the change list), written
+before it is read."""
 _SPHERE_LIST = ("sphere_cand", "n_sphere_cand", "sphere_cand_start")
 """The box-sphere candidate list; a state without it restores none (every pair a
 candidate until the next build: the same forces)."""
-"""Arrays of :class:`Boxes` a resumed run depends on; the rest is per-step scratch (the
-rows being built, the manifold of one pair, the change list), written before it is read."""
 
 
 def box_state(boxes) -> dict[str, np.ndarray]:
@@ -879,8 +967,12 @@ def boxes_from_state(state: dict) -> Boxes:
         boxes = boxes._replace(
             **{name: np.array(state[name], np.int64).reshape(-1) for name in _SPHERE_LIST}
         )
+    cand = np.array(state["cand"], np.int64)
     return boxes._replace(
-        cand=np.array(state["cand"], np.int64),
+        cand=cand,
         n_cand=np.array(state["n_cand"], np.int64).reshape(1),
         cand_start=np.array(state["cand_start"], np.int64),
+        rev=np.array(state["rev"], np.int64),
+        rev_start=np.array(state["rev_start"], np.int64),
+        visit=np.zeros_like(cand),
     )

@@ -463,21 +463,28 @@ def _advance_bodies(bodies, settings):
     """Kick and drift in one pass over the bodies, for the steps in which nothing reads the
     state between the two (the same arithmetic as :func:`kick` then :func:`drift`: each
     body's update is independent of the others, and its data stays in registers); the
-    Verlet-list test of the next step (:func:`needs_rebuild`) is done on the way.  Returns
-    whether the list must be rebuilt."""
+    Verlet-list test of the next step (:func:`needs_rebuild`) is done on the way, for the
+    bodies that are not held: a held body has not moved since the last build (it is
+    fixed, and the first step of a run tests every body).  Returns whether the list must
+    be rebuilt."""
     half_skin = 0.5 * settings.skin
     g, dt = settings.gravity, settings.dt
     damping, damp_gravity = settings.damping, settings.damp_gravity
     rebuild = False
+    held = bodies.held
     if settings.planar:
         # the same results with fewer operations, and without the full-step quantities
         # that nothing reads in these steps (integrate.advance_body_planar)
         for b in range(bodies.mass.shape[0]):
+            if held[b]:  # (a held body does not move: nothing to advance or test)
+                continue
             advance_body_planar(bodies, b, g, dt, damping, damp_gravity)
             if not rebuild:
                 rebuild = moved_beyond(bodies, b, half_skin)
         return rebuild
     for b in range(bodies.mass.shape[0]):
+        if held[b]:
+            continue
         kick_body(bodies, b, g, dt, damping, damp_gravity)
         drift_body(bodies, b, dt)
         if not rebuild:

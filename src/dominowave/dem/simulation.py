@@ -504,8 +504,13 @@ class Simulation:
         r = self.rec
         if code == engine.GROW_BOX_CANDIDATES:
             boxes = self.boxes
-            if boxes.n_cand[0] < 0:
-                boxes = boxes._replace(cand=np.zeros(2 * boxes.cand.shape[0], np.int64))
+            if boxes.n_cand[0] < 0:  # (build_box_candidates)
+                size = 2 * boxes.cand.shape[0]
+                boxes = boxes._replace(
+                    cand=np.zeros(size, np.int64),
+                    rev=np.zeros(size, np.int64),
+                    visit=np.zeros(size, np.int64),
+                )
             if boxes.n_sphere_cand[0] < 0:  # (box_sphere.build_box_sphere_candidates)
                 boxes = boxes._replace(
                     sphere_cand=np.zeros(2 * boxes.sphere_cand.shape[0], np.int64)

@@ -1,0 +1,146 @@
+"""A 3D chain of standard plastic dominoes with Hertz contacts, run to its end: CPU time.
+
+The chain is ``chain.presets.standard_domino`` (48 x 24 x 7.5 mm box dominoes, the
+nominal mass, friction and restitution of the shipped material data, the given floor and
+gap), built here as ``DominoChain`` builds a box chain but with ``Scene(normal_law="hertz")``
+and materials giving Young's modulus and Poisson's ratio (E = --young, nu = --poisson;
+the chain itself knows only the linear law).  Every domino rests on the floor at its
+Hertz sink (--held: dominoes 1.. held there until touched, as the clump chain's); domino
+0 is pushed about its front bottom edge with the chain's default push; time step
+``--safety`` x the engine's critical estimate (timestep.py) unless --dt.  The run
+ends when no body-body contact has started for --quiet seconds (tested every --report
+simulated seconds), or at the chain's max_time.  Reported: the step, the steps, the CPU
+(process) time of the whole run (median of --repeat fresh runs, after one compilation
+run of a few steps), the dominoes reached, the arrival times (first contact with the
+previous domino) and the front speed fitted to the arrivals of the second half.
+
+Run:  python benchmarks/hertz_chain.py [--n 100] [--gap 0.02] [--repeat 3] [--held]
+      [--safety 0.02]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+import numpy as np
+
+from dominowave.chain import DominoChain
+from dominowave.chain.build import yaw_matrix
+from dominowave.chain.presets import standard_domino
+from dominowave.dem import Material, Scene
+from dominowave.dem.hertz import hertz_coefficient, hertz_modulus
+
+
+def hertz_chain(
+    chain: DominoChain, young: float, poisson: float, dt: float | None, safety, held=False
+):
+    """The Hertz box chain of ``chain`` (module docstring); returns the Simulation.
+    ``held``: dominoes 1.. held until touched (dem.Scene.add_box)."""
+    p = chain.params
+    e_dominoes, e_floor = p.restitution_pairs
+    scene = Scene(gravity=(0.0, 0.0, -p.g), normal_law="hertz", stiffness_rule="paper")
+    kw = {"young": young, "poisson": poisson, "kt_ratio": p.kt_ratio}
+    box = scene.add_material(Material(density=p.density, **kw))
+    floor = scene.add_material(Material(density=p.density, **kw))
+    scene.set_pair(box, box, friction=p.friction_dominoes, restitution=e_dominoes)
+    scene.set_pair(box, floor, friction=p.friction_floor, restitution=e_floor)
+    scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), floor)
+    shape = chain.shape
+    r = shape.rounding
+    # resting on 4 Hertz points: m g / 4 = K delta^{3/2}
+    K = hertz_coefficient(hertz_modulus(young, poisson, young, poisson), r)
+    sink = (p.mass * p.g / (4.0 * K)) ** (2.0 / 3.0)
+    v0, w0, _ = chain._push_velocities(chain.resolve(None))
+    errors = chain.placement
+    stands = zip(chain.positions + errors.along, errors.across, errors.yaw, strict=True)
+    for n, (x, y, yaw) in enumerate(stands):
+        scene.add_box(
+            (x, y, shape.half_extents[2] - sink),
+            shape.half_extents,
+            r,
+            box,
+            orientation=yaw_matrix(yaw),
+            velocity=v0 if n == 0 else (0.0, 0.0, 0.0),
+            angular_velocity=w0 if n == 0 else (0.0, 0.0, 0.0),
+            held=held and n > 0,
+        )
+    return scene.build(
+        dt=dt, safety=safety, skin=r, record_pairs=True, track_energy=False, damping=p.damping
+    )
+
+
+def reached(sim):
+    """Dominoes the wave has reached: domino 0 and each that touched its predecessor."""
+    n = np.arange(1, sim.n_bodies)
+    return 1 + int(np.isfinite(sim.rec.first_contact[n - 1, n]).sum())
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--n", type=int, default=100)
+    parser.add_argument("--gap", type=float, default=0.02, help="clear gap d [m]")
+    parser.add_argument("--floor", default="hardwood")
+    parser.add_argument("--young", type=float, default=2.5e9)
+    parser.add_argument("--poisson", type=float, default=0.35)
+    parser.add_argument("--dt", type=float, default=None)
+    parser.add_argument("--safety", type=float, default=0.02)
+    parser.add_argument("--quiet", type=float, default=0.2, help="end: no onset for [s]")
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--held", action="store_true", help="dominoes 1.. held until touched")
+    parser.add_argument("--report", type=float, default=0.1, help="progress every [s]")
+    args = parser.parse_args()
+    params = standard_domino(
+        n_dominoes=args.n, gap=args.gap, floor=args.floor, lateral_asymmetry=0.01
+    )
+    chain = DominoChain(params)
+
+    def fresh():
+        return hertz_chain(chain, args.young, args.poisson, args.dt, args.safety, args.held)
+
+    fresh().run(n_steps=10)  # compilation
+    times, sim = [], None
+    for _ in range(args.repeat):
+        sim = fresh()
+        t0 = time.process_time()
+        # (in pieces of --report simulated seconds, the progress printed: a long run;
+        # the quiet end tested between pieces, on the engine's time of the last onset)
+        while sim.time < chain.max_time - 0.5 * sim.dt:
+            sim.run(until=min(sim.time + args.report, chain.max_time))
+            print(
+                f"  t = {sim.time:.3f} s, {reached(sim)} dominoes reached, "
+                f"CPU {time.process_time() - t0:.1f} s",
+                flush=True,
+            )
+            if sim.time - sim.rec.last_onset[0] >= args.quiet:
+                break
+        times.append(time.process_time() - t0)
+    steps = int(sim.rec.step[0])
+    touched = reached(sim)
+    # arrival of the wave at domino n: its first contact with domino n - 1
+    n = np.arange(1, args.n)
+    arrival = sim.rec.first_contact[n - 1, n]
+    hit = np.isfinite(arrival)
+    tail = hit & (n >= args.n // 2)
+    speed = np.polyfit(arrival[tail], chain.positions[n[tail]], 1)[0] if tail.sum() > 2 else np.nan
+    print(
+        f"N = {args.n}, gap {args.gap} m, E = {args.young:.3g} Pa, nu = {args.poisson}, "
+        f"held {args.held}, dt = {sim.dt:.3e} s ({sim.dt / sim.critical_dt:.3g} of the critical "
+        f"estimate), {steps} steps to t = {sim.time:.3f} s, "
+        f"dominoes reached {touched} of {args.n}"
+    )
+    print(
+        f"CPU time of the run: median {statistics.median(times):.1f} s of {args.repeat} "
+        f"({', '.join(f'{t:.1f}' for t in times)}); "
+        f"{1e6 * statistics.median(times) / steps:.2f} us/step"
+    )
+    last = int(n[hit][-1]) if hit.any() else 0
+    print(
+        f"wave: reached domino {last} at t = {arrival[last - 1]:.6f} s; front speed over "
+        f"dominoes {args.n // 2}.. {speed:.4f} m/s; arrival at domino 1: {arrival[0]:.6f} s"
+    )
+
+
+if __name__ == "__main__":
+    main()
