@@ -13,6 +13,8 @@ positions ``x_n = n (d + s)`` (pitch-based, as a camera study reports it;
 * ``rods``: the hinged compliant-rod model (``dominowave.rods``) with the box's mass,
   inertia (a uniform block about its front bottom edge), its pair spring, the domino-
   domino friction, a dashpot of the domino-domino restitution and the floor restitution;
+* ``rods_ideal``: the same rods with the theory's assumptions (no friction between
+  dominoes, elastic contacts): where the rods part from the theory and why;
 * ``transient``: the theory's transient for the same push (eqs 8, 12, 19; box mapping of
   ``dominowave.chain.compare``, with the box's collision time) fitted over the same
   dominoes;
@@ -49,7 +51,6 @@ import numpy as np
 HERE = Path(__file__).parent
 GAPS_MM = (9.38, 18.0, 30.0, 5.0, 12.0, 24.0)
 """Clear gaps d [mm] in the order they are run (d/l = 0.10 .. 0.63): the spread first."""
-MODELS = ("dem3d", "dem2d", "rods", "transient", "eq34_rigid", "eq34_tc")
 BAND_COLUMNS = ("gap_m", "pitch_m", "d_over_l", "q05_m_s", "q50_m_s", "q95_m_s", "mean_m_s")
 BAND_COLUMNS += ("runs", "waves_died", "runs_failed", "floor", "n_dominoes", "fit_from")
 MODEL_COLUMNS = ("model", "gap_m", "pitch_m", "d_over_l", "speed_m_s", "speed_err_m_s")
@@ -121,11 +122,15 @@ def restitution_damping_ratio(e: float | None) -> float:
     return 0.0 if e is None else float(viscous_coefficient(e, 1.0, 1.0)) / 2.0
 
 
-def rod_chain(p):
-    """The rod model of the box chain ``p`` (``ChainParams``): see the module docstring."""
+def rod_chain(p, ideal: bool = False):
+    """The rod model of the box chain ``p`` (``ChainParams``): see the module docstring.
+    ``ideal``: the theory's assumptions instead, no friction between dominoes and elastic
+    contacts (the floor restitution stays)."""
     from dominowave.rods import RodChain, block
 
     e_dd, e_floor = p.restitution_pairs
+    if ideal:
+        e_dd = None
     return RodChain(
         n=p.n_dominoes,
         l=p.height,
@@ -134,25 +139,26 @@ def rod_chain(p):
         mass=block(p.mass, p.height, p.thickness),
         k=p.pair_stiffness,
         damping_ratio=restitution_damping_ratio(e_dd),
-        mu=p.friction_dominoes,
+        mu=0.0 if ideal else p.friction_dominoes,
         floor_restitution=0.0 if e_floor is None else e_floor,
         g=p.g,
     )
 
 
-def rod_row(gap, floor, n, fit_from, stiffness_ratio=None) -> dict:
-    """The rod model's front speed, measured like the DEM chains."""
+def rod_row(gap, floor, n, fit_from, stiffness_ratio=None, ideal=False) -> dict:
+    """The rod model's front speed, measured like the DEM chains (``ideal``: model
+    ``rods_ideal``, frictionless and elastic, :func:`rod_chain`)."""
     from dominowave.chain.wave import speed_from
     from dominowave.rods import simulate
 
     extra = {} if stiffness_ratio is None else {"stiffness_ratio": stiffness_ratio}
     p = _params(gap, floor, n, **extra)
-    run = simulate(rod_chain(p), push_omega(p))
+    run = simulate(rod_chain(p, ideal), push_omega(p))
     fit = speed_from(run.arrival, run.positions, fit_from)
     reached = int(np.sum(np.isfinite(run.arrival)))
     ok = reached == n
     return {
-        "model": "rods",
+        "model": "rods_ideal" if ideal else "rods",
         "gap_m": gap,
         "pitch_m": p.pitch,
         "d_over_l": p.d_over_l,
@@ -161,7 +167,7 @@ def rod_row(gap, floor, n, fit_from, stiffness_ratio=None) -> dict:
         "toppled": reached,
         "n_dominoes": n,
         "fit_from": fit_from,
-        "note": f"hinged rods, block inertia, {run.status}",
+        "note": f"hinged rods, block inertia{', mu = 0, elastic' if ideal else ''}, {run.status}",
     }
 
 
@@ -283,17 +289,18 @@ def run_study(args) -> None:
     def save_models(rows):
         write_csv(models_csv, MODEL_COLUMNS, _merge(models_csv, MODEL_COLUMNS, rows, model_key))
 
-    grid = np.linspace(0.003, 0.036, 67)
+    grid = np.linspace(0.003, 0.045, 85)  # to d/l = 0.94: the widest measured gap
     write_csv(out / "speed_vs_pitch_theory.csv", THEORY_COLUMNS, theory_curve(args.floor, grid))
     theory = [r for g in gaps for r in theory_rows(g, args.floor, args.n, args.fit_from, sr)]
     save_models(theory)
     if "rods" in args.parts:
         for g in gaps:
-            start = time.process_time()
-            row = rod_row(g, args.floor, args.n, args.fit_from, sr)
-            save_models([row])
-            print(f"rods {1e3 * g:g} mm: {row['speed_m_s']:.4g} m/s", end="")
-            print(f" ({time.process_time() - start:.1f} s CPU)", flush=True)
+            for ideal in (False, True):
+                start = time.process_time()
+                row = rod_row(g, args.floor, args.n, args.fit_from, sr, ideal)
+                save_models([row])
+                print(f"{row['model']} {1e3 * g:g} mm: {row['speed_m_s']:.4g} m/s", end="")
+                print(f" ({time.process_time() - start:.1f} s CPU)", flush=True)
     if "dem" in args.parts:
         points = nominal_points(gaps, args.floor, args.n, args.fit_from, args.models, sr)
         save_models(dem_rows(points, runs))
@@ -313,6 +320,7 @@ def report(args) -> None:
         comparison_markdown,
         plot_speed_vs_pitch,
         read_study,
+        speeds_markdown,
     )
 
     out = Path(args.out)
@@ -323,6 +331,8 @@ def report(args) -> None:
         writer = csv.DictWriter(fh, fieldnames=list(table[0]) if table else ["key"])
         writer.writeheader()
         writer.writerows(table)
+    print(speeds_markdown(study))
+    print()
     print(comparison_markdown(table))
 
 

@@ -19,6 +19,7 @@ from dominowave.plots.real_dominoes import (
     comparison_markdown,
     plot_speed_vs_pitch,
     read_study,
+    speeds_markdown,
 )
 from dominowave.units import G_STANDARD
 
@@ -117,6 +118,7 @@ def _synthetic_measurements(folder: Path) -> Path:
         _measurement(key="no_size", spacing_m="0.01", height_m="", thickness_m="")
         | {"speed_m_s": "0.8", "speed_kind": "average"},
         _measurement(key="too_wide", spacing_m="0.040", speed_m_s="0.5"),
+        _measurement(key="no_height", spacing_m="0.024", height_m="", speed_m_s="0.2"),
     ]
     return _write_csv(folder / "measurements.csv", rows)
 
@@ -147,7 +149,14 @@ def test_the_figure_and_the_comparison_read_the_stored_csvs(tmp_path):
     assert table["no_size"]["how"] == "not comparable: domino size not stated"
     assert table["no_size"]["diff_pct"] == "n/a"
     assert table["too_wide"]["how"].endswith("outside the computed gaps")  # not extrapolated
+    # the standard thickness without a height: compared as a standard domino, and said so
+    assert table["no_height"]["how"] == "height not stated, taken as 48 mm (thickness standard)"
+    assert (table["no_height"]["median_m_s"], table["no_height"]["in_band"]) == ("0.24", "yes")
     assert comparison_markdown(list(table.values())).count("\n") == len(table) + 1
+    speeds = speeds_markdown(study).splitlines()
+    assert speeds[0].startswith("| gap d [mm] | pitch [mm] | d/l | band 5-95 % | median | dem3d |")
+    assert speeds[3] == "| 12 | 19.5 | 0.250 | 0.06 - 0.18 | 0.12 | 0.12 | 0.132 | 0.096 | 0.24 |"
+    assert speeds[4].split(" | ")[6] == "n/a"  # the 2D wave that died at 24 mm
 
 
 def test_a_half_size_measurement_inside_the_scaled_band_is_in_it(tmp_path):
@@ -213,7 +222,7 @@ def test_the_quick_study_writes_every_table_and_the_figure(tmp_path):
         assert int(r["runs"]) == 8  # one base sample, D = 6: 8 chains
     models = list(csv.DictReader((tmp_path / "speed_vs_pitch_models.csv").open()))
     names = {r["model"] for r in models}
-    assert names == {"dem2d", "rods", "transient", "eq34_rigid", "eq34_tc"}
+    assert names == {"dem2d", "rods", "rods_ideal", "transient", "eq34_rigid", "eq34_tc"}
     for r in models:
         if r["model"] == "eq34_tc":
             p = standard_domino(gap=float(r["gap_m"]), floor="hardwood", stiffness_ratio=1e3)

@@ -5,17 +5,20 @@ Reads the CSVs of the study ``docs/real_dominoes/speed_vs_pitch.py`` (no runs he
 * ``speed_vs_pitch_band.csv`` -- the prediction band (5 %, 50 %, 95 % quantiles over the
   material ranges, ``dominowave predict``) at each gap;
 * ``speed_vs_pitch_models.csv`` -- one speed per (model, gap): ``dem3d``, ``dem2d``,
-  ``rods``, ``transient`` (the theory's transient over the same dominoes),
+  ``rods``, ``rods_ideal``, ``transient`` (the theory's transient over the same dominoes),
   ``eq34_rigid``, ``eq34_tc``;
 * ``speed_vs_pitch_theory.csv`` -- eq 34 (rigid and with the collision time) on a grid.
 
 and every row of the measurements file (``dominowave.chain.measurements``, so rows added
 later appear). Left panel: speed [m/s] against pitch ``d + s`` [mm] of the standard
-domino; a measurement of the same domino size sits on it at its pitch, one of a stated
-other size does not (it is on the right panel), one of unstated size is drawn open at
-its own printed spacing with a legend entry that says so. Right panel: ``v / sqrt(g l)``
-against ``d / l``, where every measurement of known height sits beside the standard
-domino's curves (geometric similarity assumed: ``s/l`` and the materials differ).
+domino; a measurement of the same domino size sits on it at its pitch (filled star);
+one with the standard thickness but no published height sits there as if it were the
+standard domino (open star, and the legend says so); one of a stated other size does
+not (it is on the right panel); one of unstated size is drawn open at its own printed
+spacing with a legend entry that says so. Right panel: ``v / sqrt(g l)`` against
+``d / l``, where every measurement of known (or, open star, assumed) height sits beside
+the standard domino's curves (geometric similarity assumed for another size: ``s/l`` and
+the materials differ).
 
 :func:`compare_measurements` sets each measurement beside the band (interpolated
 linearly between the computed gaps, never extrapolated): the % difference of the
@@ -41,6 +44,7 @@ __all__ = [
     "comparison_markdown",
     "plot_speed_vs_pitch",
     "read_study",
+    "speeds_markdown",
 ]
 
 STANDARD = {"height": 0.048, "thickness": 0.0075}
@@ -53,6 +57,7 @@ MODEL_STYLE = {
     "dem3d": dict(fmt="o", color="C0", label="DEM 3D box, nominal values"),
     "dem2d": dict(fmt="D", color="C2", label="DEM 2D box, nominal values"),
     "rods": dict(fmt="^", color="C3", label="rod model (hinged, block inertia)"),
+    "rods_ideal": dict(fmt="^", color="C3", mfc="none", label="rod model, frictionless elastic"),
     "transient": dict(fmt="s", color="k", mfc="none", label="theory transient, same dominoes"),
 }
 
@@ -97,13 +102,19 @@ def read_study(folder) -> StudyData:
     )
 
 
+def _close(a: float | None, b: float) -> bool:
+    return a is not None and abs(a / b - 1.0) <= SAME_SIZE_TOLERANCE
+
+
 def _same_size(m) -> bool:
-    if m.height is None or m.thickness is None:
-        return False
-    return (
-        abs(m.height / STANDARD["height"] - 1.0) <= SAME_SIZE_TOLERANCE
-        and abs(m.thickness / STANDARD["thickness"] - 1.0) <= SAME_SIZE_TOLERANCE
-    )
+    """The standard domino: height and thickness as published match it."""
+    return _close(m.height, STANDARD["height"]) and _close(m.thickness, STANDARD["thickness"])
+
+
+def _assumed_standard(m) -> bool:
+    """Height not published, thickness the standard one: placed as a standard domino,
+    an assumption every table and legend states."""
+    return m.height is None and _close(m.thickness, STANDARD["thickness"])
 
 
 def _interp(x: float, xs: np.ndarray, ys: np.ndarray) -> float:
@@ -118,8 +129,10 @@ def _interp(x: float, xs: np.ndarray, ys: np.ndarray) -> float:
 def compare_measurements(study: StudyData, measurements=None) -> list[dict]:
     """Each measurement beside the band: one dict of strings per row of the file.
 
-    ``how``: ``same domino`` (compared at its pitch), ``scaled`` (another stated size:
-    compared in ``v / sqrt(g l)`` at its ``d/l``), or why it cannot be compared.
+    ``how``: ``same domino`` (compared at its pitch); the standard thickness but no
+    published height (compared at its pitch as a standard domino: :data:`ASSUMED`
+    says so); another stated size (compared in ``v / sqrt(g l)`` at its ``d/l``); or
+    why it cannot be compared. Computed only inside the computed gaps.
     ``median_m_s`` and the band are the prediction at the measurement's spacing (in m/s
     of the measured domino); ``diff_pct`` is ``(median - measured) / measured``.
     """
@@ -132,20 +145,20 @@ def compare_measurements(study: StudyData, measurements=None) -> list[dict]:
         q = (math.nan,) * 3
         if not band:
             how = "no band computed"
+        elif _same_size(m) or _assumed_standard(m):
+            how = "same domino" if _same_size(m) else ASSUMED
+            q = tuple(_interp(m.pitch, band["pitch_m"], band[k]) for k in _Q)
         elif m.height is None:
             how = "not comparable: domino size not stated"
         elif m.gap is None:
             how = "not comparable: thickness not stated (pitch basis)"
-        elif _same_size(m):
-            how = "same domino"
-            q = tuple(_interp(m.pitch, band["pitch_m"], band[k]) for k in _Q)
         else:
-            how = "scaled in d/l (other size)"
+            how = SCALED
             own = math.sqrt(G_STANDARD * m.height)
             q = tuple(
                 own * _interp(m.gap / m.height, band["d_over_l"], band[k] / scale) for k in _Q
             )
-        if how in ("same domino", "scaled in d/l (other size)") and not np.isfinite(q[1]):
+        if how in ("same domino", ASSUMED, SCALED) and not np.isfinite(q[1]):
             how += ": outside the computed gaps"
         lo, mid, hi = q
         ok = np.isfinite(mid)
@@ -153,6 +166,7 @@ def compare_measurements(study: StudyData, measurements=None) -> list[dict]:
             {
                 "key": m.key,
                 "l_m": "n/a" if m.height is None else f"{m.height:.4g}",
+                "floor": m.floor,
                 "spacing_m": f"{m.spacing:.4g} ({m.spacing_basis})",
                 "measured_m_s": f"{m.speed:.3g}",
                 "kind": m.speed_kind,
@@ -167,6 +181,8 @@ def compare_measurements(study: StudyData, measurements=None) -> list[dict]:
 
 
 _Q = ("q05_m_s", "q50_m_s", "q95_m_s")
+ASSUMED = "height not stated, taken as 48 mm (thickness standard)"
+SCALED = "scaled in d/l (other size)"
 
 
 def comparison_markdown(table: list[dict]) -> str:
@@ -176,6 +192,33 @@ def comparison_markdown(table: list[dict]) -> str:
     columns = list(table[0])
     lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
     lines += ["| " + " | ".join(r[c] for c in columns) + " |" for r in table]
+    return "\n".join(lines)
+
+
+def speeds_markdown(study: StudyData) -> str:
+    """The speeds of the figure's left panel as a Markdown table, one row per gap [m/s]."""
+    gaps = sorted(
+        {round(float(g), 9) for col in study.models.values() for g in col["gap_m"]}
+        | {round(float(g), 9) for g in study.band.get("gap_m", [])}
+    )
+    names = [n for n in (*MODEL_STYLE, "eq34_tc", "eq34_rigid") if n in study.models]
+    head = ["gap d [mm]", "pitch [mm]", "d/l", "band 5-95 %", "median", *names]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+
+    def at(col, gap, key):
+        hit = np.isclose(col["gap_m"], gap, rtol=0, atol=1e-9) if col else np.array([])
+        return float(col[key][hit][0]) if hit.any() else math.nan
+
+    def fmt(v):
+        return "n/a" if not np.isfinite(v) else f"{v:.3g}"
+
+    for gap in gaps:
+        lo, mid, hi = (at(study.band, gap, k) for k in _Q)
+        cells = [f"{1e3 * gap:g}", f"{1e3 * (gap + STANDARD['thickness']):g}"]
+        band = f"{fmt(lo)} - {fmt(hi)}" if np.isfinite(mid) else "n/a"
+        cells += [f"{gap / study.height:.3f}", band, fmt(mid)]
+        cells += [fmt(at(study.models[n], gap, "speed_m_s")) for n in names]
+        lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
 
@@ -248,17 +291,36 @@ def plot_speed_vs_pitch(study: StudyData, out, measurements=None) -> Path:
         _theory(ax, study, x_key, x_scale, v_scale)
         _model_points(ax, study, x_key, x_scale, v_scale)
     same = [m for m in rows if _same_size(m)]
-    unsized = [m for m in rows if m.height is None]
-    sized = [m for m in rows if m.height is not None and m.gap is not None]
-    if same:
-        ax1.errorbar(
-            [1e3 * m.pitch for m in same],
-            [m.speed for m in same],
-            yerr=[m.speed_unc or 0.0 for m in same],
-            fmt="*",
-            ms=10,
-            color="C4",
-            label="measured, standard domino",
+    assumed = [m for m in rows if _assumed_standard(m)]
+    unsized = [m for m in rows if m.height is None and not _assumed_standard(m)]
+    other = [m for m in rows if m.height is not None and m.gap is not None and not _same_size(m)]
+    groups = (  # (rows, marker, open, label), each on both panels where it can be placed
+        (same, "*", False, "measured, standard domino"),
+        (assumed, "*", True, "measured, standard thickness, height not stated (taken 48 mm)"),
+        (other, "P", False, "measured, another stated size (right panel only)"),
+    )
+    for group, marker, hollow, label in groups:
+        if not group:
+            continue
+        style = dict(fmt=marker, ms=10 if marker == "*" else 8, color="C4", label=label)
+        if hollow:
+            style["mfc"] = "none"
+        heights = [m.height or STANDARD["height"] for m in group]
+        if group is not other:
+            ax1.errorbar(
+                [1e3 * m.pitch for m in group],
+                [m.speed for m in group],
+                yerr=[m.speed_unc or 0.0 for m in group],
+                **style,
+            )
+        ax2.errorbar(
+            [m.gap / h for m, h in zip(group, heights, strict=True)],
+            [m.speed / math.sqrt(G_STANDARD * h) for m, h in zip(group, heights, strict=True)],
+            yerr=[
+                (m.speed_unc or 0.0) / math.sqrt(G_STANDARD * h)
+                for m, h in zip(group, heights, strict=True)
+            ],
+            **style,
         )
     if unsized:
         ax1.plot(
@@ -270,22 +332,8 @@ def plot_speed_vs_pitch(study: StudyData, out, measurements=None) -> Path:
             ms=8,
             label="measured, domino size not stated (at its printed spacing)",
         )
-    for group, marker, label in (
-        ([m for m in sized if _same_size(m)], "*", "measured, standard domino"),
-        ([m for m in sized if not _same_size(m)], "P", "measured, another stated size"),
-    ):
-        if not group:
-            continue
-        ax2.errorbar(
-            [m.gap / m.height for m in group],
-            [m.speed / math.sqrt(G_STANDARD * m.height) for m in group],
-            yerr=[(m.speed_unc or 0.0) / math.sqrt(G_STANDARD * m.height) for m in group],
-            fmt=marker,
-            ms=10 if marker == "*" else 8,
-            color="C4",
-            label=label,
-        )
-    left_out = len(rows) - len(sized)
+    no_gap = [m for m in rows if m.height is not None and m.gap is None]
+    left_out = len(unsized) + len(no_gap)
     if left_out:
         ax2.text(
             0.02,
