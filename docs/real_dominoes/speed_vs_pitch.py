@@ -10,6 +10,9 @@ positions ``x_n = n (d + s)`` (pitch-based, as a camera study reports it;
   ranges, ``samples (D + 2)`` chains): the 5 %, 50 %, 95 % quantiles and the mean;
 * ``dem3d``, ``dem2d``: the DEM box chain (3D; 2D, one column) at the nominal values of
   ``materials.toml``;
+* ``dem3d_long`` (part ``long``): the 3D chain at the nominal values with ``--long-n``
+  dominoes, fitted from domino 10 on as the films of long rows in the measurements are
+  (``--long-gaps``);
 * ``rods``: the hinged compliant-rod model (``dominowave.rods``) with the box's mass,
   inertia (a uniform block about its front bottom edge), its pair spring, the domino-
   domino friction, a dashpot of the domino-domino restitution and the floor restitution;
@@ -195,8 +198,9 @@ def nominal_points(gaps, floor, n, fit_from, models, stiffness_ratio=None):
     return points
 
 
-def dem_rows(points, runs: Path) -> list[dict]:
-    """Run (or resume) the nominal DEM chains on the sweep engine; one row each."""
+def dem_rows(points, runs: Path, suffix: str = "") -> list[dict]:
+    """Run (or resume) the nominal DEM chains on the sweep engine; one row each, model
+    ``dem<model><suffix>``."""
     from dominowave.sweep.presets import run_preset
 
     done = run_preset(points, runs / "nominal", workers=1)
@@ -206,7 +210,7 @@ def dem_rows(points, runs: Path) -> list[dict]:
         failed = summary is None
         rows.append(
             {
-                "model": f"dem{point.model}",
+                "model": f"dem{point.model}{suffix}",
                 "gap_m": point.gap,
                 "pitch_m": p.pitch,
                 "d_over_l": p.d_over_l,
@@ -305,6 +309,11 @@ def run_study(args) -> None:
         points = nominal_points(gaps, args.floor, args.n, args.fit_from, args.models, sr)
         save_models(dem_rows(points, runs))
         print(f"nominal DEM chains ({', '.join(args.models)}) done", flush=True)
+    if "long" in args.parts:  # measured as the films of long rows are: from domino 10 on
+        long_gaps = [1e-3 * g for g in args.long_gaps]
+        points = nominal_points(long_gaps, args.floor, args.long_n, 10, ["3d"], sr)
+        save_models(dem_rows(points, runs, suffix="_long"))
+        print(f"long nominal 3D chains ({args.long_n} dominoes) done", flush=True)
     if "band" in args.parts:
         for g in gaps:
             options = {"model": args.band_model, "stiffness_ratio": sr}
@@ -344,6 +353,8 @@ def main(argv=None) -> int:
     parser.add_argument("--fit-from", type=int, default=3, help="fit from this domino on")
     parser.add_argument("--samples", type=int, default=1, help="Saltelli base size N")
     parser.add_argument("--parts", default="rods,dem,band", help="parts to run (comma list)")
+    parser.add_argument("--long-gaps", type=float, nargs="+", default=[9.38], help="[mm]")
+    parser.add_argument("--long-n", type=int, default=30, help="dominoes of the long chains")
     parser.add_argument("--models", default="2d,3d", help="nominal DEM models (comma list)")
     parser.add_argument("--band-model", default="3d", help="DEM model of the band")
     parser.add_argument("--stiffness-ratio", type=float, default=None, help="cheap test runs")

@@ -229,3 +229,13 @@ def test_the_quick_study_writes_every_table_and_the_figure(tmp_path):
             assert float(r["speed_m_s"]) == pytest.approx(theory_speed(p), rel=1e-5)
     assert (tmp_path / "speed_vs_pitch.png").exists()
     assert (tmp_path / "speed_vs_pitch_measurements.csv").exists()
+
+
+def test_the_shipped_speed_tables_are_current():
+    """docs/real_dominoes.md holds what the report makes of the shipped CSVs and of the
+    shipped measurements (re-run ``speed_vs_pitch.py --report`` after adding rows)."""
+    study = read_study(SCRIPT.parent)
+    doc = (SCRIPT.parents[1] / "real_dominoes.md").read_text(encoding="utf-8")
+    assert speeds_markdown(study) in doc, "regenerate the speeds table (--report)"
+    table = comparison_markdown(compare_measurements(study))
+    assert table in doc, "regenerate the comparison table (--report)"

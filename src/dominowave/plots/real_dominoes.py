@@ -4,7 +4,8 @@ Reads the CSVs of the study ``docs/real_dominoes/speed_vs_pitch.py`` (no runs he
 
 * ``speed_vs_pitch_band.csv`` -- the prediction band (5 %, 50 %, 95 % quantiles over the
   material ranges, ``dominowave predict``) at each gap;
-* ``speed_vs_pitch_models.csv`` -- one speed per (model, gap): ``dem3d``, ``dem2d``,
+* ``speed_vs_pitch_models.csv`` -- one speed per (model, gap): ``dem3d``, ``dem3d_long``
+  (a longer chain fitted from a later domino), ``dem2d``,
   ``rods``, ``rods_ideal``, ``transient`` (the theory's transient over the same dominoes),
   ``eq34_rigid``, ``eq34_tc``;
 * ``speed_vs_pitch_theory.csv`` -- eq 34 (rigid and with the collision time) on a grid.
@@ -55,6 +56,7 @@ the standard one (so its speed can be read at its pitch on the standard axes).""
 
 MODEL_STYLE = {
     "dem3d": dict(fmt="o", color="C0", label="DEM 3D box, nominal values"),
+    "dem3d_long": dict(fmt="o", color="C0", mfc="none", label="DEM 3D box, nominal, long chain"),
     "dem2d": dict(fmt="D", color="C2", label="DEM 2D box, nominal values"),
     "rods": dict(fmt="^", color="C3", label="rod model (hinged, block inertia)"),
     "rods_ideal": dict(fmt="^", color="C3", mfc="none", label="rod model, frictionless elastic"),
@@ -228,6 +230,9 @@ def _model_points(ax, study: StudyData, x_key: str, x_scale: float, v_scale: flo
         if not col:
             continue
         style = dict(style)
+        if name == "dem3d_long":  # say how long and from where it is fitted
+            n, k = int(col["n_dominoes"][0]), int(col["fit_from"][0])
+            style["label"] += f" ({n} dominoes, fit from {k})"
         err = col.get("speed_err_m_s", np.zeros_like(col["speed_m_s"]))
         ax.errorbar(
             col[x_key] * x_scale,
