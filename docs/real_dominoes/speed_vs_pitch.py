@@ -1,4 +1,4 @@
-"""Speed against pitch for the standard domino: the data of docs/real_dominoes.md, section 9.
+"""Speed against pitch for the standard domino: the data of docs/real_dominoes.md, section 8.
 
 For the standard 48 x 24 x 7.5 mm domino (``dominowave.chain.presets.standard_domino``) on
 one named floor, at several clear gaps ``d``, every model measured the same way -- the
@@ -32,7 +32,7 @@ process, no pool (the machine is shared). The measurements of
 
     S=docs/real_dominoes/speed_vs_pitch.py
     nice -n 15 python $S --floor hardwood --samples 1 --n 12 --fit-from 3
-    python $S --report     # CSVs -> figure and the Markdown comparison table
+    python $S --report --update-doc  # CSVs -> figure, tables (into docs/real_dominoes.md)
     python $S --quick --out /tmp/q --runs /tmp/q/runs   # a cheap check of the pipeline
 
 Output (``--out``, default next to this script): ``speed_vs_pitch_band.csv``,
@@ -203,7 +203,7 @@ def dem_rows(points, runs: Path, suffix: str = "") -> list[dict]:
     ``dem<model><suffix>``."""
     from dominowave.sweep.presets import run_preset
 
-    done = run_preset(points, runs / "nominal", workers=1)
+    done = run_preset(points, runs / f"nominal{suffix}", workers=1)  # one study per folder
     rows = []
     for point, summary in zip(points, done.summaries, strict=True):
         p = point.params()
@@ -340,9 +340,28 @@ def report(args) -> None:
         writer = csv.DictWriter(fh, fieldnames=list(table[0]) if table else ["key"])
         writer.writeheader()
         writer.writerows(table)
-    print(speeds_markdown(study))
+    speeds, comparison = speeds_markdown(study), comparison_markdown(table)
+    print(speeds)
     print()
-    print(comparison_markdown(table))
+    print(comparison)
+    if args.update_doc:
+        doc = HERE.parent / "real_dominoes.md"
+        text = doc.read_text(encoding="utf-8")
+        for name, block in (("speeds", speeds), ("comparison", comparison)):
+            text = replace_between(text, name, block)
+        doc.write_text(text, encoding="utf-8")
+        print(f"updated the tables of {doc.name}")
+
+
+def replace_between(text: str, name: str, block: str) -> str:
+    """``text`` with the lines between ``<!-- name:begin -->`` and ``<!-- name:end -->``
+    replaced by ``block``; a ``ValueError`` if the markers are missing."""
+    begin, end = f"<!-- {name}:begin -->", f"<!-- {name}:end -->"
+    if text.count(begin) != 1 or text.count(end) != 1 or text.index(begin) > text.index(end):
+        raise ValueError(f"the doc must hold the markers {begin} and {end} once, in order")
+    head, rest = text.split(begin)
+    _, tail = rest.split(end)
+    return f"{head}{begin}\n{block}\n{end}{tail}"
 
 
 def main(argv=None) -> int:
@@ -362,6 +381,9 @@ def main(argv=None) -> int:
     parser.add_argument("--runs", default="speed_vs_pitch_runs", help="sweep folders")
     parser.add_argument("--measurements", default=None, help="a measurements CSV")
     parser.add_argument("--report", action="store_true", help="figure and table from the CSVs")
+    parser.add_argument(
+        "--update-doc", action="store_true", help="write the tables into real_dominoes.md"
+    )
     parser.add_argument("--quick", action="store_true", help="tiny 2D chains, two gaps")
     args = parser.parse_args(argv)
     args.parts = args.parts.split(",")

@@ -239,3 +239,11 @@ def test_the_shipped_speed_tables_are_current():
     assert speeds_markdown(study) in doc, "regenerate the speeds table (--report)"
     table = comparison_markdown(compare_measurements(study))
     assert table in doc, "regenerate the comparison table (--report)"
+
+
+def test_replace_between_markers():
+    replace = _script().replace_between
+    text = "a\n<!-- t:begin -->\nold\n<!-- t:end -->\nb"
+    assert replace(text, "t", "new") == "a\n<!-- t:begin -->\nnew\n<!-- t:end -->\nb"
+    with pytest.raises(ValueError, match="<!-- u:begin -->"):
+        replace(text, "u", "new")

@@ -54,10 +54,10 @@ SAME_SIZE_TOLERANCE = 0.05
 """Relative difference of height and thickness within which a measured domino counts as
 the standard one (so its speed can be read at its pitch on the standard axes)."""
 
-MODEL_STYLE = {
-    "dem3d": dict(fmt="o", color="C0", label="DEM 3D box, nominal values"),
+MODEL_STYLE = {  # 2D drawn small over 3D: at the nominal values they nearly coincide
+    "dem3d": dict(fmt="o", color="C0", ms=9, label="DEM 3D box, nominal values"),
     "dem3d_long": dict(fmt="o", color="C0", mfc="none", label="DEM 3D box, nominal, long chain"),
-    "dem2d": dict(fmt="D", color="C2", label="DEM 2D box, nominal values"),
+    "dem2d": dict(fmt="D", color="C2", ms=4, label="DEM 2D box, nominal values"),
     "rods": dict(fmt="^", color="C3", label="rod model (hinged, block inertia)"),
     "rods_ideal": dict(fmt="^", color="C3", mfc="none", label="rod model, frictionless elastic"),
     "transient": dict(fmt="s", color="k", mfc="none", label="theory transient, same dominoes"),
@@ -239,7 +239,7 @@ def _model_points(ax, study: StudyData, x_key: str, x_scale: float, v_scale: flo
             col["speed_m_s"] / v_scale,
             yerr=np.nan_to_num(err) / v_scale,
             fmt=style.pop("fmt"),
-            ms=6,
+            ms=style.pop("ms", 6),
             capsize=2,
             lw=1,
             **style,
