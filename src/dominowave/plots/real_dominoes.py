@@ -56,7 +56,9 @@ the standard one (so its speed can be read at its pitch on the standard axes).""
 
 MODEL_STYLE = {  # 2D drawn small over 3D: at the nominal values they nearly coincide
     "dem3d": dict(fmt="o", color="C0", ms=9, label="DEM 3D box, nominal values"),
-    "dem3d_long": dict(fmt="o", color="C0", mfc="none", label="DEM 3D box, nominal, long chain"),
+    "dem3d_long": dict(
+        fmt="o", color="C0", mfc="none", ms=9, label="DEM 3D box, nominal, long chain"
+    ),
     "dem2d": dict(fmt="D", color="C2", ms=4, label="DEM 2D box, nominal values"),
     "rods": dict(fmt="^", color="C3", label="rod model (hinged, block inertia)"),
     "rods_ideal": dict(fmt="^", color="C3", mfc="none", label="rod model, frictionless elastic"),
