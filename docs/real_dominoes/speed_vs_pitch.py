@@ -198,12 +198,12 @@ def nominal_points(gaps, floor, n, fit_from, models, stiffness_ratio=None):
     return points
 
 
-def dem_rows(points, runs: Path, suffix: str = "") -> list[dict]:
-    """Run (or resume) the nominal DEM chains on the sweep engine; one row each, model
-    ``dem<model><suffix>``."""
+def dem_rows(points, runs: Path, suffix: str = "", folder: str = "nominal") -> list[dict]:
+    """Run (or resume) the nominal DEM chains on the sweep engine in ``runs / folder``;
+    one row each, model ``dem<model><suffix>``."""
     from dominowave.sweep.presets import run_preset
 
-    done = run_preset(points, runs / f"nominal{suffix}", workers=1)  # one study per folder
+    done = run_preset(points, runs / folder, workers=1)  # one study per folder
     rows = []
     for point, summary in zip(points, done.summaries, strict=True):
         p = point.params()
@@ -310,9 +310,9 @@ def run_study(args) -> None:
         save_models(dem_rows(points, runs))
         print(f"nominal DEM chains ({', '.join(args.models)}) done", flush=True)
     if "long" in args.parts:  # measured as the films of long rows are: from domino 10 on
-        long_gaps = [1e-3 * g for g in args.long_gaps]
-        points = nominal_points(long_gaps, args.floor, args.long_n, 10, ["3d"], sr)
-        save_models(dem_rows(points, runs, suffix="_long"))
+        for gap in args.long_gaps:  # one sweep folder a gap: gaps can be added later
+            points = nominal_points([1e-3 * gap], args.floor, args.long_n, 10, ["3d"], sr)
+            save_models(dem_rows(points, runs, suffix="_long", folder=f"long_{gap:g}mm"))
         print(f"long nominal 3D chains ({args.long_n} dominoes) done", flush=True)
     if "band" in args.parts:
         for g in gaps:
