@@ -36,7 +36,7 @@ def test_validate_planar_box_sphere_geometry_equals_the_3d_one():
     centres off a face, off an edge and off a corner region of the rectangle."""
     rng = np.random.default_rng(7)
     core = HALF - R_BOX
-    checked = 0
+    checked = inside_checked = 0
     for _ in range(400):
         R = Rotation.from_rotvec([0.0, rng.uniform(-math.pi, math.pi), 0.0]).as_matrix()
         x = rng.uniform(-0.01, 0.01, 3)
@@ -46,14 +46,15 @@ def test_validate_planar_box_sphere_geometry_equals_the_3d_one():
         n3 = box_sphere(x, R, core, R_BOX, c, R_BALL, 1.0, *out3)
         n2 = rect_sphere(x, R, core, R_BOX, c, R_BALL, 1.0, *out2)
         assert n3 == n2 == 1
-        inside = np.all(np.abs(R.T @ (c - x)) <= core)
-        if inside and core[1] - abs((R.T @ (c - x))[1]) < core.max():
-            continue  # (a centre inside the core: the planar path takes an in-plane face)
+        depth = core - np.abs(R.T @ (c - x))  # how deep inside each pair of faces
+        if np.all(depth >= 0.0) and depth[1] < min(depth[0], depth[2]):
+            continue  # (inside, nearest the y faces: the planar path takes an in-plane face)
+        inside_checked += bool(np.all(depth >= 0.0))
         np.testing.assert_allclose(out2[0][0], out3[0][0], atol=1e-14)
         np.testing.assert_allclose(out2[1][0], out3[1][0], atol=1e-14)
         np.testing.assert_allclose(out2[2][0], out3[2][0], atol=1e-15)
         checked += 1
-    assert checked > 300
+    assert checked > 300 and inside_checked > 0
 
 
 # ----------------------------------------------------------------------- impacts

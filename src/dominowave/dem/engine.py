@@ -272,20 +272,26 @@ def _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t):
     log, pair statistics, touched bodies, as :func:`_bookkeep` for sphere contacts.
 
     Two held boxes have no contact rows (boxes.py), so a released box frees a held box it
-    already overlaps one step later, at the onset of their first rows."""
-    for k in range(boxes.n_changes[0]):
-        bi = boxes.changes[k, 0]
-        j = boxes.changes[k, 1]
-        kind = boxes.changes[k, 2]
-        if kind == ONSET and j >= 0 and bodies.held[bi] != bodies.held[j]:
-            _release(bodies, spheres, contacts, bi if bodies.held[bi] else j, t)
-        if not settings.record_pairs:
-            continue
-        te = t - boxes.change_lag[k]
-        if j >= 0:
-            _count_pair_change(rec, bi, j, kind, te, t)
-        else:
-            _count_wall_change(rec, bi, j, kind, te)
+    already overlaps one step later, at the onset of their first rows.  Onsets are
+    processed before ends, as in :func:`_bookkeep`: a clump whose contact with a box
+    passes from one sphere to another in one step (box-sphere rows are per sphere) keeps
+    one continuous body contact."""
+    for sweep in (ONSET, END):
+        for k in range(boxes.n_changes[0]):
+            kind = boxes.changes[k, 2]
+            if kind != sweep:
+                continue
+            bi = boxes.changes[k, 0]
+            j = boxes.changes[k, 1]
+            if kind == ONSET and j >= 0 and bodies.held[bi] != bodies.held[j]:
+                _release(bodies, spheres, contacts, bi if bodies.held[bi] else j, t)
+            if not settings.record_pairs:
+                continue
+            te = t - boxes.change_lag[k]
+            if j >= 0:
+                _count_pair_change(rec, bi, j, kind, te, t)
+            else:
+                _count_wall_change(rec, bi, j, kind, te)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)

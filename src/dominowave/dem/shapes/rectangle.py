@@ -248,11 +248,11 @@ def rect_sphere(x, R, h, r, c, radius, margin, normal, point, overlap, key):
         if h[0] - abs(q0) <= h[2] - abs(q2):
             d = abs(q0) - h[0]
             n0, n2 = s0 * R[0, 0], s0 * R[2, 0]
-            c0, c2 = c[0] - (h[0] - abs(q0)) * n0, c[2] - (h[0] - abs(q0)) * n2
+            c0, c2 = c[0] + (h[0] - abs(q0)) * n0, c[2] + (h[0] - abs(q0)) * n2  # on the face
         else:
             d = abs(q2) - h[2]
             n0, n2 = s2 * R[0, 2], s2 * R[2, 2]
-            c0, c2 = c[0] - (h[2] - abs(q2)) * n0, c[2] - (h[2] - abs(q2)) * n2
+            c0, c2 = c[0] + (h[2] - abs(q2)) * n0, c[2] + (h[2] - abs(q2)) * n2  # on the face
         n1 = 0.0
         cy = c[1]
     delta = r + radius - d
