@@ -19,7 +19,6 @@ from dominowave.sweep.fig6 import read_rows
 from dominowave.units import speed_scale
 
 HERE = Path(__file__).resolve().parent
-NUMERIC = ("d_over_l", "members", "n_settled")
 
 
 def _summary(path: Path) -> list[dict]:
