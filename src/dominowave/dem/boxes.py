@@ -14,8 +14,8 @@ from the same per-pair functions of contact.py:
   the rounding radius as curvature, the Tsuji dashpot);
 * tangential Cundall-Strack (contact.rotate_shear, contact.cundall_strack), one shear
   history per contact point, carried from step to step by the point's feature key (a
-  point with a new key continues the nearest unmatched old point of its pair, so that a
-  contact keeps its history when its touching feature pair changes);
+  touching point with a new key continues the nearest unmatched old point of its pair, so
+  that a contact keeps its history when its touching feature pair changes);
 * the dashpot ``c_n`` from the pair's restitution (contact.pair_friction_restitution: its own
   value, or ``min(e_i, e_j)``; contact.viscous_coefficient)
   and the effective mass AT THE CONTACT POINT along the normal,
@@ -533,11 +533,12 @@ def _continuation_distance(boxes, a, j):
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _continued_row(old, used, o, o_end, keys, m, p, tol):
-    """The old row (of rows o .. o_end - 1, one pair) that a new point at p without a key
-    match continues, or -1: the nearest row within ``tol`` [m] not yet matched whose key
-    is not in this step's manifold (``keys[:m]``).  A point whose touching feature pair
-    changes while it moves on continuously (a vertex sliding off a face over the rounded
-    edge: a face-clip point, then a vertex-edge point) so keeps its shear history."""
+    """The old row (of rows o .. o_end - 1, one pair) that a new touching point at p
+    without a key match continues, or -1: the nearest row within ``tol`` [m] not yet
+    matched whose key is not in this step's manifold (``keys[:m]``).  A point whose
+    touching feature pair changes while it moves on continuously (a vertex sliding off a
+    face over the rounded edge: a face-clip point, then a vertex-edge point) so keeps its
+    shear history."""
     q, best = -1, tol * tol
     for t in range(o, o_end):
         if used[t]:
@@ -674,9 +675,13 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
                     if old.key[t] == key and not used[t]:
                         q = t
                         break
-                if q < 0:
-                    q = _continued_row(old, used, o, o_end, boxes.m_key, m, boxes.m_point[k], tol)
                 overlap = boxes.m_overlap[k]
+                # only a touching point continues another feature's row: a point out of
+                # contact has no spring to carry, and its gap is not the continuation of
+                # the old point's overlap (the end impulse would read the jump between the
+                # two features as a separation speed, ramp / dt, and kick the pair apart)
+                if q < 0 and overlap > 0.0:
+                    q = _continued_row(old, used, o, o_end, boxes.m_key, m, boxes.m_point[k], tol)
                 if overlap <= 0.0:
                     if q >= 0:
                         used[q] = 1
