@@ -455,9 +455,9 @@ def test_standard_plastic_box_chain_sample_runs_with_its_energy_balance():
     away, continued its row, and the end impulse read that jump as a separation at
     240 m/s (2.1e-3 J of kinetic energy in one step; docs/dem.md, "Energy-balance
     aborts").  A point out of contact now continues no row.  The chain runs to its end;
-    the ledger's total drifts by 3.2e-5 J, 2.9e-3 of the 1.1e-2 J released (small
-    injections not yet traced remain); the bound, 1e-2, separates that from the abort
-    (one step of 0.19 of it)."""
+    the ledger's total drifts by 3.2e-5 J, 2.9e-3 of the 1.1e-2 J released (corners
+    gaining and losing a duplicate point at micrometre overlaps remain, docs/dem.md);
+    the bound, 1e-2, separates that from the abort (one step of 0.19 of it)."""
     from dominowave.chain.scenario import DominoChain
     from dominowave.sweep.predict import PredictSample
 
