@@ -33,7 +33,7 @@ process, no pool (the machine is shared). The measurements of
     S=docs/real_dominoes/speed_vs_pitch.py
     nice -n 15 python $S --floor hardwood --samples 1 --n 12 --fit-from 3
     python $S --report --update-doc  # CSVs -> figure, tables (into docs/real_dominoes.md)
-    python $S --quick --out /tmp/q --runs /tmp/q/runs   # a cheap check of the pipeline
+    python $S --quick --out quick --runs quick/runs  # a cheap check of the pipeline
 
 Output (``--out``, default next to this script): ``speed_vs_pitch_band.csv``,
 ``speed_vs_pitch_models.csv``, ``speed_vs_pitch_theory.csv``, ``speed_vs_pitch.png`` and
