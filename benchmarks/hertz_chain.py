@@ -2,18 +2,21 @@
 
 The chain is ``chain.presets.standard_domino`` (48 x 24 x 7.5 mm box dominoes, the
 nominal mass, friction and restitution of the shipped material data, the given floor and
-gap, lateral asymmetry 0.01) with ``normal_law="hertz"``, E = --young, nu = --poisson, as
-``DominoChain`` builds it: every domino rests on the floor at its Hertz sink (--held:
+gap, lateral asymmetry 0.01) with ``normal_law="hertz"``, E = --young, nu = --poisson,
+as ``DominoChain`` builds it: every domino rests on the floor at its Hertz sink (--held:
 dominoes 1.. held there until touched, as the clump chain's); domino 0 is pushed about
 its front bottom edge with the chain's default push; time step ``--safety`` x the
-engine's critical estimate (timestep.py) unless --dt.  The run ends when no body-body
-contact has started for --quiet seconds (tested every --report simulated seconds), or
-at the chain's max_time.  Reported: the step, the steps, the CPU (process) time of the
-whole run (median of --repeat fresh runs, after one compilation run of a few steps), the
-dominoes reached, the arrival times (first contact with the previous domino) and the
-front speed fitted to the arrivals of the second half; and, every --report seconds, the
-in-situ cost: CPU per step over the last piece, the contact rows (points) of the last
-step, box-box and floor, and the candidate box pairs of the Verlet list.
+engine's critical estimate (timestep.py) unless --dt. The run ends when the wave reaches
+the last domino (its first contact with the one before), or when no body-body contact
+has started for --quiet seconds (tested every --report simulated seconds), or at
+--max-time-factor x the chain's max_time (the chain's own max_time, from the linear
+theory's travel time, can end a Hertz run before the wave arrives). Reported: the step,
+the steps, the CPU (process) time of the whole run (median of --repeat fresh runs, after
+one compilation run of a few steps), the dominoes reached, the arrival times (first
+contact with the previous domino) and the front speed fitted to the arrivals of the
+second half; and, every --report seconds, the in-situ cost: CPU per step over the last
+piece, the contact rows (points) of the last step, box-box and floor, and the candidate
+box pairs of the Verlet list.
 
 Run:  python benchmarks/hertz_chain.py [--n 100] [--gap 0.02] [--repeat 3] [--held]
       [--safety 0.02]
@@ -29,6 +32,7 @@ import numpy as np
 
 from dominowave.chain import DominoChain
 from dominowave.chain.presets import standard_domino
+from dominowave.dem import StopCondition
 
 
 def hertz_chain(params, dt: float | None, safety: float) -> DominoChain:
@@ -59,6 +63,9 @@ def main():
     parser.add_argument("--poisson", type=float, default=0.35)
     parser.add_argument("--dt", type=float, default=None)
     parser.add_argument("--safety", type=float, default=0.02)
+    parser.add_argument(
+        "--max-time-factor", type=float, default=2.0, help="end at most at this x max_time"
+    )
     parser.add_argument("--quiet", type=float, default=0.2, help="end: no onset for [s]")
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--held", action="store_true", help="dominoes 1.. held until touched")
@@ -79,6 +86,11 @@ def main():
     def fresh():
         return build(chain)
 
+    # the end: the wave reaches the last domino (its first contact with the one before),
+    # or the quiet end, or --max-time
+    end = args.max_time_factor * chain.max_time
+    last_touched = StopCondition(touched_body=args.n - 1)
+
     fresh().run(n_steps=10)  # compilation
     times, sim = [], None
     for _ in range(args.repeat):
@@ -86,9 +98,9 @@ def main():
         t0 = time.process_time()
         # (in pieces of --report simulated seconds, the progress printed: a long run;
         # the quiet end tested between pieces, on the engine's time of the last onset)
-        while sim.time < chain.max_time - 0.5 * sim.dt:
+        while sim.time < end - 0.5 * sim.dt:
             steps, cpu = int(sim.rec.step[0]), time.process_time()
-            sim.run(until=min(sim.time + args.report, chain.max_time))
+            sim.run(until=min(sim.time + args.report, end), stop=last_touched)
             rows = sim.boxes.rows
             box_box = int((rows.j[: rows.n[0]] >= 0).sum())
             per_step = (time.process_time() - cpu) / max(int(sim.rec.step[0]) - steps, 1)
@@ -98,7 +110,7 @@ def main():
                 f"rows {rows.n[0]} ({box_box} box-box), candidates {sim.boxes.n_cand[0]}",
                 flush=True,
             )
-            if sim.time - sim.rec.last_onset[0] >= args.quiet:
+            if sim.time - sim.rec.last_onset[0] >= args.quiet or reached(sim) == args.n:
                 break
         times.append(time.process_time() - t0)
     steps = int(sim.rec.step[0])
