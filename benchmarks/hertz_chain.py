@@ -54,6 +54,28 @@ def reached(sim):
     return 1 + int(np.isfinite(sim.rec.first_contact[n - 1, n]).sum())
 
 
+def profile_split(sim, times, steps=2000, repeat=3):
+    """Print where a step goes at each of ``times`` [s] of the wave (box_profile.profile:
+    each phase timed in its own compiled loop on the same state, median of ``repeat``
+    loops of ``steps`` calls; search, manifold, law, list builds, rest)."""
+    from box_profile import profile
+
+    print(
+        f"dt = {sim.dt:.3e} s; us per step (CPU, median of {repeat} x {steps} calls)\n"
+        "| t [s] | reached | candidates | within reach | rows | step | search "
+        "| manifold - search | law | list | rest |\n|---|---|---|---|---|---|---|---|---|---|---|"
+    )
+    for t in times:
+        sim.run(until=t)
+        us, _, reach, rows, cand, _ = profile(sim, steps, repeat)
+        print(
+            f"| {sim.time:.3f} | {reached(sim)} | {cand} | {reach} | {rows} | {us['step']:.1f} | "
+            f"{us['search']:.1f} | {us['manifold'] - us['search']:.1f} | {us['law']:.1f} | "
+            f"{us['list']:.2f} | {us['rest']:.1f} |",
+            flush=True,
+        )
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=100)
@@ -70,6 +92,13 @@ def main():
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--held", action="store_true", help="dominoes 1.. held until touched")
     parser.add_argument("--report", type=float, default=0.1, help="progress every [s]")
+    parser.add_argument(
+        "--profile-at",
+        type=float,
+        nargs="+",
+        default=None,
+        help="instead of the timed runs: the split of a step (box_profile.py) at these times [s]",
+    )
     args = parser.parse_args()
     params = standard_domino(
         n_dominoes=args.n,
@@ -91,6 +120,9 @@ def main():
     end = args.max_time_factor * chain.max_time
     last_touched = StopCondition(touched_body=args.n - 1)
 
+    if args.profile_at:
+        profile_split(fresh(), args.profile_at)
+        return
     fresh().run(n_steps=10)  # compilation
     times, sim = [], None
     for _ in range(args.repeat):
