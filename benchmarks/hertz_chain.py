@@ -2,17 +2,21 @@
 
 The chain is ``chain.presets.standard_domino`` (48 x 24 x 7.5 mm box dominoes, the
 nominal mass, friction and restitution of the shipped material data, the given floor and
-gap), built here as ``DominoChain`` builds a box chain but with ``Scene(normal_law="hertz")``
-and materials giving Young's modulus and Poisson's ratio (E = --young, nu = --poisson;
-the chain itself knows only the linear law).  Every domino rests on the floor at its
-Hertz sink (--held: dominoes 1.. held there until touched, as the clump chain's); domino
-0 is pushed about its front bottom edge with the chain's default push; time step
-``--safety`` x the engine's critical estimate (timestep.py) unless --dt.  The run
-ends when no body-body contact has started for --quiet seconds (tested every --report
-simulated seconds), or at the chain's max_time.  Reported: the step, the steps, the CPU
-(process) time of the whole run (median of --repeat fresh runs, after one compilation
-run of a few steps), the dominoes reached, the arrival times (first contact with the
-previous domino) and the front speed fitted to the arrivals of the second half.
+gap, lateral asymmetry 0.01) with ``normal_law="hertz"``, E = --young, nu = --poisson,
+as ``DominoChain`` builds it: every domino rests on the floor at its Hertz sink (--held:
+dominoes 1.. held there until touched, as the clump chain's); domino 0 is pushed about
+its front bottom edge with the chain's default push; time step ``--safety`` x the
+engine's critical estimate (timestep.py) unless --dt. The run ends when the wave reaches
+the last domino (its first contact with the one before), or when no body-body contact
+has started for --quiet seconds (tested every --report simulated seconds), or at
+--max-time-factor x the chain's max_time (the chain's own max_time, from the linear
+theory's travel time, can end a Hertz run before the wave arrives). Reported: the step,
+the steps, the CPU (process) time of the whole run (median of --repeat fresh runs, after
+one compilation run of a few steps), the dominoes reached, the arrival times (first
+contact with the previous domino) and the front speed fitted to the arrivals of the
+second half; and, every --report seconds, the in-situ cost: CPU per step over the last
+piece, the contact rows (points) of the last step, box-box and floor, and the candidate
+box pairs of the Verlet list.
 
 Run:  python benchmarks/hertz_chain.py [--n 100] [--gap 0.02] [--repeat 3] [--held]
       [--safety 0.02]
@@ -27,54 +31,49 @@ import time
 import numpy as np
 
 from dominowave.chain import DominoChain
-from dominowave.chain.build import yaw_matrix
 from dominowave.chain.presets import standard_domino
-from dominowave.dem import Material, Scene
-from dominowave.dem.hertz import hertz_coefficient, hertz_modulus
+from dominowave.dem import StopCondition
 
 
-def hertz_chain(
-    chain: DominoChain, young: float, poisson: float, dt: float | None, safety, held=False
-):
-    """The Hertz box chain of ``chain`` (module docstring); returns the Simulation.
-    ``held``: dominoes 1.. held until touched (dem.Scene.add_box)."""
-    p = chain.params
-    e_dominoes, e_floor = p.restitution_pairs
-    scene = Scene(gravity=(0.0, 0.0, -p.g), normal_law="hertz", stiffness_rule="paper")
-    kw = {"young": young, "poisson": poisson, "kt_ratio": p.kt_ratio}
-    box = scene.add_material(Material(density=p.density, **kw))
-    floor = scene.add_material(Material(density=p.density, **kw))
-    scene.set_pair(box, box, friction=p.friction_dominoes, restitution=e_dominoes)
-    scene.set_pair(box, floor, friction=p.friction_floor, restitution=e_floor)
-    scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), floor)
-    shape = chain.shape
-    r = shape.rounding
-    # resting on 4 Hertz points: m g / 4 = K delta^{3/2}
-    K = hertz_coefficient(hertz_modulus(young, poisson, young, poisson), r)
-    sink = (p.mass * p.g / (4.0 * K)) ** (2.0 / 3.0)
-    v0, w0, _ = chain._push_velocities(chain.resolve(None))
-    errors = chain.placement
-    stands = zip(chain.positions + errors.along, errors.across, errors.yaw, strict=True)
-    for n, (x, y, yaw) in enumerate(stands):
-        scene.add_box(
-            (x, y, shape.half_extents[2] - sink),
-            shape.half_extents,
-            r,
-            box,
-            orientation=yaw_matrix(yaw),
-            velocity=v0 if n == 0 else (0.0, 0.0, 0.0),
-            angular_velocity=w0 if n == 0 else (0.0, 0.0, 0.0),
-            held=held and n > 0,
-        )
-    return scene.build(
-        dt=dt, safety=safety, skin=r, record_pairs=True, track_energy=False, damping=p.damping
-    )
+def hertz_chain(params, dt: float | None, safety: float) -> DominoChain:
+    """The Hertz box chain of ``params`` (module docstring): the step ``dt`` [s], or (None)
+    ``safety`` x the engine's critical estimate."""
+    return DominoChain(params, dt=dt, safety=None if dt is not None else safety)
+
+
+def build(chain: DominoChain):
+    """A fresh simulation of ``chain`` as the chain analysis builds it, without the energy
+    ledger (a pure timing; the trajectory is the same)."""
+    sim, _ = chain.build(chain.resolve(None), record=True, track_energy=False)
+    return sim
 
 
 def reached(sim):
     """Dominoes the wave has reached: domino 0 and each that touched its predecessor."""
     n = np.arange(1, sim.n_bodies)
     return 1 + int(np.isfinite(sim.rec.first_contact[n - 1, n]).sum())
+
+
+def profile_split(sim, times, steps=2000, repeat=3):
+    """Print where a step goes at each of ``times`` [s] of the wave (box_profile.profile:
+    each phase timed in its own compiled loop on the same state, median of ``repeat``
+    loops of ``steps`` calls; search, manifold, law, list builds, rest)."""
+    from box_profile import profile
+
+    print(
+        f"dt = {sim.dt:.3e} s; us per step (CPU, median of {repeat} x {steps} calls)\n"
+        "| t [s] | reached | candidates | within reach | rows | step | search "
+        "| manifold - search | law | list | rest |\n|---|---|---|---|---|---|---|---|---|---|---|"
+    )
+    for t in times:
+        sim.run(until=t)
+        us, _, reach, rows, cand, _ = profile(sim, steps, repeat)
+        print(
+            f"| {sim.time:.3f} | {reached(sim)} | {cand} | {reach} | {rows} | {us['step']:.1f} | "
+            f"{us['search']:.1f} | {us['manifold'] - us['search']:.1f} | {us['law']:.1f} | "
+            f"{us['list']:.2f} | {us['rest']:.1f} |",
+            flush=True,
+        )
 
 
 def main():
@@ -86,19 +85,44 @@ def main():
     parser.add_argument("--poisson", type=float, default=0.35)
     parser.add_argument("--dt", type=float, default=None)
     parser.add_argument("--safety", type=float, default=0.02)
+    parser.add_argument(
+        "--max-time-factor", type=float, default=2.0, help="end at most at this x max_time"
+    )
     parser.add_argument("--quiet", type=float, default=0.2, help="end: no onset for [s]")
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--held", action="store_true", help="dominoes 1.. held until touched")
     parser.add_argument("--report", type=float, default=0.1, help="progress every [s]")
+    parser.add_argument(
+        "--profile-at",
+        type=float,
+        nargs="+",
+        default=None,
+        help="instead of the timed runs: the split of a step (box_profile.py) at these times [s]",
+    )
     args = parser.parse_args()
     params = standard_domino(
-        n_dominoes=args.n, gap=args.gap, floor=args.floor, lateral_asymmetry=0.01
+        n_dominoes=args.n,
+        gap=args.gap,
+        floor=args.floor,
+        lateral_asymmetry=0.01,
+        young=args.young,
+        normal_law="hertz",
+        poisson=args.poisson,
+        held=args.held or None,
     )
-    chain = DominoChain(params)
+    chain = hertz_chain(params, args.dt, args.safety)
 
     def fresh():
-        return hertz_chain(chain, args.young, args.poisson, args.dt, args.safety, args.held)
+        return build(chain)
 
+    # the end: the wave reaches the last domino (its first contact with the one before),
+    # or the quiet end, or --max-time
+    end = args.max_time_factor * chain.max_time
+    last_touched = StopCondition(touched_body=args.n - 1)
+
+    if args.profile_at:
+        profile_split(fresh(), args.profile_at)
+        return
     fresh().run(n_steps=10)  # compilation
     times, sim = [], None
     for _ in range(args.repeat):
@@ -106,14 +130,19 @@ def main():
         t0 = time.process_time()
         # (in pieces of --report simulated seconds, the progress printed: a long run;
         # the quiet end tested between pieces, on the engine's time of the last onset)
-        while sim.time < chain.max_time - 0.5 * sim.dt:
-            sim.run(until=min(sim.time + args.report, chain.max_time))
+        while sim.time < end - 0.5 * sim.dt:
+            steps, cpu = int(sim.rec.step[0]), time.process_time()
+            sim.run(until=min(sim.time + args.report, end), stop=last_touched)
+            rows = sim.boxes.rows
+            box_box = int((rows.j[: rows.n[0]] >= 0).sum())
+            per_step = (time.process_time() - cpu) / max(int(sim.rec.step[0]) - steps, 1)
             print(
                 f"  t = {sim.time:.3f} s, {reached(sim)} dominoes reached, "
-                f"CPU {time.process_time() - t0:.1f} s",
+                f"CPU {time.process_time() - t0:.1f} s, {1e6 * per_step:.1f} us/step, "
+                f"rows {rows.n[0]} ({box_box} box-box), candidates {sim.boxes.n_cand[0]}",
                 flush=True,
             )
-            if sim.time - sim.rec.last_onset[0] >= args.quiet:
+            if sim.time - sim.rec.last_onset[0] >= args.quiet or reached(sim) == args.n:
                 break
         times.append(time.process_time() - t0)
     steps = int(sim.rec.step[0])

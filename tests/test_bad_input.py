@@ -23,6 +23,8 @@ import workflow_helpers  # noqa: F401  (registers the steppable toy scenario)
 
 from dominowave.io.checkpoint import save_checkpoint
 
+HERTZ_CHAIN = ["chain", "--n", "4", "--shape", "box", "--normal-law", "hertz"]
+
 GOOD = '[scenario]\nkind = "theory"\nn_dominoes = 6\nn_frames = 10\n'
 
 # (case id, study text or None, extra args, fragments the error line must contain)
@@ -57,6 +59,19 @@ STUDY_CASES = [
         '[scenario]\nkind = "chain"\nrounding = 1e-4\n',
         [],
         ["rounding = 0.0001", "shape = 'box' only"],
+    ),
+    (
+        "chain-hertz-clump",
+        '[scenario]\nkind = "chain"\nnormal_law = "hertz"\nyoung = 2.5e9\n',
+        [],
+        ["normal_law = 'hertz' needs shape = 'box'"],
+    ),
+    (
+        "chain-hertz-poisson",
+        '[scenario]\nkind = "chain"\nshape = "box"\nnormal_law = "hertz"\nyoung = 2.5e9\n'
+        "poisson = 0.5\n",
+        [],
+        ["poisson", "0.5"],
     ),
     ("no-scenario", '[output]\ndir = "x"\n', [], ["scenario is required"]),
     ("empty-file", "", [], ["scenario is required"]),
@@ -341,6 +356,26 @@ def test_read_only_output_folder(tmp_path, cli):
         (
             ["chain", "--n", "4", "--shape", "box", "--restitution-floor", "2"],
             ["restitution_floor = 2", "(0, 1]"],
+        ),
+        (
+            ["chain", "--n", "4", "--shape", "box", "--normal-law", "hooke", "--young", "1e9"],
+            ["normal_law = 'hooke' is not one of 'linear', 'hertz'"],
+        ),
+        (
+            ["chain", "--n", "4", "--normal-law", "hertz", "--young", "1e9"],
+            ["normal_law = 'hertz' needs shape = 'box'"],
+        ),
+        (
+            HERTZ_CHAIN,
+            ["normal_law = 'hertz' needs young", "(0, inf) Pa"],
+        ),
+        (
+            [*HERTZ_CHAIN, "--young", "1e9", "--poisson", "0.5"],
+            ["poisson = 0.5 is outside the valid range [0, 0.5)"],
+        ),
+        (
+            ["chain", "--n", "4", "--shape", "box", "--poisson", "0.3"],
+            ["poisson = 0.3 is an option of normal_law = 'hertz' only"],
         ),
         (["rods", "--push", "1e9"], ["push = 1e+09", "(0, 100]"]),
         (["rods", "--d-over-l", "1e-300"], ["d_over_l = 1e-300", "[0.001, 1)"]),

@@ -66,6 +66,15 @@ It stands on its own flat base, so ``held`` is off unless asked for; the clump's
   ``restitution_dominoes`` and ``restitution_floor`` set the box's domino-domino and
   domino-floor contacts apart (not set: ``restitution``).
 * The box starts at the static overlap ``m g / (4 k_n)`` (four corner points on the floor).
+
+**Hertz contacts** (``normal_law = "hertz"``, box only, with ``young`` and ``poisson``): every
+contact point of a box pushes with Hertz's ``F = K delta^{3/2}``, ``K = 4/3 E* sqrt(r)``,
+``1/E* = 2 (1 - nu^2) / E`` (two bodies of the same material; the floor is given the
+dominoes' material), the rounding ``r`` as the radius of curvature (``dem.hertz``), and the
+Tsuji dashpot of the pair's restitution.  The tangential spring stays the linear rule's
+(``kt_ratio`` times ``pi r E / 2``, eq 24 with ``R = r``): ``contact_stiffness`` is that spring,
+and the theory's estimates (time step, travel time) use it.  A box stands at its Hertz sink:
+``m g / 4 = K delta^{3/2}`` on its four corner points (a planar box: two, each counted twice).
 """
 
 from __future__ import annotations
@@ -98,6 +107,7 @@ Model = Literal["2d", "3d"]
 Shape = Literal["clump", "box"]
 Base = Literal["one", "two"]
 YoungRule = Literal["paper", "yade"]
+NormalLaw = Literal["linear", "hertz"]
 
 CLUMP_ONLY = ("spheres_per_column", "base")
 """Options of ``shape = "clump"`` that a box refuses."""
@@ -155,6 +165,16 @@ class ChainParams:
     kn: float | None = parameter(None, "N/m", "contact spring k_n, directly", gt=0, allow_inf=True)
     young: float | None = parameter(
         None, "Pa", "Young's modulus (with young_rule)", gt=0, allow_inf=True
+    )
+    normal_law: NormalLaw = parameter(
+        "linear",
+        "",
+        "normal force of a contact point: linear (k_n delta) or hertz (box with young: 4/3 E*"
+        " sqrt(r) delta^{3/2})",
+        choices=("linear", "hertz"),
+    )
+    poisson: float | None = parameter(
+        None, "", "hertz only: Poisson's ratio nu in [0, 0.5) (not set: 0.3)", ge=0, lt=0.5
     )
     young_rule: YoungRule = parameter(
         "paper",
@@ -237,6 +257,39 @@ class ChainParams:
                 "give the stiffness once: stiffness_ratio, kn or young "
                 f"(got stiffness_ratio={self.stiffness_ratio}, kn={self.kn}, young={self.young})"
             )
+        self._check_normal_law()
+
+    def _check_normal_law(self) -> None:
+        """Hertz needs a box and a Young's modulus; ``poisson`` is Hertz's alone."""
+        if self.normal_law == "linear":
+            if self.poisson is not None:
+                raise ValueError(
+                    f"poisson = {self.poisson!r} is an option of normal_law = 'hertz' only;"
+                    " with normal_law = 'linear' leave it unset (None)"
+                )
+            return
+        if self.shape != "box":
+            raise ValueError(
+                f"normal_law = 'hertz' needs shape = 'box' (got shape = {self.shape!r}: a"
+                " clump's sphere contacts are linear)"
+            )
+        for name in ("stiffness_ratio", "kn"):
+            value = getattr(self, name)
+            if value is not None:
+                raise ValueError(
+                    f"{name} = {value!r} is a stiffness of normal_law = 'linear'; with"
+                    " normal_law = 'hertz' give young [Pa] (and poisson) instead"
+                )
+        if self.young is None or not math.isfinite(self.young):
+            raise ValueError(
+                f"normal_law = 'hertz' needs young, Young's modulus in (0, inf) Pa (got"
+                f" young = {self.young!r})"
+            )
+        if self.young_rule != "paper":
+            raise ValueError(
+                f"young_rule = {self.young_rule!r}: with normal_law = 'hertz' the tangential"
+                " spring takes the paper rule pi r E / 2; leave young_rule = 'paper'"
+            )
 
     def _check_shape_options(self) -> None:
         """Refuse an option of the other shape: one error naming it, its value, the shape."""
@@ -268,6 +321,21 @@ class ChainParams:
         """Radius of curvature at a contact [m]: ``R = s/2`` (clump) or ``r`` (box); the
         radius of ``young``'s stiffness rule and the scale of the allowed floor overlap."""
         return self.radius if self.shape == "clump" else self.rounding_radius
+
+    @property
+    def poisson_ratio(self) -> float:
+        """Poisson's ratio of a Hertz chain: ``poisson``, or 0.3 when not set."""
+        return 0.3 if self.poisson is None else self.poisson
+
+    @property
+    def hertz_coefficient(self) -> float:
+        """``K`` [N/m^{3/2}] of a Hertz point of two dominoes or a domino and the floor
+        (``F = K delta^{3/2}``, ``K = 4/3 E* sqrt(r)``, ``1/E* = 2 (1 - nu^2) / E``);
+        ValueError unless ``normal_law = "hertz"``."""
+        if self.normal_law != "hertz":
+            raise ValueError(f"normal_law = {self.normal_law!r}: no Hertz coefficient")
+        modulus = self.young / (2.0 * (1.0 - self.poisson_ratio**2))
+        return 4.0 / 3.0 * modulus * math.sqrt(self.rounding_radius)
 
     @property
     def base_layout(self) -> Base:
@@ -382,6 +450,8 @@ class ChainParams:
         """A copy with some fields changed (validated again)."""
         if {"stiffness_ratio", "kn", "young"} & changes.keys():
             changes = {"stiffness_ratio": None, "kn": None, "young": None, **changes}
+        if changes.get("normal_law", self.normal_law) == "linear":
+            changes = {"poisson": None, **changes}
         if changes.get("shape", self.shape) != self.shape:
             # the options of the old shape do not carry over to the new one
             old = CLUMP_ONLY if self.shape == "clump" else BOX_ONLY

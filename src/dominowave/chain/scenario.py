@@ -196,7 +196,10 @@ class DominoChain:
     the run stops (the wave died; default ``10 sqrt(l/g)``), ``max_time`` [s] hard
     limit (default: three times the theory's travel time plus the quiet time),
     ``tail_time`` [s] run on after the wave reached the last domino, to record the
-    aftermath (default ``5 sqrt(l/g)``).
+    aftermath (default ``5 sqrt(l/g)``).  ``safety`` (instead of ``dt``): the step as
+    that fraction of the engine's critical estimate for the built scene
+    (``dem.Scene.build``, timestep.py), e.g. for a Hertz chain (``normal_law =
+    "hertz"``), whose collisions the linear theory's ``T_c`` does not describe.
     """
 
     def __init__(
@@ -209,10 +212,12 @@ class DominoChain:
         quiet_time: float | None = None,
         max_time: float | None = None,
         tail_time: float | None = None,
+        safety: float | None = None,
     ):
         self.params = params
         self._options = {
             "dt": dt,
+            "safety": safety,
             "steps_per_collision": steps_per_collision,
             "frame_interval": frame_interval,
             "quiet_time": quiet_time,
@@ -220,6 +225,10 @@ class DominoChain:
             "tail_time": tail_time,
         }
         check_in_range("steps_per_collision", steps_per_collision, 10, math.inf, lo_inclusive=True)
+        if safety is not None:
+            check_in_range("safety", safety, 0.0, 1.0, hi_inclusive=True)
+            if dt is not None:
+                raise ValueError(f"give dt or safety, not both (got dt = {dt}, safety = {safety})")
         self.dt = dt if dt is not None else theory_collision_time(params) / steps_per_collision
         check_positive("dt", self.dt)
         scale = math.sqrt(params.height / params.g)
@@ -238,6 +247,9 @@ class DominoChain:
         # dominoes stand at these plus their placement errors
         self.positions = chain_positions(params)
         self.placement = placement(params)
+        if safety is not None:  # (the critical estimate needs the built scene)
+            sim, _ = self._build_scene(self.resolve(None), dt=None, safety=safety)
+            self.dt = sim.dt
         self._check_resolvable()
         frames = (self.max_time + self.tail_time) / self.frame_interval
         check_memory(
@@ -284,6 +296,8 @@ class DominoChain:
     def _sink(self) -> float:
         """Static overlap of an upright domino with the floor [m]."""
         p = self.params
+        if p.normal_law == "hertz":  # m g / 4 = K delta^{3/2} on the four corners
+            return (p.mass * p.g / (4 * p.hertz_coefficient)) ** (2.0 / 3.0)
         if p.shape == "box":  # four corners (a planar box: two, each counted twice)
             return p.mass * p.g / (4 * p.contact_stiffness)
         n_base = int(self.shape.bottom.sum())
@@ -313,12 +327,20 @@ class DominoChain:
         the engine's dissipation ledger (``dem.Scene.build``; off for engines-only
         timing, as YADE's default).
         """
+        return self._build_scene(push, self.dt, None, record, track_energy)
+
+    def _build_scene(self, push, dt, safety, record=True, track_energy=True):
+        """``build`` with the step ``dt`` [s] or (dt None) ``safety`` x the critical one."""
         p = self.params
+        step = {"dt": dt} if safety is None else {"dt": None, "safety": safety}
         scene = dem.Scene(
-            gravity=(0.0, 0.0, -p.g), stiffness_rule="paper", shear_kinematics=p.shear_kinematics
+            gravity=(0.0, 0.0, -p.g),
+            stiffness_rule="paper",
+            shear_kinematics=p.shear_kinematics,
+            normal_law=p.normal_law,
         )
         if p.shape == "box":
-            return self._build_boxes(scene, push, record, track_energy)
+            return self._build_boxes(scene, push, record, track_energy, step)
         kw = {"kn": p.contact_stiffness, "kt_ratio": p.kt_ratio, "restitution": p.restitution}
         densities = np.unique(self.shape.density)
         mat_face = {
@@ -352,7 +374,7 @@ class DominoChain:
                 held=p.holds and not moving,
             )
         sim = scene.build(
-            dt=self.dt,
+            **step,
             damping=p.damping,
             # a Verlet skin of one sphere radius: the list is rebuilt ~3x less often than
             # with the generic 0.3 R, at ~3x more (cheap, inactive) candidate pairs -- a
@@ -365,11 +387,14 @@ class DominoChain:
         )
         return sim, omega_1
 
-    def _build_boxes(self, scene, push: Push, record: bool, track_energy: bool):
-        """The box chain's simulation (``build`` with ``shape = "box"``)."""
+    def _build_boxes(self, scene, push: Push, record: bool, track_energy: bool, step: dict):
+        """The box chain's simulation (``build`` with ``shape = "box"``); ``step`` the
+        keywords ``dt`` / ``safety`` of ``dem.Scene.build``."""
         p = self.params
         e_dominoes, e_floor = p.restitution_pairs
         kw = {"kn": p.contact_stiffness, "kt_ratio": p.kt_ratio}
+        if p.normal_law == "hertz":  # (the tangential spring: pi r E / 2, as kn's)
+            kw = {"young": p.young, "poisson": p.poisson_ratio, "kt_ratio": p.kt_ratio}
         box = scene.add_material(dem.Material(density=p.density, **kw))
         floor = scene.add_material(dem.Material(density=p.density, **kw))
         # friction and restitution by material pair, not the min rule of one value per body
@@ -396,7 +421,7 @@ class DominoChain:
                 held=p.holds and not moving,
             )
         sim = scene.build(
-            dt=self.dt,
+            **step,
             damping=p.damping,
             # a skin of one thickness, not of the rounding (s/20): the list is rebuilt
             # ~20 times less often while dominoes fall, and the bounding spheres of

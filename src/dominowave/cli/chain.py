@@ -173,6 +173,13 @@ def chain_command(
     kn: Annotated[float | None, typer.Option(help="spring k_n per contact point [N/m]")] = None,
     young: Annotated[float | None, typer.Option(help="Young's modulus [Pa]")] = None,
     young_rule: Annotated[str, typer.Option(help="paper (k_n = pi R E/2) | yade (E R)")] = "paper",
+    normal_law: Annotated[
+        str,
+        typer.Option(help="linear | hertz (box with --young: F = 4/3 E* sqrt(r) delta^1.5)"),
+    ] = "linear",
+    poisson: Annotated[
+        float | None, typer.Option(help="hertz: Poisson's ratio in [0, 0.5) [default 0.3]")
+    ] = None,
     kt_ratio: Annotated[float, typer.Option(help="tangential / normal stiffness k_t/k_n")] = 1.0,
     shear_kinematics: Annotated[
         str, typer.Option(help="contact_point | yade (YADE's ratcheting-free shear rate)")
@@ -271,6 +278,8 @@ def chain_command(
         "shape": shape,
         "rounding": rounding,
         "young_rule": young_rule,
+        "normal_law": normal_law,
+        "poisson": poisson,
         "kt_ratio": kt_ratio,
         "shear_kinematics": shear_kinematics,
         "damping": damping,
