@@ -29,7 +29,9 @@ bodies.  Otherwise the face axis of largest separation gives the reference face;
 incident face of the other box (the one most anti-parallel to its normal) is clipped
 against the side planes of the reference face (Sutherland-Hodgman), and every corner of
 the clipped polygon closer than ``r_i + r_j`` to the reference face is a contact point (a
-face resting on a face gets the corners of their overlap, up to 8).  The deepest point
+face resting on a face gets the corners of their overlap, up to 8); corners closer than
+:data:`COINCIDENT` of the boxes' size to each other are one point (two equally wide faces
+side by side, edges on side planes to round-off).  The deepest point
 of the pair is then found exactly -- the core distance of two boxes is attained at a
 vertex of one (point-box distance) or between two crossing edges (the edge axis of
 largest separation, closest points inside both edges; Ericson, Real-Time Collision
@@ -60,6 +62,9 @@ __all__ = [
 ]
 
 MAX_POINTS = 25  # (at most 16 are returned; the rest is scratch)
+
+COINCIDENT = 1e-6  # points of one face manifold closer than this fraction of the two
+# boxes' largest half-extents are one contact (_merge_coincident)
 
 # key offsets of the feature kinds (see box_box)
 KEY_EDGE = 2 * 6 * 6 * 64
@@ -222,7 +227,10 @@ def faces_separate(xi, Ri, hi, xj, Rj, hj, reach):
 def _clip(src, n_src, dst, axis, side, limit, label):
     """Sutherland-Hodgman: the polygon ``src[:n_src]`` (rows u, v, n, out-edge label) cut
     by the half plane ``side * src[axis] <= limit`` into ``dst``; a new corner on the cut
-    line starts an edge labelled ``label``.  Returns the corner count of ``dst``."""
+    line starts an edge labelled ``label``.  A corner exactly on the cut line is kept and
+    is not repeated as a crossing (it becomes the corner where the edge along the cut line
+    starts, if the polygon leaves the half plane there).  Returns the corner count of
+    ``dst``."""
     m = 0
     for k in range(n_src):
         k1 = k + 1 if k + 1 < n_src else 0
@@ -232,6 +240,11 @@ def _clip(src, n_src, dst, axis, side, limit, label):
             for col in range(4):
                 dst[m, col] = src[k, col]
             m += 1
+            if a == 0.0 and b > 0.0:  # (the kept corner is the crossing)
+                dst[m - 1, 3] = label
+                continue
+        if b == 0.0:  # (the crossing is the next corner, kept on its own)
+            continue
         if (a <= 0.0) != (b <= 0.0):
             t = a / (a - b)
             for col in range(3):
@@ -373,14 +386,18 @@ def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work,
     face_B = 2 * kB + (0 if sB > 0 else 1)
     base = ((swap * 6 + face_A) * 6 + face_B) * 64
     reach = rA + rB + margin
+    close = COINCIDENT * (max(hA[0], hA[1], hA[2]) + max(hB[0], hB[1], hB[2]))
     n = 0
     for k in range(count):
         pn = src[k, 2]
         label_in = int(src[k - 1 if k > 0 else count - 1, 3])
         label_out = int(src[k, 3])
+        near = -1  # (the incident vertex within `close` of a crossing)
         if (label_in < 4) != (label_out < 4):  # a side-plane crossing of an incident edge
             edge = min(label_in, label_out)
             plane = max(label_in, label_out) - 4
+            near = _vertex_within(xB, RB, hB, kB, sB, edge, c0, c1, c2, RA, ku, kv, n0, n1, n2,
+                                  src[k], close)  # fmt: skip
             w = _beyond_side_plane(
                 xA, RA, hA, ku, kv, c0, c1, c2, n0, n1, n2, xB, RB, hB, kB, sB, src[k], edge, plane
             )
@@ -390,7 +407,7 @@ def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work,
                     continue
                 vertex = int(w[0])
                 label_in, label_out = vertex - 1 if vertex > 0 else 3, vertex
-                if t < 1.0:  # (inside the edge: the crossing's own key)
+                if t < 1.0 and near < 0:  # (inside the edge: the crossing's own key)
                     label_in, label_out = edge, plane + 4
                 corner = base + min(label_in, label_out) * 8 + max(label_in, label_out)
                 duplicate = False
@@ -409,6 +426,8 @@ def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work,
                 continue
         if pn >= reach:
             continue
+        if (label_in < 4) != (label_out < 4) and near >= 0:  # (a crossing at a vertex)
+            label_in, label_out = near - 1 if near > 0 else 3, near
         lift = 0.5 * (rA + pn - rB)  # midway between the two rounded surfaces
         point[n, 0] = c0 + src[k, 0] * RA[0, ku] + src[k, 1] * RA[0, kv] + lift * n0
         point[n, 1] = c1 + src[k, 0] * RA[1, ku] + src[k, 1] * RA[1, kv] + lift * n1
@@ -417,7 +436,62 @@ def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work,
         overlap[n] = rA + rB - pn
         key[n] = base + min(label_in, label_out) * 8 + max(label_in, label_out)
         n += 1
-    return n
+    return _merge_coincident(out, n, base, close)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _vertex_within(xB, RB, hB, kB, sB, edge, c0, c1, c2, RA, ku, kv, n0, n1, n2, row, close):
+    """The end (corner 0..3) of incident edge ``edge`` within ``close`` [m] of the clipped
+    corner ``row`` (u, v, height over the reference face of centre ``c``), or -1: a
+    crossing that close to a vertex is that vertex, and takes its key."""
+    q0 = c0 + row[0] * RA[0, ku] + row[1] * RA[0, kv] + row[2] * n0
+    q1 = c1 + row[0] * RA[1, ku] + row[1] * RA[1, kv] + row[2] * n1
+    q2 = c2 + row[0] * RA[2, ku] + row[1] * RA[2, kv] + row[2] * n2
+    for end in range(2):
+        corner = (edge + end) % 4
+        e0, e1, e2 = _incident_corner(xB, RB, hB, kB, sB, corner)
+        if (e0 - q0) ** 2 + (e1 - q1) ** 2 + (e2 - q2) ** 2 < close * close:
+            return corner
+    return -1
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _merge_coincident(out, n, base, close):
+    """Merge the points of one face manifold ``out[:n]`` that lie within ``close`` [m] of
+    each other, or have the same key, into one; returns the new count.
+
+    The clipping lists one contact location twice where an incident corner lies on a
+    side plane: a vertex kept just inside, or replaced just beyond by the vertex of its
+    dipping edge, next to the corner where its other edge crosses the plane.  Two faces
+    of equal width side by side (a chain of dominoes, their edges aligned to round-off)
+    are that configuration all along, and round-off decides, step by step, whether the
+    corner is one point or two; each copy doubles the corner's stiffness and brings its
+    elastic energy with it.  The merged point is the deeper of the two (the exact one of
+    the pair) and keeps the key of the incident vertex if either is one (corner keys
+    ``base + 8 lo + hi`` with both labels ``< 4``), so the key persists whichever side
+    of the plane round-off puts the vertex on."""
+    _, point, overlap, key = out
+    m = 0
+    for k in range(n):
+        twin = -1
+        for c in range(m):
+            g2 = 0.0
+            for d in range(3):
+                g2 += (point[c, d] - point[k, d]) ** 2
+            if g2 < close * close or key[c] == key[k]:
+                twin = c
+                break
+        if twin < 0:
+            _copy_row(out, k, m)
+            m += 1
+            continue
+        kept = key[twin]
+        if (key[k] - base) % 8 < 4 and (kept - base) % 8 >= 4:  # (k is an incident vertex)
+            kept = key[k]
+        if overlap[k] > overlap[twin]:
+            _copy_row(out, k, twin)
+        key[twin] = kept
+    return m
 
 
 @njit(cache=True, error_model="numpy", inline="always")
