@@ -39,9 +39,11 @@ from dominowave.dem.boxes import (
     _end,
     _lag,
     _log_bodies,
+    _open_row,
     _point_row,
     _reach_of,
     _release,
+    box_contact_forces,
     material_pair,
     row_force,
     rows_energies,
@@ -53,6 +55,7 @@ from dominowave.dem.shapes.rectangle import rect_sphere
 from dominowave.dem.state import Spheres
 
 __all__ = [
+    "box_rows_contact_forces",
     "box_sphere_contact_forces",
     "box_sphere_energies",
     "box_sphere_forces",
@@ -108,7 +111,6 @@ def box_sphere_forces(bodies, spheres, boxes, mats, dt, ledger, first_step, plan
     ns = spheres.body.shape[0]
     if ns == 0:  # (a scene of boxes only: nothing to do, every step)
         return
-    capacity = new.i.shape[0]
     props = boxes.props
     c_s = boxes.work[0, 0, :3]  # (scratch: the sphere's centre)
     o = 0
@@ -155,17 +157,9 @@ def box_sphere_forces(bodies, spheres, boxes, mats, dt, ledger, first_step, plan
                     speed = (old.overlap[q] - overlap) / dt
                     _log_bodies(boxes, ba, bs, END, _lag(overlap, speed, dt, first_step))
                 continue
-            if n_new == capacity:
-                raise RuntimeError("box-sphere contact rows full")
             c = n_new
             n_new += 1
-            new.i[c] = a
-            new.j[c] = s
-            new.key[c] = 0
-            new.mult[c] = 1.0
-            for d in range(3):
-                new.normal[c, d] = boxes.m_normal[0, d]
-                new.point[c, d] = boxes.m_point[0, d]
+            _open_row(new, c, a, s, 0, 1.0, boxes.m_normal[0], boxes.m_point[0])
             fresh = q < 0
             if fresh:
                 material_pair(mats, boxes.material[a], ra, spheres.material[s], radius, props)
@@ -202,6 +196,17 @@ def box_sphere_contact_forces(boxes, n_spheres, first, second, point, force):
         second[c] = rows.j[c]
         row_force(rows, c, 1.0, point[c], force[c])
     return rows.n[0]
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def box_rows_contact_forces(boxes, n_spheres, first, second, point, force):
+    """The rows of every box contact for the contact-force recorder: those of
+    boxes.box_contact_forces, then :func:`box_sphere_contact_forces`'; returns their
+    number."""
+    n = box_contact_forces(boxes, n_spheres, first, second, point, force)
+    return n + box_sphere_contact_forces(
+        boxes, n_spheres, first[n:], second[n:], point[n:], force[n:]
+    )
 
 
 # (allocates: compiled with numba's reference counting, as boxes.build_box_candidates)

@@ -656,6 +656,22 @@ def _spin(omega, ba, bj, wall, n0, n1, n2):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _open_row(new, c, a, j, key, mult, normal, point):
+    """Row c of ``new``: the point of box a with partner j (box, wall -(w + 1) or, for the
+    box-sphere rows, sphere), its feature key, multiplicity, unit normal (3,) and
+    position (3,) [m]; :func:`_point_row` fills in the rest."""
+    if c == new.i.shape[0]:
+        raise RuntimeError("box contact rows full")
+    new.i[c] = a
+    new.j[c] = j
+    new.key[c] = key
+    new.mult[c] = mult
+    for d in range(3):
+        new.normal[c, d] = normal[d]
+        new.point[c, d] = point[d]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _point_row(bodies, old, new, c, q, props, ba, bj, wall, overlap, dt, first_step, hertz, ledger):
     """The contact law (point_law.point_law) at the point of row c of ``new`` between body
     ``ba`` (the box) and its partner (body ``bj``, or a wall), shared by box_forces and
@@ -718,7 +734,6 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     boxes.n_changes[0] = 0
     nx = boxes.body.shape[0]
     nw = walls.point.shape[0]
-    capacity = new.i.shape[0]
     mult = float(PLANAR_MULTIPLICITY) if planar else 1.0
     used = boxes.used
     used[: old.n[0]] = 0
@@ -769,17 +784,9 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
                         if old.overlap[q] - overlap > end_speed * dt:
                             end_depth, end_speed = overlap, (old.overlap[q] - overlap) / dt
                     continue
-                if n_new == capacity:
-                    raise RuntimeError("box contact rows full")
                 c = n_new
                 n_new += 1
-                new.i[c] = a
-                new.j[c] = j
-                new.key[c] = key
-                new.mult[c] = mult
-                for d in range(3):
-                    new.normal[c, d] = boxes.m_normal[k, d]
-                    new.point[c, d] = boxes.m_point[k, d]
+                _open_row(new, c, a, j, key, mult, boxes.m_normal[k], boxes.m_point[k])
                 if q < 0:
                     _point_properties(bodies, boxes, walls, mats, a, j, props)
                 else:
