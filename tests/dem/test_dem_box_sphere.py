@@ -77,8 +77,9 @@ def test_validate_ball_bouncing_on_a_box_face(planar, restitution):
     damped linear oscillator of the effective mass ``m_b m_s / (m_b + m_s)``,
     ``t_c = pi / sqrt(k/m_eff - (c / 2 m_eff)^2)`` with ``c = 2 zeta sqrt(m_eff k)``,
     ``zeta = -ln e / sqrt(pi^2 + ln^2 e)``; no rotation (measured 2026-11-25, ~300 steps
-    in contact: restitution -8.7e-5 / -2.2e-5 / -9e-11 at e = 0.3 / 0.7 / 1, contact
-    time 1.0e-5 / -4.9e-6 / -4.9e-6, 2D and 3D alike)."""
+    in contact: restitution -8.3e-5 / -2.1e-5 / -2.4e-10 at e = 0.3 / 0.7 / 1, contact
+    time 1.0e-5 / -3.8e-6 / -4.6e-6; planar -8.4e-5 / -2.1e-5 / -2.6e-11 and 1.6e-5 /
+    -2.1e-6 / -4.7e-6)."""
     kn, speed = 2e4, 0.3
     sim = _head_on(planar, restitution, kn=kn, speed=speed)
     assert sim.planar == planar
@@ -242,7 +243,7 @@ def test_box_sphere_candidates_do_not_change_the_trajectory(planar):
 def test_validate_recorded_ball_box_forces_give_the_momentum_change():
     """Recorded every step (contact-force recorder), the force on the ball summed times dt
     equals its momentum change (a frictionless head-on impact, e = 1: to the end impulse
-    of the linear law, which is not a row; 1e-4, measured -3.3e-6); the rows name the box as shape
+    of the linear law, which is not a row; 1e-4, measured -5.9e-6); the rows name the box as shape
     ``n_spheres + 0`` and the ball as sphere 0; the peak normal force of the pair is the
     largest recorded force."""
     sim = _head_on(False, 1.0, peak=True)
