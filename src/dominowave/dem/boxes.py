@@ -624,38 +624,6 @@ def _lag(depth, speed, dt, first_step):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _log(boxes, a, j, kind, lag):
-    """Record that the contact of box a's body with partner j (box or -(wall + 1))
-    started (ONSET) or ended (END) ``lag`` [s] before this step."""
-    _log_bodies(boxes, boxes.body[a], boxes.body[j] if j >= 0 else j, kind, lag)
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _log_bodies(boxes, bi, bj, kind, lag):
-    """Record that the contact of body ``bi`` with body ``bj`` (or wall ``-(bj + 1)``)
-    started (ONSET) or ended (END) ``lag`` [s] before this step (``boxes.changes``: those
-    of box_forces, then of box_sphere.box_sphere_forces)."""
-    k = boxes.n_changes[0]
-    if k == boxes.changes.shape[0]:
-        raise RuntimeError("box contact changes full")
-    boxes.changes[k, 0] = bi
-    boxes.changes[k, 1] = bj
-    boxes.changes[k, 2] = kind
-    boxes.change_lag[k] = lag
-    boxes.n_changes[0] = k + 1
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _spin(omega, ba, bj, wall, n0, n1, n2):
-    """Sum [rad/s] of the angular velocities of body ``ba`` and its partner (body ``bj``,
-    or a fixed wall) along the normal n."""
-    spin = n0 * omega[ba, 0] + n1 * omega[ba, 1] + n2 * omega[ba, 2]
-    if not wall:
-        spin += n0 * omega[bj, 0] + n1 * omega[bj, 1] + n2 * omega[bj, 2]
-    return spin
-
-
-@njit(cache=True, error_model="numpy", inline="always")
 def _open_row(new, c, a, j, key, mult, normal, point):
     """Row c of ``new``: the point of box a with partner j (box, wall -(w + 1) or, for the
     box-sphere rows, sphere), its feature key, multiplicity, unit normal (3,) and
@@ -722,6 +690,38 @@ def _point_row(bodies, old, new, c, q, props, ba, bj, wall, overlap, dt, first_s
     if not wall:
         _apply(bodies, bj, p, f0, f1, f2, 1.0)
     _apply(bodies, ba, p, f0, f1, f2, -1.0)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _log(boxes, a, j, kind, lag):
+    """Record that the contact of box a's body with partner j (box or -(wall + 1))
+    started (ONSET) or ended (END) ``lag`` [s] before this step."""
+    _log_bodies(boxes, boxes.body[a], boxes.body[j] if j >= 0 else j, kind, lag)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _log_bodies(boxes, bi, bj, kind, lag):
+    """Record that the contact of body ``bi`` with body ``bj`` (or wall ``-(bj + 1)``)
+    started (ONSET) or ended (END) ``lag`` [s] before this step (``boxes.changes``: those
+    of box_forces, then of box_sphere.box_sphere_forces)."""
+    k = boxes.n_changes[0]
+    if k == boxes.changes.shape[0]:
+        raise RuntimeError("box contact changes full")
+    boxes.changes[k, 0] = bi
+    boxes.changes[k, 1] = bj
+    boxes.changes[k, 2] = kind
+    boxes.change_lag[k] = lag
+    boxes.n_changes[0] = k + 1
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _spin(omega, ba, bj, wall, n0, n1, n2):
+    """Sum [rad/s] of the angular velocities of body ``ba`` and its partner (body ``bj``,
+    or a fixed wall) along the normal n."""
+    spin = n0 * omega[ba, 0] + n1 * omega[ba, 1] + n2 * omega[ba, 2]
+    if not wall:
+        spin += n0 * omega[bj, 0] + n1 * omega[bj, 1] + n2 * omega[bj, 2]
+    return spin
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
