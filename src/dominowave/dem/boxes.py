@@ -624,6 +624,16 @@ def _lag(depth, speed, dt, first_step):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _spin(omega, ba, bj, wall, n0, n1, n2):
+    """Sum [rad/s] of the angular velocities of body ``ba`` and its partner (body ``bj``,
+    or a fixed wall) along the normal n."""
+    spin = n0 * omega[ba, 0] + n1 * omega[ba, 1] + n2 * omega[ba, 2]
+    if not wall:
+        spin += n0 * omega[bj, 0] + n1 * omega[bj, 1] + n2 * omega[bj, 2]
+    return spin
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _open_row(new, c, a, j, key, mult, normal, point):
     """Row c of ``new``: the point of box a with partner j (box, wall -(w + 1) or, for the
     box-sphere rows, sphere), its feature key, multiplicity, unit normal (3,) and
@@ -712,16 +722,6 @@ def _log_bodies(boxes, bi, bj, kind, lag):
     boxes.changes[k, 2] = kind
     boxes.change_lag[k] = lag
     boxes.n_changes[0] = k + 1
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _spin(omega, ba, bj, wall, n0, n1, n2):
-    """Sum [rad/s] of the angular velocities of body ``ba`` and its partner (body ``bj``,
-    or a fixed wall) along the normal n."""
-    spin = n0 * omega[ba, 0] + n1 * omega[ba, 1] + n2 * omega[ba, 2]
-    if not wall:
-        spin += n0 * omega[bj, 0] + n1 * omega[bj, 1] + n2 * omega[bj, 2]
-    return spin
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
