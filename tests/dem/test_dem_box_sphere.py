@@ -77,8 +77,9 @@ def test_validate_ball_bouncing_on_a_box_face(planar, restitution):
     damped linear oscillator of the effective mass ``m_b m_s / (m_b + m_s)``,
     ``t_c = pi / sqrt(k/m_eff - (c / 2 m_eff)^2)`` with ``c = 2 zeta sqrt(m_eff k)``,
     ``zeta = -ln e / sqrt(pi^2 + ln^2 e)``; no rotation (measured 2026-11-25, ~300 steps
-    in contact: restitution -8.7e-5 / -2.2e-5 / -9e-11 at e = 0.3 / 0.7 / 1, contact
-    time 1.0e-5 / -4.9e-6 / -4.9e-6, 2D and 3D alike)."""
+    in contact: restitution -8.3e-5 / -2.1e-5 / -2.4e-10 at e = 0.3 / 0.7 / 1, contact
+    time 1.0e-5 / -3.8e-6 / -4.6e-6; planar -8.4e-5 / -2.1e-5 / -2.6e-11 and 1.6e-5 /
+    -2.1e-6 / -4.7e-6)."""
     kn, speed = 2e4, 0.3
     sim = _head_on(planar, restitution, kn=kn, speed=speed)
     assert sim.planar == planar
@@ -242,7 +243,7 @@ def test_box_sphere_candidates_do_not_change_the_trajectory(planar):
 def test_validate_recorded_ball_box_forces_give_the_momentum_change():
     """Recorded every step (contact-force recorder), the force on the ball summed times dt
     equals its momentum change (a frictionless head-on impact, e = 1: to the end impulse
-    of the linear law, which is not a row; 1e-4, measured -3.3e-6); the rows name the box as shape
+    of the linear law, which is not a row; 1e-4, measured -5.9e-6); the rows name the box as shape
     ``n_spheres + 0`` and the ball as sphere 0; the peak normal force of the pair is the
     largest recorded force."""
     sim = _head_on(False, 1.0, peak=True)
@@ -257,3 +258,83 @@ def test_validate_recorded_ball_box_forces_give_the_momentum_change():
     np.testing.assert_allclose(impulse, dp, rtol=1e-4, atol=1e-12)
     peak = sim.pairs.peak_normal_force[0, 1]
     assert peak == pytest.approx(np.linalg.norm(cf.force, axis=1).max(), rel=1e-12)
+
+
+# ----------------------------------------------------------------------- time step
+def _ball_and_box(k_box, k_ball, tau_box, tau_ball, box_density, fixed, gravity=0.0, lift=0.0):
+    """A ball of material (k_ball, kt_ratio tau_ball) resting on the middle of the top face
+    of a box of (k_box, tau_box) and density ``box_density`` (a uniform cuboid);
+    ``fixed``: the box cannot move and the ball moves only along z; ``lift`` [m] the
+    ball's height above the equilibrium of its overlap under ``gravity``."""
+    scene = Scene(gravity=(0.0, 0.0, -gravity))
+    box_mat = scene.add_material(Material(density=box_density, kn=k_box, kt_ratio=tau_box))
+    ball_mat = scene.add_material(Material(density=RHO, kn=k_ball, kt_ratio=tau_ball))
+    ball_mass = RHO * 4.0 / 3.0 * math.pi * R_BALL**3
+    k = 2.0 * k_box * k_ball / (k_box + k_ball)  # (the pair's k_n: RULE_GIVEN)
+    sink = ball_mass * gravity / k
+    scene.add_box((0.0, 0.0, 0.0), HALF, R_BOX, box_mat,
+                  blocked="x y z rx ry rz" if fixed else "")  # fmt: skip
+    scene.add_sphere((0.0, 0.0, HALF[2] + R_BALL - sink + lift), R_BALL, ball_mat,
+                     blocked="x y rx ry rz" if fixed else "")  # fmt: skip
+    return scene, ball_mass, k, sink
+
+
+def test_validate_time_step_estimate_of_a_ball_on_a_box_is_the_pair_closed_form():
+    """A light ball of a soft material on a heavier box of a stiff one: the estimate is
+    ``1/omega`` of the pair, ``omega^2 = max(k_n (w_x + 1/m), k_t (w_x + 3.5/m))`` with the
+    box's bound ``w_x = 1/M + (|h| + r)^2 / I_min`` and the ball's inverse effective
+    mass along the normal (``1/m``: no lever arm) and across it (``1/m + R^2/I``); it is
+    smaller than the estimate of the ball alone and of the box alone, so that it would
+    not hold if the box-sphere contact were left out."""
+    k_box, k_ball, tau_box, tau_ball, box_density = 2e5, 2e4, 0.5, 1.0, 5.0 * RHO
+    scene, m, kn, _ = _ball_and_box(k_box, k_ball, tau_box, tau_ball, box_density, fixed=False)
+    box_mass = 8.0 * HALF.prod() * box_density
+    kt = 2.0 * (tau_box * k_box) * (tau_ball * k_ball) / (tau_box * k_box + tau_ball * k_ball)
+    outer = HALF  # (the uniform cuboid's principal moments, the smallest: about z)
+    i_min = box_mass * (outer[0] ** 2 + outer[1] ** 2) / 3.0
+    w_box = 1.0 / box_mass + (np.linalg.norm(HALF - R_BOX) + R_BOX) ** 2 / i_min
+    omega2 = max(kn * (w_box + 1.0 / m), kt * (w_box + 3.5 / m))
+    dt = scene.build().critical_dt
+    assert dt == pytest.approx(1.0 / math.sqrt(omega2), rel=1e-12)
+
+    ball_alone, box_alone = Scene(), Scene()
+    for alone, k, tau, rho in ((ball_alone, k_ball, tau_ball, RHO),
+                               (box_alone, k_box, tau_box, box_density)):  # fmt: skip
+        mat = alone.add_material(Material(density=rho, kn=k, kt_ratio=tau))
+        if alone is ball_alone:
+            alone.add_sphere((0.0, 0.0, 0.0), R_BALL, mat)
+        else:
+            alone.add_box((0.0, 0.0, 0.0), HALF, R_BOX, mat)
+    assert dt < 0.8 * min(ball_alone.build().critical_dt, box_alone.build().critical_dt)
+
+
+def _oscillation(factor):
+    """Largest excursion [m] of a ball (moving along z only) resting by gravity on a
+    fixed box, started ``sink / 10`` above its equilibrium, over 300 steps of ``factor``
+    times the leapfrog limit ``2 dt_crit`` of the estimate, relative to its overlap at
+    rest ``sink``; inf if the run aborts (energy runaway)."""
+    _, _, _, sink = _ball_and_box(2e5, 2e4, 0.0, 0.0, 100.0 * RHO, fixed=True, gravity=G)
+    scene, _, _, _ = _ball_and_box(2e5, 2e4, 0.0, 0.0, 100.0 * RHO, fixed=True, gravity=G,
+                                   lift=0.1 * sink)  # fmt: skip
+    sim = scene.build()
+    sim.settings = sim.settings._replace(dt=factor * 2.0 * sim.critical_dt)
+    z_rest = HALF[2] + R_BALL - sink
+    largest = 0.0
+    try:
+        for _ in range(300):
+            sim.run(n_steps=1)
+            largest = max(largest, abs(sim.bodies.pos[1, 2] - z_rest))
+    except RuntimeError:
+        return math.inf
+    return largest / sink
+
+
+def test_validate_box_sphere_contact_is_stable_below_the_estimate_and_not_above():
+    """Leapfrog is stable for ``omega dt < 2``; for a ball (1/3600 of the box's mass, no
+    tangential spring) on a fixed box the estimate is the pair's ``omega`` to 2e-4, so the
+    ball's oscillation on the box stays bounded at 0.9 x the limit ``2 dt_crit`` and
+    runs away at 1.1 x.  An estimate without the box-sphere contact is 1.35 times longer
+    (the ball's own contact stiffness being 1.8 times softer than the pair's): the run at
+    0.9 x its limit would run away."""
+    assert _oscillation(0.9) < 0.5
+    assert _oscillation(1.1) > 10.0

@@ -523,6 +523,22 @@ def test_validate_eccentric_restitution_converges_to_the_set_value_as_the_turn_v
 # ----------------------------------------------------------------- a 3D box chain
 
 
+def _energy_drift_to_the_end(stepper, chunk):
+    """Advance a chain stepper to its end in ``chunk``-step pieces; returns the change of
+    the ledger's total energy [J] (kinetic + potential + elastic + dissipated) and the
+    energy released [J] (the push's kinetic energy and the fall of the dominoes)."""
+    e0 = stepper.sim.energy()
+    while not stepper.advance(chunk):
+        pass
+    e1 = stepper.sim.energy()
+    released = e0["kinetic_translational"] + e0["kinetic_rotational"]
+    released += e0["gravitational"] - e1["gravitational"]  # the push and the falls
+    drift = abs(e1["total"] - e0["total"])
+    print(f"to t = {stepper.time:.3f} s, {stepper.reached} reached: total energy drift "
+          f"{drift:.2e} J, {drift / released:.1e} of the {released:.2e} J released")  # fmt: skip
+    return drift, released
+
+
 @pytest.mark.slow
 def test_wide_spacing_3d_box_chain_member_runs_with_its_energy_balance():
     """A regression test: the 30-domino 3D box chain at d/l = 0.8, floor friction 0.3,
@@ -542,15 +558,7 @@ def test_wide_spacing_3d_box_chain_member_runs_with_its_energy_balance():
     chain = DominoChain(params)
     push = chain.resolve(None).scaled(member_push_factor(0, 6, 1e-3))
     stepper = ChainStepper(chain, push)
-    e0 = stepper.sim.energy()
-    while not stepper.advance(20000):
-        pass
-    e1 = stepper.sim.energy()
-    released = e0["kinetic_translational"] + e0["kinetic_rotational"]
-    released += e0["gravitational"] - e1["gravitational"]  # the push and the falls
-    drift = abs(e1["total"] - e0["total"])
-    print(f"to t = {stepper.time:.3f} s, {stepper.reached} reached: total energy drift "
-          f"{drift:.2e} J, {drift / released:.1e} of the {released:.2e} J released")  # fmt: skip
+    drift, released = _energy_drift_to_the_end(stepper, 20000)
     assert stepper.reached > 1
     assert drift < 1e-2 * released
 
@@ -579,15 +587,7 @@ def test_standard_plastic_box_chain_sample_runs_with_its_energy_balance():
         restitution_dominoes=0.3575842574238778, restitution_floor=0.6674124382436275,
     )  # fmt: skip
     stepper = DominoChain(sample.params()).stepper()
-    e0 = stepper.sim.energy()
-    while not stepper.advance(50000):
-        pass
-    e1 = stepper.sim.energy()
-    released = e0["kinetic_translational"] + e0["kinetic_rotational"]
-    released += e0["gravitational"] - e1["gravitational"]  # the push and the falls
-    drift = abs(e1["total"] - e0["total"])
-    print(f"to t = {stepper.time:.3f} s, {stepper.reached} reached: total energy drift "
-          f"{drift:.2e} J, {drift / released:.1e} of the {released:.2e} J released")  # fmt: skip
+    drift, released = _energy_drift_to_the_end(stepper, 50000)
     assert stepper.reached == 11
     assert drift < 1e-2 * released
     assert drift < 2e-3 * released

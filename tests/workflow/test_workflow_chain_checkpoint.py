@@ -4,19 +4,11 @@ uninterrupted run (dominowave.chain.stepper.ChainStepper through `run --checkpoi
 
 from __future__ import annotations
 
-import json
-import subprocess
-import sys
-from pathlib import Path
-
-import numpy as np
-from checkpoint_helpers import assert_netcdf_identical, interrupt_then_resume, kill_after_checkpoint
+from checkpoint_helpers import assert_interrupted_chain_run_resumes, assert_killed_chain_run_resumes
 
 from dominowave.io.models import ChainScenario
 from dominowave.sweep.registry import is_steppable
 from dominowave.sweep.run_chain import run_chain
-
-CLI = [sys.executable, "-m", "dominowave"]
 
 # 30 dominoes with damping and friction, collisions resolved by 200 steps: ~180 000 steps
 # (~3 s), long enough to be killed after a few checkpoints, in phase 1 (the wave running)
@@ -33,33 +25,8 @@ EVERY = 20_000
 """Checkpoint interval [steps]."""
 
 
-def _summary(folder: Path) -> dict:
-    summary = json.loads((folder / "summary.json").read_text())
-    summary.pop("engine_wall_time")  # CPU time spent, the one number that may differ
-    return summary
-
-
 def test_sigkilled_chain_run_resumes_bit_identically(tmp_path):
-    study = tmp_path / "chain_study.toml"
-    study.write_text(STUDY)
-    ref = tmp_path / "ref"
-    subprocess.run([*CLI, "run", str(study), "--out", str(ref), "--quiet"], check=True)
-    out = tmp_path / "killed"
-    proc = subprocess.Popen(
-        [*CLI, "run", str(study), "--out", str(out), "--checkpoint", f"steps={EVERY}", "--quiet"]
-    )
-    steps_at_kill = kill_after_checkpoint(proc, out / "checkpoint" / "state.npz", 2 * EVERY)
-    assert not (out / "summary.json").exists(), "the run must be killed before it ends"
-    summary = _summary(ref)
-    assert steps_at_kill % EVERY == 0 and 2 * EVERY <= steps_at_kill < summary["n_steps"]
-    subprocess.run([*CLI, "resume", str(out), "--quiet"], check=True)
-
-    assert _summary(out) == summary and summary["stop_reason"] == "touched"
-    assert json.dumps(_summary(out)) == json.dumps(summary)  # every number, to the last digit
-    assert (out / "events.csv").read_bytes() == (ref / "events.csv").read_bytes()
-    for name in ("timeseries.nc", "trajectory.nc"):  # tilt, omega, base of every domino
-        assert assert_netcdf_identical(ref / name, out / name).sizes["time"] > 100
-    assert not (out / "checkpoint").exists()  # a finished run keeps no checkpoint
+    assert_killed_chain_run_resumes(STUDY, tmp_path, EVERY)
 
 
 def test_interrupted_chain_run_saves_state_and_partial_results_then_resumes(tmp_path):
@@ -67,14 +34,4 @@ def test_interrupted_chain_run_saves_state_and_partial_results_then_resumes(tmp_
     results; running the same config again resumes and ends with the same bits."""
     assert is_steppable("chain")
     cfg = ChainScenario(n_dominoes=6, d_over_l=0.5, damping=0.02)
-    reference = run_chain(cfg)
-
-    partial, resumed = interrupt_then_resume(run_chain, cfg, tmp_path / "run", at_step=3000)
-    assert partial["n_steps"] == 3000 and partial["stop_reason"] == "running"
-    assert partial["dominoes_toppled"] < cfg.n_dominoes
-    for summary in (resumed.summary, reference.summary):
-        summary.pop("engine_wall_time")
-    assert json.dumps(resumed.summary) == json.dumps(reference.summary)
-    for name in reference.events:
-        assert np.array_equal(resumed.events[name], reference.events[name], equal_nan=True)
-    assert resumed.timeseries.identical(reference.timeseries)
+    assert_interrupted_chain_run_resumes(run_chain, cfg, tmp_path / "run")

@@ -4,16 +4,12 @@ uninterrupted run (dominowave.rods.RodStepper through `run --checkpoint` / `resu
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 
 import numpy as np
-from checkpoint_helpers import assert_netcdf_identical, interrupt_then_resume, kill_after_checkpoint
+from checkpoint_helpers import assert_netcdf_identical, interrupt_then_resume, kill_and_resume
 
 from dominowave.io.models import RodsScenario
 from dominowave.sweep.run_rods import run_rods
-
-CLI = [sys.executable, "-m", "dominowave"]
 
 # thick blocks with dashpot and friction (every branch of the contact code), resolved
 # finely enough that the run takes ~850 000 steps (~2 s): long enough to be killed
@@ -35,23 +31,11 @@ EVERY = 50_000
 
 
 def test_sigkilled_rods_run_resumes_bit_identically(tmp_path):
-    study = tmp_path / "rods_study.toml"
-    study.write_text(STUDY)
-    ref = tmp_path / "ref"
-    subprocess.run([*CLI, "run", str(study), "--out", str(ref), "--quiet"], check=True)
-    out = tmp_path / "killed"
-    proc = subprocess.Popen(
-        [*CLI, "run", str(study), "--out", str(out), "--checkpoint", f"steps={EVERY}", "--quiet"]
-    )
-    checkpoint = out / "checkpoint" / "state.npz"
-    steps_at_kill = kill_after_checkpoint(proc, checkpoint, 3 * EVERY)
-    assert not (out / "summary.json").exists(), "the run must be killed before it ends"
+    ref, out, steps_at_kill = kill_and_resume(STUDY, tmp_path, EVERY, 3)
     summary = (ref / "summary.json").read_text()
     assert (
         steps_at_kill % EVERY == 0 and 3 * EVERY <= steps_at_kill < json.loads(summary)["n_steps"]
     )
-    subprocess.run([*CLI, "resume", str(out), "--quiet"], check=True)
-
     assert (out / "summary.json").read_text() == summary  # every number, to the last digit
     assert (out / "events.csv").read_bytes() == (ref / "events.csv").read_bytes()
     # energies, time and the (E, 13) contact table

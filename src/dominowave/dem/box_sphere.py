@@ -5,12 +5,14 @@ Each step :func:`box_sphere_forces` visits every (box, sphere) pair of different
 within reach and applies to its contact point (``shapes.cuboid.box_sphere``, or
 ``shapes.rectangle.rect_sphere`` in a planar scene: the centre of the sphere against the
 core box, overlap ``r_box + R - distance``; face, edge or vertex region implicit) the law
-of the box-box points (boxes.py): linear normal force ``k_n delta - c_n v_n`` with the
-onset average of the overlap and the end impulse (contact.onset_averaged_overlap,
-contact.end_impulse); Cundall-Strack friction with one shear history per pair; the
-dashpot from the pair's restitution and the effective mass at the contact point
-(boxes.inverse_mass_at); stiffness, friction and restitution of the material pair
-(contact.particle_stiffness with the rounding and the sphere's radius, contact.pair_*).
+of the box-box points, through the same code (boxes._point_row, point_law.point_law):
+linear normal force ``k_n delta - c_n v_n`` with the onset average of the overlap and
+the end impulse (contact.onset_averaged_overlap, contact.end_impulse); Cundall-Strack
+friction with one shear history per pair; the dashpot from the pair's restitution and
+the effective mass at the contact point (boxes.inverse_mass_at); stiffness, friction and
+restitution of the material pair (boxes.material_pair: the rounding and the sphere's
+radius).  Energies, power and the contact-force recorder are those of the box rows
+(boxes.rows_energies, boxes.rows_power, boxes.row_force) with multiplicity 1.
 A sphere touches a convex box at one point, so the pair is its own key, and a planar row
 stands for one point (no doubling along y).  Hertz scenes hold no spheres
 (``Scene.build`` refuses them), so the law here is the linear one.
@@ -33,33 +35,27 @@ import numpy as np
 from numba import njit
 
 from dominowave.dem.boxes import (
-    _apply,
     _copy_rows,
     _end,
     _lag,
+    _log_bodies,
+    _open_row,
+    _point_row,
     _reach_of,
-    _relative_velocity,
     _release,
-    inverse_mass_at,
+    box_contact_forces,
+    material_pair,
+    row_force,
+    rows_energies,
+    rows_power,
 )
-from dominowave.dem.contact import (
-    END,
-    ONSET,
-    _candidate_pairs,
-    cundall_strack,
-    onset_averaged_overlap,
-    pair_friction_restitution,
-    pair_stiffness,
-    particle_stiffness,
-    rotate_shear,
-    viscous_coefficient,
-)
-from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
+from dominowave.dem.contact import END, ONSET, _candidate_pairs
 from dominowave.dem.shapes.cuboid import box_sphere
 from dominowave.dem.shapes.rectangle import rect_sphere
 from dominowave.dem.state import Spheres
 
 __all__ = [
+    "box_rows_contact_forces",
     "box_sphere_contact_forces",
     "box_sphere_energies",
     "box_sphere_forces",
@@ -91,39 +87,13 @@ def _margin(boxes, spheres, a, s):
     return 0.5 * min(size, spheres.radius[s])
 
 
-@njit(cache=True, error_model="numpy", inline="always")
-def _log_pair(boxes, ba, bs, kind, lag):
-    """Record that the contact of box body ``ba`` with sphere body ``bs`` started (ONSET)
-    or ended (END) ``lag`` [s] before this step (boxes.changes, after box_forces')."""
-    k = boxes.n_changes[0]
-    if k == boxes.changes.shape[0]:
-        raise RuntimeError("box contact changes full")
-    boxes.changes[k, 0] = ba
-    boxes.changes[k, 1] = bs
-    boxes.changes[k, 2] = kind
-    boxes.change_lag[k] = lag
-    boxes.n_changes[0] = k + 1
-
-
-@njit(cache=True, error_model="numpy", _nrt=False)
-def _properties(boxes, spheres, mats, a, s, out):
-    """kn, kt, mu, restitution of the contact of box a with sphere s into ``out[0:4]``."""
-    rule = mats.rule[0]
-    ma, ms = boxes.material[a], spheres.material[s]
-    ka = particle_stiffness(mats.stiffness[ma], boxes.radius[a], rule)
-    ks = particle_stiffness(mats.stiffness[ms], spheres.radius[s], rule)
-    out[0] = pair_stiffness(ka, ks, rule)
-    out[1] = pair_stiffness(ka * mats.kt_ratio[ma], ks * mats.kt_ratio[ms], rule)
-    out[2], out[3] = pair_friction_restitution(mats, ma, ms)
-
-
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _drop(old, boxes, spheres, bodies, o, code, ns, ledger):
     """Old rows from o on of pairs before ``code`` are out of reach: release their shear
     springs, log their ends; returns the first row of ``code`` or after."""
     while o < old.n[0] and old.i[o] * ns + old.j[o] < code:
         _release(old, o, ledger)
-        _log_pair(boxes, boxes.body[old.i[o]], spheres.body[old.j[o]], END, 0.0)
+        _log_bodies(boxes, boxes.body[old.i[o]], spheres.body[old.j[o]], END, 0.0)
         o += 1
     return o
 
@@ -141,7 +111,6 @@ def box_sphere_forces(bodies, spheres, boxes, mats, dt, ledger, first_step, plan
     ns = spheres.body.shape[0]
     if ns == 0:  # (a scene of boxes only: nothing to do, every step)
         return
-    capacity = new.i.shape[0]
     props = boxes.props
     c_s = boxes.work[0, 0, :3]  # (scratch: the sphere's centre)
     o = 0
@@ -186,72 +155,18 @@ def box_sphere_forces(bodies, spheres, boxes, mats, dt, ledger, first_step, plan
                     else:
                         _release(old, q, ledger)
                     speed = (old.overlap[q] - overlap) / dt
-                    _log_pair(boxes, ba, bs, END, _lag(overlap, speed, dt, first_step))
+                    _log_bodies(boxes, ba, bs, END, _lag(overlap, speed, dt, first_step))
                 continue
-            if n_new == capacity:
-                raise RuntimeError("box-sphere contact rows full")
             c = n_new
             n_new += 1
-            n0, n1, n2 = boxes.m_normal[0, 0], boxes.m_normal[0, 1], boxes.m_normal[0, 2]
-            new.i[c] = a
-            new.j[c] = s
-            new.key[c] = 0
-            new.mult[c] = 1.0
-            for d in range(3):
-                new.normal[c, d] = boxes.m_normal[0, d]
-                new.point[c, d] = boxes.m_point[0, d]
-            p = new.point[c]
+            _open_row(new, c, a, s, 0, 1.0, boxes.m_normal[0], boxes.m_point[0])
             fresh = q < 0
             if fresh:
-                _properties(boxes, spheres, mats, a, s, props)
-                new.kn[c], new.kt[c], new.mu[c] = props[0], props[1], props[2]
-                inv = inverse_mass_at(
-                    bodies, ba, p[0] - xa[0], p[1] - xa[1], p[2] - xa[2], n0, n1, n2
-                ) + inverse_mass_at(
-                    bodies, bs, p[0] - bodies.pos[bs, 0], p[1] - bodies.pos[bs, 1],
-                    p[2] - bodies.pos[bs, 2], n0, n1, n2,
-                )  # fmt: skip
-                new.cn[c] = viscous_coefficient(props[3], 1.0 / inv, new.kn[c])
-                u0 = u1 = u2 = 0.0
-                vn_old = 0.0
-            else:
-                new.kn[c], new.kt[c], new.mu[c], new.cn[c] = (
-                    old.kn[q], old.kt[q], old.mu[q], old.cn[q],
-                )  # fmt: skip
-                u0, u1, u2 = old.shear[q, 0], old.shear[q, 1], old.shear[q, 2]
-                vn_old = old.vn[q]
-            stored = u0 * u0 + u1 * u1 + u2 * u2
-            dv0, dv1, dv2 = _relative_velocity(bodies, bodies.vel, bodies.omega, ba, bs, False, p)
-            vn = dv0 * n0 + dv1 * n1 + dv2 * n2
-            om = bodies.omega
-            spin = n0 * (om[ba, 0] + om[bs, 0]) + n1 * (om[ba, 1] + om[bs, 1])
-            spin += n2 * (om[ba, 2] + om[bs, 2])
-            u0, u1, u2 = rotate_shear(u0, u1, u2, n0, n1, n2, 0.5 * spin * dt)
-            increment = 0.0 if first_step else dt
-            u0 += (dv0 - vn * n0) * increment
-            u1 += (dv1 - vn * n1) * increment
-            u2 += (dv2 - vn * n2) * increment
-            kt = new.kt[c]
-            vn_dashpot = vn if fresh else 1.5 * vn - 0.5 * vn_old
-            weight, overlap_kick = onset_averaged_overlap(overlap, vn, dt, fresh)
-            fn_elastic = new.kn[c] * overlap_kick
-            fn_viscous = -new.cn[c] * vn_dashpot * weight
-            u0, u1, u2 = cundall_strack(u0, u1, u2, kt, new.mu[c], fn_elastic)
-            new.shear[c, 0], new.shear[c, 1], new.shear[c, 2] = u0, u1, u2
-            stored -= u0 * u0 + u1 * u1 + u2 * u2
-            ledger[LEDGER_FRICTION] += 0.5 * kt * stored
-            fn = fn_elastic + fn_viscous
-            new.overlap[c] = overlap
-            new.vn[c] = vn
-            new.fn[c] = fn
-            new.fn_viscous[c] = fn_viscous
-            f0 = fn * n0 - kt * u0
-            f1 = fn * n1 - kt * u1
-            f2 = fn * n2 - kt * u2
-            _apply(bodies, bs, p, f0, f1, f2, 1.0)
-            _apply(bodies, ba, p, f0, f1, f2, -1.0)
+                material_pair(mats, boxes.material[a], ra, spheres.material[s], radius, props)
+            _point_row(bodies, old, new, c, q, props, ba, bs, False, overlap, dt, first_step,
+                       False, ledger)  # fmt: skip
             if fresh:
-                _log_pair(boxes, ba, bs, ONSET, _lag(overlap, -vn, dt, first_step))
+                _log_bodies(boxes, ba, bs, ONSET, _lag(overlap, -new.vn[c], dt, first_step))
     _drop(old, boxes, spheres, bodies, o, 2**62, ns, ledger)
     _copy_rows(new, old, n_new)
 
@@ -260,33 +175,14 @@ def box_sphere_forces(bodies, spheres, boxes, mats, dt, ledger, first_step, plan
 def box_sphere_power(bodies, spheres, boxes, out):
     """Add the power [W] of the box-sphere dashpots (``out[POWER_VISCOUS]``) and
     tangential forces (``out[POWER_FRICTION]``) at the full-step velocities."""
-    rows = boxes.sphere_rows
-    for c in range(rows.n[0]):
-        bi = boxes.body[rows.i[c]]
-        bj = spheres.body[rows.j[c]]
-        dv0, dv1, dv2 = _relative_velocity(
-            bodies, bodies.vel_full, bodies.omega_full, bi, bj, False, rows.point[c]
-        )
-        n = rows.normal[c]
-        u = rows.shear[c]
-        out[POWER_VISCOUS] += rows.fn_viscous[c] * (n[0] * dv0 + n[1] * dv1 + n[2] * dv2)
-        out[POWER_FRICTION] -= rows.kt[c] * (u[0] * dv0 + u[1] * dv1 + u[2] * dv2)
+    rows_power(bodies, boxes.sphere_rows, boxes.body, spheres.body, out)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def box_sphere_energies(boxes, out):
     """Add the elastic energies [J] of the box-sphere contacts to ``out`` (ENERGY_NAMES
     vector: ``k_n delta^2 / 2`` to entry 3, ``k_t |u|^2 / 2`` to 4, both to 8)."""
-    rows = boxes.sphere_rows
-    en = 0.0
-    es = 0.0
-    for c in range(rows.n[0]):
-        u = rows.shear[c]
-        en += 0.5 * rows.kn[c] * rows.overlap[c] ** 2
-        es += 0.5 * rows.kt[c] * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
-    out[3] += en
-    out[4] += es
-    out[8] += en + es
+    rows_energies(boxes.sphere_rows, False, out)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -296,14 +192,21 @@ def box_sphere_contact_forces(boxes, n_spheres, first, second, point, force):
     ``force`` [N] the force on the sphere, ``point`` [m]; returns the number of rows."""
     rows = boxes.sphere_rows
     for c in range(rows.n[0]):
-        n = rows.normal[c]
-        u = rows.shear[c]
         first[c] = n_spheres + rows.i[c]
         second[c] = rows.j[c]
-        for d in range(3):
-            point[c, d] = rows.point[c, d]
-            force[c, d] = rows.fn[c] * n[d] - rows.kt[c] * u[d]
+        row_force(rows, c, 1.0, point[c], force[c])
     return rows.n[0]
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def box_rows_contact_forces(boxes, n_spheres, first, second, point, force):
+    """The rows of every box contact for the contact-force recorder: those of
+    boxes.box_contact_forces, then :func:`box_sphere_contact_forces`'; returns their
+    number."""
+    n = box_contact_forces(boxes, n_spheres, first, second, point, force)
+    return n + box_sphere_contact_forces(
+        boxes, n_spheres, first[n:], second[n:], point[n:], force[n:]
+    )
 
 
 # (allocates: compiled with numba's reference counting, as boxes.build_box_candidates)

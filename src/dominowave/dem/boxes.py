@@ -5,8 +5,9 @@ as a clump) whose shape is a rounded cuboid (``shapes.cuboid``): core half-exten
 in its principal frame and rounding radius ``r``.  Each step :func:`box_forces` finds the
 contact manifold of every box-box and box-wall pair within reach (``shapes.cuboid`` in 3D,
 ``shapes.rectangle`` in a planar scene, each of whose points counts twice: the two ends
-of a cuboid edge along y) and applies to every point the contact law of the spheres,
-from the same per-pair functions of contact.py:
+of a cuboid edge along y) and applies to every point the contact law of the spheres
+(point_law.point_law, one pure per-point function, built from the per-pair functions
+of contact.py; box_sphere.py applies it to the box-sphere points):
 
 * normal ``F_n = k_n delta - c_n v_n`` (linear), with the onset average of the overlap
   (contact.onset_averaged_overlap) and the end impulse (contact.end_impulse); or, in a
@@ -53,14 +54,10 @@ from dominowave.dem.contact import (
     ONSET,
     _candidate_pairs,
     apply_at_lever,
-    cundall_strack,
     end_impulse,
-    onset_averaged_overlap,
     pair_friction_restitution,
     pair_stiffness,
     particle_stiffness,
-    rotate_shear,
-    viscous_coefficient,
 )
 from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
 from dominowave.dem.hertz import (
@@ -68,9 +65,9 @@ from dominowave.dem.hertz import (
     LAW_LINEAR,
     hertz_coefficient,
     hertz_modulus,
-    hertz_normal,
 )
 from dominowave.dem.integrate import ROT_AXIS, ROT_FREE, ROT_ISOTROPIC
+from dominowave.dem.point_law import onset_dashpot, point_law
 from dominowave.dem.shapes.cuboid import MAX_POINTS, box_box, box_plane, faces_separate
 from dominowave.dem.shapes.rectangle import (
     PLANAR_MULTIPLICITY,
@@ -485,7 +482,6 @@ def _pair_code(i, j, nx, nw):
 def _point_properties(bodies, boxes, walls, mats, a, j, out):
     """kn (Hertz: K), kt, mu, restitution, Tsuji alpha of a point of box a with partner j
     into ``out[0:5]``."""
-    rule = mats.rule[0]
     ma = boxes.material[a]
     ra = boxes.radius[a]
     if j >= 0:
@@ -494,17 +490,28 @@ def _point_properties(bodies, boxes, walls, mats, a, j, out):
     else:
         mb = walls.material[-j - 1]
         rb = ra  # a wall takes the radius of the body touching it (as for spheres)
-    ka = particle_stiffness(mats.stiffness[ma], ra, rule)
-    kb = particle_stiffness(mats.stiffness[mb], rb, rule)
-    out[0] = pair_stiffness(ka, kb, rule)
-    out[1] = pair_stiffness(ka * mats.kt_ratio[ma], kb * mats.kt_ratio[mb], rule)
-    out[2], out[3] = pair_friction_restitution(mats, ma, mb)
+    material_pair(mats, ma, ra, mb, rb, out)
     if boxes.normal_law[0] == LAW_HERTZ:
         modulus = hertz_modulus(
             mats.stiffness[ma], mats.poisson[ma], mats.stiffness[mb], mats.poisson[mb]
         )
         out[0] = hertz_coefficient(modulus, _hertz_radius(ra, rb, j < 0))
         out[4] = mats.hertz_damping[ma, mb]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def material_pair(mats, ma, ra, mb, rb, out):
+    """kn, kt, mu, restitution of a linear contact point of a body of material ``ma`` and
+    rounding (or sphere) radius ``ra`` [m] with one of ``mb``, ``rb`` into ``out[0:4]``:
+    stiffnesses by the scene's rule (contact.particle_stiffness,
+    contact.pair_stiffness), friction and restitution of the material pair
+    (contact.pair_friction_restitution)."""
+    rule = mats.rule[0]
+    ka = particle_stiffness(mats.stiffness[ma], ra, rule)
+    kb = particle_stiffness(mats.stiffness[mb], rb, rule)
+    out[0] = pair_stiffness(ka, kb, rule)
+    out[1] = pair_stiffness(ka * mats.kt_ratio[ma], kb * mats.kt_ratio[mb], rule)
+    out[2], out[3] = pair_friction_restitution(mats, ma, mb)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -617,12 +624,101 @@ def _lag(depth, speed, dt, first_step):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _spin(omega, ba, bj, wall, n0, n1, n2):
+    """Sum [rad/s] of the angular velocities of body ``ba`` and its partner (body ``bj``,
+    or a fixed wall) along the normal n."""
+    spin = n0 * omega[ba, 0] + n1 * omega[ba, 1] + n2 * omega[ba, 2]
+    if not wall:
+        spin += n0 * omega[bj, 0] + n1 * omega[bj, 1] + n2 * omega[bj, 2]
+    return spin
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _open_row(new, c, a, j, key, mult, normal, point):
+    """Row c of ``new``: the point of box a with partner j (box, wall -(w + 1) or, for the
+    box-sphere rows, sphere), its feature key, multiplicity, unit normal (3,) and
+    position (3,) [m]; :func:`_point_row` fills in the rest."""
+    if c == new.i.shape[0]:
+        raise RuntimeError("box contact rows full")
+    new.i[c] = a
+    new.j[c] = j
+    new.key[c] = key
+    new.mult[c] = mult
+    for d in range(3):
+        new.normal[c, d] = normal[d]
+        new.point[c, d] = point[d]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _point_row(bodies, old, new, c, q, props, ba, bj, wall, overlap, dt, first_step, hertz, ledger):
+    """The contact law (point_law.point_law) at the point of row c of ``new`` between body
+    ``ba`` (the box) and its partner (body ``bj``, or a wall), shared by box_forces and
+    box_sphere.box_sphere_forces.  The row's pair, key, multiplicity, normal and point are
+    written; it continues old row q, or is a fresh point (q < 0) with the constants
+    ``props`` (kn or Hertz K, kt, mu, restitution, Tsuji alpha) and its dashpot from the
+    effective mass at the point along the normal (:func:`inverse_mass_at` of both
+    bodies).  Writes the row's state (constants, shear, overlap, normal velocity, forces),
+    applies ``mult`` times the point's force to the bodies (a planar row stands for
+    ``mult`` points) and books its slip in ``ledger[LEDGER_FRICTION]``."""
+    n0, n1, n2 = new.normal[c, 0], new.normal[c, 1], new.normal[c, 2]
+    p = new.point[c]
+    mult = new.mult[c]
+    fresh = q < 0
+    if fresh:
+        new.kn[c], new.kt[c], new.mu[c] = props[0], props[1], props[2]
+        inv = inverse_mass_at(
+            bodies, ba, p[0] - bodies.pos[ba, 0], p[1] - bodies.pos[ba, 1],
+            p[2] - bodies.pos[ba, 2], n0, n1, n2,
+        )  # fmt: skip
+        if not wall:
+            inv += inverse_mass_at(
+                bodies, bj, p[0] - bodies.pos[bj, 0], p[1] - bodies.pos[bj, 1],
+                p[2] - bodies.pos[bj, 2], n0, n1, n2,
+            )  # fmt: skip
+        # (each point its own dashpot, as for a single-point impact; a planar row stands
+        # for mult such points)
+        new.cn[c] = onset_dashpot(new.kn[c], props[3], props[4], inv, hertz)
+        u0 = u1 = u2 = 0.0
+        vn_old = 0.0
+    else:
+        new.kn[c], new.kt[c], new.mu[c], new.cn[c] = old.kn[q], old.kt[q], old.mu[q], old.cn[q]
+        u0, u1, u2 = old.shear[q, 0], old.shear[q, 1], old.shear[q, 2]
+        vn_old = old.vn[q]
+    dv0, dv1, dv2 = _relative_velocity(bodies, bodies.vel, bodies.omega, ba, bj, wall, p)
+    spin = _spin(bodies.omega, ba, bj, wall, n0, n1, n2)
+    fn, fn_viscous, vn, u0, u1, u2, released, f0, f1, f2 = point_law(
+        overlap, n0, n1, n2, dv0, dv1, dv2, spin, u0, u1, u2, vn_old, fresh,
+        new.kn[c], new.kt[c], new.mu[c], new.cn[c], dt, first_step, hertz,
+    )  # fmt: skip
+    new.shear[c, 0], new.shear[c, 1], new.shear[c, 2] = u0, u1, u2
+    ledger[LEDGER_FRICTION] += mult * released
+    new.overlap[c] = overlap
+    new.vn[c] = vn
+    new.fn[c] = fn
+    new.fn_viscous[c] = fn_viscous
+    f0, f1, f2 = mult * f0, mult * f1, mult * f2
+    if not wall:
+        _apply(bodies, bj, p, f0, f1, f2, 1.0)
+    _apply(bodies, ba, p, f0, f1, f2, -1.0)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _log(boxes, a, j, kind, lag):
     """Record that the contact of box a's body with partner j (box or -(wall + 1))
     started (ONSET) or ended (END) ``lag`` [s] before this step."""
+    _log_bodies(boxes, boxes.body[a], boxes.body[j] if j >= 0 else j, kind, lag)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _log_bodies(boxes, bi, bj, kind, lag):
+    """Record that the contact of body ``bi`` with body ``bj`` (or wall ``-(bj + 1)``)
+    started (ONSET) or ended (END) ``lag`` [s] before this step (``boxes.changes``: those
+    of box_forces, then of box_sphere.box_sphere_forces)."""
     k = boxes.n_changes[0]
-    boxes.changes[k, 0] = boxes.body[a]
-    boxes.changes[k, 1] = boxes.body[j] if j >= 0 else j
+    if k == boxes.changes.shape[0]:
+        raise RuntimeError("box contact changes full")
+    boxes.changes[k, 0] = bi
+    boxes.changes[k, 1] = bj
     boxes.changes[k, 2] = kind
     boxes.change_lag[k] = lag
     boxes.n_changes[0] = k + 1
@@ -638,7 +734,6 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     boxes.n_changes[0] = 0
     nx = boxes.body.shape[0]
     nw = walls.point.shape[0]
-    capacity = new.i.shape[0]
     mult = float(PLANAR_MULTIPLICITY) if planar else 1.0
     used = boxes.used
     used[: old.n[0]] = 0
@@ -689,84 +784,15 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
                         if old.overlap[q] - overlap > end_speed * dt:
                             end_depth, end_speed = overlap, (old.overlap[q] - overlap) / dt
                     continue
-                if n_new == capacity:
-                    raise RuntimeError("box contact rows full")
                 c = n_new
                 n_new += 1
-                n0, n1, n2 = boxes.m_normal[k, 0], boxes.m_normal[k, 1], boxes.m_normal[k, 2]
-                new.i[c] = a
-                new.j[c] = j
-                new.key[c] = key
-                new.mult[c] = mult
-                for d in range(3):
-                    new.normal[c, d] = boxes.m_normal[k, d]
-                    new.point[c, d] = boxes.m_point[k, d]
-                p = new.point[c]
-                fresh = q < 0
-                if fresh:
+                _open_row(new, c, a, j, key, mult, boxes.m_normal[k], boxes.m_point[k])
+                if q < 0:
                     _point_properties(bodies, boxes, walls, mats, a, j, props)
-                    new.kn[c], new.kt[c], new.mu[c] = props[0], props[1], props[2]
-                    inv = inverse_mass_at(
-                        bodies, ba, p[0] - bodies.pos[ba, 0], p[1] - bodies.pos[ba, 1],
-                        p[2] - bodies.pos[ba, 2], n0, n1, n2,
-                    )  # fmt: skip
-                    if not wall:
-                        inv += inverse_mass_at(
-                            bodies, bj, p[0] - bodies.pos[bj, 0], p[1] - bodies.pos[bj, 1],
-                            p[2] - bodies.pos[bj, 2], n0, n1, n2,
-                        )  # fmt: skip
-                    # (each point its own dashpot, as for a single-point impact; a planar
-                    # row stands for mult such points)
-                    if hertz:  # (Tsuji 1992: c = alpha sqrt(m_eff K), hertz.py)
-                        new.cn[c] = props[4] * math.sqrt(new.kn[c] / inv)
-                    else:
-                        new.cn[c] = viscous_coefficient(props[3], 1.0 / inv, new.kn[c])
-                    u0 = u1 = u2 = 0.0
-                    vn_old = 0.0
                 else:
                     used[q] = 1
-                    new.kn[c], new.kt[c], new.mu[c], new.cn[c] = (
-                        old.kn[q], old.kt[q], old.mu[q], old.cn[q],
-                    )  # fmt: skip
-                    u0, u1, u2 = old.shear[q, 0], old.shear[q, 1], old.shear[q, 2]
-                    vn_old = old.vn[q]
-                stored = u0 * u0 + u1 * u1 + u2 * u2
-                dv0, dv1, dv2 = _relative_velocity(
-                    bodies, bodies.vel, bodies.omega, ba, bj, wall, p
-                )
-                vn = dv0 * n0 + dv1 * n1 + dv2 * n2
-                om = bodies.omega
-                spin = n0 * om[ba, 0] + n1 * om[ba, 1] + n2 * om[ba, 2]
-                if not wall:
-                    spin += n0 * om[bj, 0] + n1 * om[bj, 1] + n2 * om[bj, 2]
-                u0, u1, u2 = rotate_shear(u0, u1, u2, n0, n1, n2, 0.5 * spin * dt)
-                increment = 0.0 if first_step else dt
-                u0 += (dv0 - vn * n0) * increment
-                u1 += (dv1 - vn * n1) * increment
-                u2 += (dv2 - vn * n2) * increment
-                kn, kt = new.kn[c], new.kt[c]
-                vn_dashpot = vn if fresh else 1.5 * vn - 0.5 * vn_old
-                if hertz:  # (no onset correction: force and dashpot vanish at zero overlap)
-                    fn_elastic, fn_viscous = hertz_normal(kn, new.cn[c], overlap, vn_dashpot)
-                else:
-                    weight, overlap_kick = onset_averaged_overlap(overlap, vn, dt, fresh)
-                    fn_elastic = kn * overlap_kick
-                    fn_viscous = -new.cn[c] * vn_dashpot * weight
-                u0, u1, u2 = cundall_strack(u0, u1, u2, kt, new.mu[c], fn_elastic)
-                new.shear[c, 0], new.shear[c, 1], new.shear[c, 2] = u0, u1, u2
-                stored -= u0 * u0 + u1 * u1 + u2 * u2
-                ledger[LEDGER_FRICTION] += 0.5 * mult * kt * stored
-                fn = fn_elastic + fn_viscous
-                new.overlap[c] = overlap
-                new.vn[c] = vn
-                new.fn[c] = fn
-                new.fn_viscous[c] = fn_viscous
-                f0 = mult * (fn * n0 - kt * u0)
-                f1 = mult * (fn * n1 - kt * u1)
-                f2 = mult * (fn * n2 - kt * u2)
-                if not wall:
-                    _apply(bodies, bj, p, f0, f1, f2, 1.0)
-                _apply(bodies, ba, p, f0, f1, f2, -1.0)
+                _point_row(bodies, old, new, c, q, props, ba, bj, wall, overlap, dt, first_step,
+                           hertz, ledger)  # fmt: skip
             # rows of this pair whose feature left the manifold
             for t in range(o, o_end):
                 if not used[t]:
@@ -828,11 +854,20 @@ def box_power(bodies, boxes, out):
     """Add the power [W] of the box contacts' dashpots (``out[POWER_VISCOUS]``) and
     tangential forces (``out[POWER_FRICTION]``) at the full-step velocities (as
     contact.contact_power)."""
-    rows = boxes.rows
+    rows_power(bodies, boxes.rows, boxes.body, boxes.body, out)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def rows_power(bodies, rows, box_body, partner_body, out):
+    """Add the power [W] of the dashpots (``out[POWER_VISCOUS]``) and tangential forces
+    (``out[POWER_FRICTION]``) of contact rows ``rows`` at the full-step velocities:
+    ``mult F_d v_n`` and ``-mult k_t u . dv`` per row.  Row partner ``j >= 0`` is the body
+    ``partner_body[j]`` (boxes: the box bodies; box-sphere rows: the spheres' owners),
+    ``j < 0`` a wall."""
     for c in range(rows.n[0]):
         wall = rows.j[c] < 0
-        bi = boxes.body[rows.i[c]]
-        bj = bi if wall else boxes.body[rows.j[c]]
+        bi = box_body[rows.i[c]]
+        bj = bi if wall else partner_body[rows.j[c]]
         dv0, dv1, dv2 = _relative_velocity(
             bodies, bodies.vel_full, bodies.omega_full, bi, bj, wall, rows.point[c]
         )
@@ -848,8 +883,13 @@ def box_energies(boxes, out):
     """Add the elastic energies [J] of the box contacts to ``out`` (ENERGY_NAMES vector:
     normal ``k_n delta^2 / 2`` (Hertz: ``2/5 K delta^{5/2}``) to entry 3, tangential
     ``k_t |u|^2 / 2`` to 4, both to the total, 8)."""
-    rows = boxes.rows
-    hertz = boxes.normal_law[0] == LAW_HERTZ
+    rows_energies(boxes.rows, boxes.normal_law[0] == LAW_HERTZ, out)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def rows_energies(rows, hertz, out):
+    """Add the elastic energies [J] of contact rows ``rows`` to ``out`` (ENERGY_NAMES
+    vector; each row ``mult`` times its point's: :func:`box_energies`)."""
     en = 0.0
     es = 0.0
     for c in range(rows.n[0]):
@@ -880,21 +920,28 @@ def box_contact_forces(boxes, first_id, first, second, point, force):
     """
     rows = boxes.rows
     for c in range(rows.n[0]):
-        n = rows.normal[c]
-        u = rows.shear[c]
-        fn, kt, m = rows.fn[c], rows.kt[c], rows.mult[c]
-        sign = 1.0  # (on the partner box)
-        if rows.j[c] >= 0:
+        if rows.j[c] >= 0:  # (the force on the partner box)
             first[c] = first_id + rows.i[c]
             second[c] = first_id + rows.j[c]
-        else:
-            sign = -1.0  # (on the box)
+            row_force(rows, c, 1.0, point[c], force[c])
+        else:  # (on the box)
             first[c] = rows.j[c]
             second[c] = first_id + rows.i[c]
-        for d in range(3):
-            point[c, d] = rows.point[c, d]
-            force[c, d] = sign * m * (fn * n[d] - kt * u[d])
+            row_force(rows, c, -1.0, point[c], force[c])
     return rows.n[0]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def row_force(rows, c, sign, point, force):
+    """The contact point (3,) [m] of row c into ``point`` and ``sign`` times the force
+    (3,) [N] on its partner as applied in the last kick, ``mult (F_n n - k_t u)``, into
+    ``force`` (the contact-force recorder: :func:`box_contact_forces`)."""
+    n = rows.normal[c]
+    u = rows.shear[c]
+    fn, kt, m = rows.fn[c], rows.kt[c], rows.mult[c]
+    for d in range(3):
+        point[d] = rows.point[c, d]
+        force[d] = sign * m * (fn * n[d] - kt * u[d])
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)

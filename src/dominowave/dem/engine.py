@@ -26,14 +26,13 @@ from collections import namedtuple
 from numba import njit
 
 from dominowave.dem.box_sphere import (
-    box_sphere_contact_forces,
+    box_rows_contact_forces,
     box_sphere_energies,
     box_sphere_forces,
     box_sphere_power,
     build_box_sphere_candidates,
 )
 from dominowave.dem.boxes import (
-    box_contact_forces,
     box_energies,
     box_forces,
     box_peak_force,
@@ -363,7 +362,7 @@ def _record_frame(bodies, rec, t):
 @njit(cache=True, error_model="numpy")
 def _record_contact_forces(spheres, walls, contacts, rec, boxes):
     """Append the active contacts of this step as the rows of trajectory frame traj_n
-    (the spheres', then the boxes' rows: boxes.box_contact_forces)."""
+    (the spheres', then the boxes' rows: box_sphere.box_rows_contact_forces)."""
     k0 = rec.cf_n[0]
     rec.cf_start[rec.traj_n[0]] = k0
     rec.cf_n[0] = k0 + active_contact_forces(
@@ -377,16 +376,7 @@ def _record_contact_forces(spheres, walls, contacts, rec, boxes):
     )
     if boxes.body.shape[0] > 0:
         k0 = rec.cf_n[0]
-        rec.cf_n[0] = k0 + box_contact_forces(
-            boxes,
-            spheres.body.shape[0],
-            rec.cf_first[k0:],
-            rec.cf_second[k0:],
-            rec.cf_point[k0:],
-            rec.cf_force[k0:],
-        )
-        k0 = rec.cf_n[0]
-        rec.cf_n[0] = k0 + box_sphere_contact_forces(
+        rec.cf_n[0] = k0 + box_rows_contact_forces(
             boxes,
             spheres.body.shape[0],
             rec.cf_first[k0:],

@@ -28,6 +28,18 @@ in contact gets a step ~sqrt(N/2) smaller).  E.g. 108 FCC spheres between 6 wall
 kt_ratio 1: unstable at 0.99 of the former single-contact estimate, stable at 0.8; stable
 at 0.99 of this one.  An unstable run is detected at run time (energy runaway or NaN)
 and aborted.
+
+A contact of a rounded cuboid x with a sphere s (box_sphere.py; linear: Hertz scenes hold
+no spheres) couples the two bodies at one point: its mode has ``omega^2 = k (1/m_x^eff
++ 1/m_s^eff)``, the inverse effective masses at the point (boxes.inverse_mass_at) summed.
+They are bounded as above: for the box ``1/m + rho^2/I`` with its outer half-diagonal
+``rho`` and smallest moment (planar: about the axis), for a single sphere ``1/m`` along
+the normal and ``1/m + R^2/I = 3.5/m`` across it, for a clump ``1/m + rho^2/I``; ``k``
+the pair's normal and tangential stiffness (the box's rounding and the sphere's radius,
+:func:`_box_sphere_omega2`).  The partner's mobility is counted here (box-box and
+sphere-sphere contacts take each body against a fixed partner, within the factor 2):
+a light ball on a box has the frequency of the pair, which the safety factor need not
+cover.
 """
 
 from __future__ import annotations
@@ -44,13 +56,16 @@ __all__ = ["critical_timestep"]
 def critical_timestep(bodies, spheres, walls, mats, boxes=None, impact_speed=0.0, gravity=0.0):
     """Critical time step estimate [s] of the scene (see module docstring; rounded
     cuboids: :func:`_box_omega2`, whose Hertz contacts are taken at the overlap of an
-    impact at ``impact_speed`` [m/s] or of resting under ``gravity`` [m/s^2])."""
+    impact at ``impact_speed`` [m/s] or of resting under ``gravity`` [m/s^2]; box-sphere
+    contacts: :func:`_box_sphere_omega2`)."""
     rule = int(mats.rule[0])
     omega2_boxes = 0.0
     if boxes is not None:
         omega2_boxes = _box_omega2(bodies, boxes, walls, mats, impact_speed, gravity)
     if spheres.radius.size == 0:
         return float(1.0 / np.sqrt(omega2_boxes))
+    if boxes is not None and boxes.body.size:
+        omega2_boxes = max(omega2_boxes, _box_sphere_omega2(bodies, spheres, boxes, mats))
 
     def particle(material, radius, tangential):
         k = particle_stiffness(mats.stiffness[material], radius, rule)
@@ -144,14 +159,54 @@ def _box_omega2(bodies, boxes, walls, mats, impact_speed=0.0, gravity=0.0):
             )
             for pm, pr in partners
         )
-        rho = np.linalg.norm(boxes.half[x]) + r
-        if bodies.rot_mode[b] == ROT_NONE:
-            coupling = 0.0
-        elif bodies.rot_mode[b] == ROT_AXIS:
-            coupling = rho**2 / bodies.axis_inertia[b]
-        else:
-            coupling = rho**2 / bodies.inertia[b].min()
-        omega2 = max(omega2, 4.0 * k * (1.0 / bodies.mass[b] + coupling))
+        omega2 = max(omega2, 4.0 * k * _box_inverse_mass(bodies, boxes, x))
+    return omega2
+
+
+def _box_inverse_mass(bodies, boxes, x):
+    """``1/m + rho^2/I`` [1/kg] of box x: a bound on its inverse effective mass at any
+    point of its surface along any direction (``rho`` its outer half-diagonal, ``I`` its
+    smallest moment; planar: about the axis; 0 coupling if it cannot rotate)."""
+    b = boxes.body[x]
+    rho = np.linalg.norm(boxes.half[x]) + boxes.radius[x]
+    if bodies.rot_mode[b] == ROT_NONE:
+        coupling = 0.0
+    elif bodies.rot_mode[b] == ROT_AXIS:
+        coupling = rho**2 / bodies.axis_inertia[b]
+    else:
+        coupling = rho**2 / bodies.inertia[b].min()
+    return 1.0 / bodies.mass[b] + coupling
+
+
+def _box_sphere_omega2(bodies, spheres, boxes, mats):
+    """Largest ``omega^2`` [1/s^2] of a box-sphere contact (module docstring):
+    ``max(k_n (w_x + w_s^n), k_t (w_x + w_s^t))`` over every box x and sphere s of the
+    scene, ``w_x`` the box's bound (:func:`_box_inverse_mass`), ``w_s`` that of the
+    sphere's body along (n) and across (t) the normal, ``k_n``, ``k_t`` the pair's
+    stiffnesses (contact.particle_stiffness with the box's rounding and the sphere's
+    radius, contact.pair_stiffness, as boxes.material_pair)."""
+    rule = int(mats.rule[0])
+
+    def particle(material, radius, tangential):
+        k = particle_stiffness(mats.stiffness[material], radius, rule)
+        return k * mats.kt_ratio[material] if tangential else k
+
+    n_bodies = bodies.mass.shape[0]
+    inv_mass = 1.0 / bodies.mass
+    coupling = _rotational_coupling(bodies, spheres)
+    single = (bodies.rot_mode != ROT_NONE) & (np.bincount(spheres.body, minlength=n_bodies) == 1)
+    across = (inv_mass + coupling)[spheres.body]
+    along = np.where(single, inv_mass, inv_mass + coupling)[spheres.body]  # (a ball: no lever)
+    w_box = np.array([_box_inverse_mass(bodies, boxes, x) for x in range(boxes.body.size)])
+    omega2 = 0.0
+    # (per kind of box and of sphere: their material and radius set the stiffness)
+    for mb, rb in set(zip(boxes.material, boxes.radius, strict=True)):
+        wx = w_box[(boxes.material == mb) & (boxes.radius == rb)].max()
+        for ms, rs in set(zip(spheres.material, spheres.radius, strict=True)):
+            sel = (spheres.material == ms) & (spheres.radius == rs)
+            kn = pair_stiffness(particle(mb, rb, False), particle(ms, rs, False), rule)
+            kt = pair_stiffness(particle(mb, rb, True), particle(ms, rs, True), rule)
+            omega2 = max(omega2, kn * (wx + along[sel].max()), kt * (wx + across[sel].max()))
     return omega2
 
 
