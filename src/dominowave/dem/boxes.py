@@ -129,6 +129,7 @@ Boxes = namedtuple(
         "visit",  # (P,) int64 scratch: the candidates visited this step, ascending
         "src",  # (nx,) int64 scratch: the boxes a of the visited pairs, ascending
         "src_start",  # (nx + 1,) int64 scratch: first visited pair of each src entry
+        "n_groups",  # (1,) int64: groups of visit/src/src_start, -1: to be rebuilt
         "sphere_rows",  # BoxContacts of the box-sphere contacts (box_sphere.py), j: sphere
         "sphere_next",  # BoxContacts being built (scratch)
         "sphere_cand",  # (Q,) int64 candidate box-sphere pairs, box * ns + sphere, ascending
@@ -215,6 +216,7 @@ def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR)
         visit=np.zeros(8 * nx + 16, np.int64),
         src=np.zeros(nx, np.int64),
         src_start=np.zeros(nx + 1, np.int64),
+        n_groups=np.full(1, -1, np.int64),
         sphere_rows=_empty_rows(capacity),
         sphere_next=_empty_rows(capacity),
         sphere_cand=np.zeros(8 * nx + 16, np.int64),
@@ -270,6 +272,7 @@ def build_box_candidates(bodies, boxes, walls, skin):
     half-diagonal as the body's extent), so no pair outside the list can pass them.
     """
     nx = boxes.body.shape[0]
+    boxes.n_groups[0] = -1  # (the visited pairs come from the list)
     pos = np.empty((nx, 3))
     radius = np.empty(nx)
     for x in range(nx):
@@ -322,6 +325,13 @@ def _visit_pairs(bodies, boxes, nx, nw):
     returns the number of groups, or ``nx`` without a list (every box a source, every
     pair a candidate: :func:`_partner_range`).
 
+    The visited pairs change only when the list is built or a box is released, so they
+    are kept from step to step (``boxes.n_groups``) and built again only after
+    ``n_groups`` is set to -1: by :func:`build_box_candidates`, by the engine after every
+    step with onsets or ends (the only steps that release held bodies) and at the start
+    of every run (a caller may have changed the held flags), and by :func:`box_forces`
+    at a first step.
+
     Only the boxes that are not held are looked at -- each with its own candidates
     (a, j > a) and walls, and the held boxes a < b of its reverse list (``boxes.rev``) --
     so a held box costs one test, however many candidates it has, and the list is not
@@ -331,6 +341,8 @@ def _visit_pairs(bodies, boxes, nx, nw):
     are the same to the bit."""
     if boxes.n_cand[0] < 0:
         return nx
+    if boxes.n_groups[0] >= 0:
+        return boxes.n_groups[0]
     held, body = bodies.held, boxes.body
     visit, cand, rev = boxes.visit, boxes.cand, boxes.rev
     stride = nx + nw
@@ -362,6 +374,7 @@ def _visit_pairs(bodies, boxes, nx, nw):
             boxes.src_start[n_src] = k
             n_src += 1
     boxes.src_start[n_src] = n
+    boxes.n_groups[0] = n_src
     return n_src
 
 
@@ -644,6 +657,8 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     used[: old.n[0]] = 0
     props = boxes.props
     hertz = boxes.normal_law[0] == LAW_HERTZ
+    if first_step:  # (the held flags may be new: _visit_pairs)
+        boxes.n_groups[0] = -1
     o = 0
     n_new = 0
     for g in range(_visit_pairs(bodies, boxes, nx, nw)):
@@ -980,4 +995,5 @@ def boxes_from_state(state: dict) -> Boxes:
         rev=np.array(state["rev"], np.int64),
         rev_start=np.array(state["rev_start"], np.int64),
         visit=np.zeros_like(cand),
+        n_groups=np.full(1, -1, np.int64),
     )

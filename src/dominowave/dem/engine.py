@@ -522,6 +522,8 @@ def run_loop(
     planar = settings.planar
     shear_kinematics = mats.shear_kinematics[0]
     has_boxes = boxes.body.shape[0] > 0
+    if has_boxes:  # (the caller may have changed the held flags: boxes._visit_pairs)
+        boxes.n_groups[0] = -1
     rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
     for done in range(n_steps):
         t = rec.clock[CLOCK_TIME]
@@ -588,8 +590,11 @@ def run_loop(
             box_sphere_forces(bodies, spheres, boxes, mats, dt, rec.ledger, step == 0, planar)
             if boxes.n_changes[0] > 0:
                 _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t)
+                boxes.n_groups[0] = -1  # (held boxes may have been released)
         if n_changes > 0:
             _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, step == 0)
+            if has_boxes:
+                boxes.n_groups[0] = -1
         if settings.record_peak_force:
             _record_peak_force(spheres, contacts, rec)
             if has_boxes:
