@@ -119,6 +119,8 @@ def _timed_steps(bodies, spheres, walls, mats, contacts, settings, rec, bx, n_st
     pl = settings.planar
     kin = rec.energy_now  # (the check step's energies)
     has_boxes = bx.body.shape[0] > 0
+    if has_boxes:
+        bx.n_groups[0] = -1
     rebuild_due = contact.needs_rebuild(bodies, settings.skin, contacts.n[0])
     builds = 0
     t0 = rec.clock[engine.CLOCK_TIME]
@@ -169,8 +171,11 @@ def _timed_steps(bodies, spheres, walls, mats, contacts, settings, rec, bx, n_st
             acc[BOX_SPHERE] += c2 - c3
             if bx.n_changes[0] > 0:
                 engine._bookkeep_boxes(bodies, spheres, contacts, bx, rec, settings, t)
+                bx.n_groups[0] = -1
         if n_changes > 0:
             engine._bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, step == 0)
+            if has_boxes:
+                bx.n_groups[0] = -1
         code = -1  # (no stop condition: the quiet test with an infinite quiet time)
         if engine.quiet_reached(t, dt, max(rec.last_onset[0], t0), np.inf):
             code = 0
