@@ -10,13 +10,14 @@ advances --steps steps and reads the processor's cycle counter between its phase
 * list: the Verlet-list builds (the spheres': placement of every sphere and the
   linked-cell search; the boxes': box-box/box-wall and box-sphere candidates);
 * spheres: ``compute_forces`` (or its planar kernel): the zeroing of every body's force
-  and torque and the sphere contacts (none in the box chain);
+  and torque and the sphere contacts (a step without sphere pairs, as in the box chain:
+  the loop's own zeroing);
 * boxes: ``box_forces``, split (a second pass, --split) by timing its parts on the same
   state just before it: the selection of the pairs to visit (``boxes._visit_pairs``),
   the bounding tests (``boxes._within_reach``) and the contact geometry
   (``boxes._manifold``) of the pairs within reach; law = the rest of box_forces (contact
   law, shear history, rows, applying the forces);
-* box-sphere: ``box_sphere_forces`` (nothing to do without spheres);
+* box-sphere: ``box_sphere_forces`` (not called in a scene without spheres);
 * bookkeeping: contact onsets and ends (held-body release) and the stop conditions;
 * advance: the fused kick-drift pass with the displacement test (99 of 100 steps);
 * check: the check steps (every ``check_every`` steps): separate kick, the energies and
@@ -147,7 +148,10 @@ def _timed_steps(bodies, spheres, walls, mats, contacts, settings, rec, bx, n_st
                 box_sphere.build_box_sphere_candidates(bodies, spheres, bx, walls, settings.skin)
             c1 = _cycles()
             acc[LIST_B] += c1 - c2
-        if pl:
+        if contacts.n[0] == 0:
+            engine._zero_forces(bodies)
+            n_changes = 0
+        elif pl:
             n_changes = planar.compute_forces_planar(
                 bodies, spheres, walls, contacts, dt, rec.ledger, rec.changes, step == 0,
                 mats.shear_kinematics[0],
@@ -166,7 +170,10 @@ def _timed_steps(bodies, spheres, walls, mats, contacts, settings, rec, bx, n_st
             boxes.box_forces(bodies, bx, walls, mats, dt, rec.ledger, step == 0, pl)
             c3 = _cycles()
             acc[BOXES] += c3 - c2
-            box_sphere.box_sphere_forces(bodies, spheres, bx, mats, dt, rec.ledger, step == 0, pl)
+            if spheres.body.shape[0] > 0:
+                box_sphere.box_sphere_forces(
+                    bodies, spheres, bx, mats, dt, rec.ledger, step == 0, pl
+                )
             c2 = _cycles()
             acc[BOX_SPHERE] += c2 - c3
             if bx.n_changes[0] > 0:
