@@ -9,7 +9,8 @@ chain's default angular velocity about its front bottom edge (that edge at rest)
 the clump chain, dominoes 1.. are held until touched (``--free``: not held, each resting
 on its four corners from the start, as before the engine had held boxes); a held domino
 stands touching the floor (no overlap: it has no floor contact while held).  Both
-are timed over the same steps (CPU time, median of --repeat runs); then a fresh box chain
+are timed over the same steps (CPU time, median of --repeat windows, the two chains taking
+turns); then a fresh box chain
 runs until every domino has passed 45 degrees (or --until), and the wave speed is fitted
 to those passage times (a rough measure: not the chain analysis of dominowave.chain,
 which needs contact events).
@@ -68,13 +69,17 @@ def box_chain(
     return sim
 
 
-def cpu_per_step(sim, steps, repeat):
-    times = []
+def cpu_per_step(sims, steps, repeat):
+    """Median CPU time per step [s] of each simulation over ``repeat`` consecutive windows
+    of ``steps`` steps; the simulations take turns window by window, so that a change of
+    the machine's load between windows affects each of them alike."""
+    times = [[] for _ in sims]
     for _ in range(repeat):
-        t0 = time.process_time()
-        sim.run(n_steps=steps)
-        times.append((time.process_time() - t0) / steps)
-    return statistics.median(times)
+        for sim, out in zip(sims, times, strict=True):
+            t0 = time.process_time()
+            sim.run(n_steps=steps)
+            out.append((time.process_time() - t0) / steps)
+    return [statistics.median(t) for t in times]
 
 
 def tilts(sim):
@@ -98,8 +103,7 @@ def main():
     box = box_chain(chain, push.omega, clump.dt, held=not args.free, skin=args.skin)
     clump.run(n_steps=100)  # compilation
     box.run(n_steps=100)
-    t_clump = cpu_per_step(clump, args.steps, args.repeat)
-    t_box = cpu_per_step(box, args.steps, args.repeat)
+    t_clump, t_box = cpu_per_step((clump, box), args.steps, args.repeat)
     print(
         f"N = {args.n}, model {args.model}, dt = {clump.dt:.3e} s, {args.steps} steps, "
         f"box skin {box.settings.skin:.3g} m, list builds per step "

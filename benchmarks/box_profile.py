@@ -7,15 +7,18 @@ engine's, without numba's reference counting):
 
 * step: ``Simulation.run`` per step over the next --steps steps (engines only), on a copy
   of the chain;
-* search: the per-step selection of the pairs to visit (``boxes._visit_pairs``: the
-  candidates of the boxes that are not held) and the tests of ``boxes.box_forces`` on
-  them (bounding spheres, box-wall support), without the geometry;
+* search: the pairs to visit (``boxes._visit_pairs``: the candidates of the boxes that
+  are not held, kept from step to step, so here read back) and the tests of
+  ``boxes.box_forces`` on them (bounding spheres, box-wall support), without the geometry;
 * manifold: search plus the contact geometry (``shapes``) of the pairs that pass;
 * forces: ``box_forces`` entire; law = forces - manifold (contact law, shear history,
   row bookkeeping, applying the forces);
 * list: one build of the candidate list times the builds per step of the run;
 * rest: step - forces - list (integration, the sphere kernels of an empty sphere set,
   the loop's bookkeeping).
+
+Phases timed in their own loops miss what the run adds (branches and caches shared with
+the other phases): ``box_phases.py`` times them in situ.
 
 Run:  python benchmarks/box_profile.py [--n 30] [--model 2d] [--at 100 3000 10000]
 """

@@ -126,6 +126,7 @@ Boxes = namedtuple(
         "visit",  # (P,) int64 scratch: the candidates visited this step, ascending
         "src",  # (nx,) int64 scratch: the boxes a of the visited pairs, ascending
         "src_start",  # (nx + 1,) int64 scratch: first visited pair of each src entry
+        "n_groups",  # (1,) int64: groups of visit/src/src_start, -1: to be rebuilt
         "sphere_rows",  # BoxContacts of the box-sphere contacts (box_sphere.py), j: sphere
         "sphere_next",  # BoxContacts being built (scratch)
         "sphere_cand",  # (Q,) int64 candidate box-sphere pairs, box * ns + sphere, ascending
@@ -212,6 +213,7 @@ def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR)
         visit=np.zeros(8 * nx + 16, np.int64),
         src=np.zeros(nx, np.int64),
         src_start=np.zeros(nx + 1, np.int64),
+        n_groups=np.full(1, -1, np.int64),
         sphere_rows=_empty_rows(capacity),
         sphere_next=_empty_rows(capacity),
         sphere_cand=np.zeros(8 * nx + 16, np.int64),
@@ -267,6 +269,7 @@ def build_box_candidates(bodies, boxes, walls, skin):
     half-diagonal as the body's extent), so no pair outside the list can pass them.
     """
     nx = boxes.body.shape[0]
+    boxes.n_groups[0] = -1  # (the visited pairs come from the list)
     pos = np.empty((nx, 3))
     radius = np.empty(nx)
     for x in range(nx):
@@ -319,6 +322,13 @@ def _visit_pairs(bodies, boxes, nx, nw):
     returns the number of groups, or ``nx`` without a list (every box a source, every
     pair a candidate: :func:`_partner_range`).
 
+    The visited pairs change only when the list is built or a box is released, so they
+    are kept from step to step (``boxes.n_groups``) and built again only after
+    ``n_groups`` is set to -1: by :func:`build_box_candidates`, by the engine after every
+    step with onsets or ends (the only steps that release held bodies) and at the start
+    of every run (a caller may have changed the held flags), and by :func:`box_forces`
+    at a first step.
+
     Only the boxes that are not held are looked at -- each with its own candidates
     (a, j > a) and walls, and the held boxes a < b of its reverse list (``boxes.rev``) --
     so a held box costs one test, however many candidates it has, and the list is not
@@ -328,6 +338,8 @@ def _visit_pairs(bodies, boxes, nx, nw):
     are the same to the bit."""
     if boxes.n_cand[0] < 0:
         return nx
+    if boxes.n_groups[0] >= 0:
+        return boxes.n_groups[0]
     held, body = bodies.held, boxes.body
     visit, cand, rev = boxes.visit, boxes.cand, boxes.rev
     stride = nx + nw
@@ -359,6 +371,7 @@ def _visit_pairs(bodies, boxes, nx, nw):
             boxes.src_start[n_src] = k
             n_src += 1
     boxes.src_start[n_src] = n
+    boxes.n_groups[0] = n_src
     return n_src
 
 
@@ -389,7 +402,10 @@ def _partner(boxes, a, k, nx, nw):
     return boxes.visit[k] - a * (nx + nw)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+# (inlined, as the other helpers box_forces calls for every pair or step: a call of a
+# compiled function passes every array of its tuple arguments one by one, about 0.5 us
+# for the bodies and the box state)
+@njit(cache=True, error_model="numpy", inline="always")
 def _manifold(bodies, boxes, walls, a, j, planar, margin):
     """Contact points of box a with partner j (box, or -(wall + 1)) into boxes.m_*;
     returns their number."""
@@ -724,7 +740,9 @@ def _log_bodies(boxes, bi, bj, kind, lag):
     boxes.n_changes[0] = k + 1
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+# (inlined into the engine's loop: a call passes every array of the bodies and the box
+# state one by one, about 0.5 us per step; see _manifold)
+@njit(cache=True, error_model="numpy", inline="always")
 def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     """Add the forces and torques of every box contact to the bodies (after
     contact.compute_forces, which zeroes them), rebuild the contact rows, book the change
@@ -739,6 +757,8 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     used[: old.n[0]] = 0
     props = boxes.props
     hertz = boxes.normal_law[0] == LAW_HERTZ
+    if first_step:  # (the held flags may be new: _visit_pairs)
+        boxes.n_groups[0] = -1
     o = 0
     n_new = 0
     for g in range(_visit_pairs(bodies, boxes, nx, nw)):
@@ -812,7 +832,7 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     _copy_rows(new, old, n_new)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@njit(cache=True, error_model="numpy", inline="always")
 def _drop_before(old, boxes, o, code, nx, nw, ledger):
     """Old rows from o on of the pairs before ``code`` are gone (their pair is out of
     reach): release their springs and log the end of each such pair; returns the first
@@ -827,7 +847,7 @@ def _drop_before(old, boxes, o, code, nx, nw, ledger):
     return o
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@njit(cache=True, error_model="numpy", inline="always")
 def _copy_rows(src, dst, n):
     for c in range(n):
         dst.i[c] = src.i[c]
@@ -1027,4 +1047,5 @@ def boxes_from_state(state: dict) -> Boxes:
         rev=np.array(state["rev"], np.int64),
         rev_start=np.array(state["rev_start"], np.int64),
         visit=np.zeros_like(cand),
+        n_groups=np.full(1, -1, np.int64),
     )
