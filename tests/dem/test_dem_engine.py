@@ -9,8 +9,9 @@ from hypothesis import strategies as st
 from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation
 
-from dominowave.dem import END, ONSET, Material, Scene, Simulation, StopCondition, integrate
+from dominowave.dem import END, ONSET, Material, Scene, Simulation, StopCondition, engine, integrate
 from dominowave.dem.contact import build_verlet_list, needs_rebuild, pair_properties
+from dominowave.dem.energy import ENERGY_NAMES, N_MECHANICAL
 
 
 def _box_scene(n=60, seed=0, friction=0.3, damping=0.0, restitution=0.5, **build):
@@ -557,6 +558,34 @@ def test_unstable_step_aborts_with_cause():
     sim.settings = sim.settings._replace(dt=50 * sim.critical_dt)
     with pytest.raises(RuntimeError, match="time step"):
         sim.run(n_steps=100_000)
+
+
+def test_unstable_step_whose_energy_overflows_aborts():
+    """At 5x the critical step the packing's velocities reach ~1e160 m/s: finite, but the
+    kinetic energy overflows to inf and the total reads NaN.  A NaN excess must abort the
+    run (a plain ``excess > slack`` is False for NaN and let this run end as if fine)."""
+    sim = _box_scene(n=30)
+    sim.settings = sim.settings._replace(dt=5 * sim.critical_dt)
+    with pytest.raises(RuntimeError, match="energy balance broke down"):
+        sim.run(n_steps=20_000)
+
+
+def test_energy_excess_sees_work_booked_as_negative_dissipation():
+    """An unstable dashpot books the energy it creates as negative dissipation, so the
+    ledger's total stays balanced while the mechanical energy grows: the excess is that
+    growth, and a negative dissipation does not widen the energy scale."""
+    ref = np.zeros(len(ENERGY_NAMES))
+    ref[ENERGY_NAMES.index("gravitational")] = 1.0
+    ref[ENERGY_NAMES.index("total")] = 1.0
+    now = ref.copy()
+    now[ENERGY_NAMES.index("kinetic_translational")] = 5.0  # created
+    now[ENERGY_NAMES.index("dissipated_viscous")] = -5.0  # booked as negative dissipation
+    assert now[:N_MECHANICAL].sum() - ref[:N_MECHANICAL].sum() == 5.0
+    assert engine.energy_excess(now, ref, True) == 5.0
+    assert engine.energy_excess(now, ref, False) == 5.0
+    assert engine.active_energy(now, True) == 5.0  # kinetic only, not |-5| more
+    now[ENERGY_NAMES.index("kinetic_rotational")] = np.inf
+    assert np.isnan(engine.energy_excess(now, ref, True))
 
 
 def test_energy_tracking_off_keeps_the_trajectory_and_reports_nan():

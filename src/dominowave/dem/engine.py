@@ -408,30 +408,38 @@ def _finite(bodies):
 @njit(cache=True, error_model="numpy", _nrt=False)
 def active_energy(e, track_energy):
     """Scale [J] of the energies that change in a run: kinetic, elastic and (tracked)
-    dissipated; the runaway test allows half of its largest value."""
+    dissipated; the runaway test allows half of its largest value.  A dissipated energy
+    counts only where it is positive: a negative one is energy the engine created (an
+    unstable dashpot books its work there), which must not widen the slack meant to
+    catch it."""
     active = abs(e[E_KINETIC_TRANSLATIONAL]) + abs(e[E_KINETIC_ROTATIONAL])
     active += abs(e[E_ELASTIC_NORMAL]) + abs(e[E_ELASTIC_TANGENTIAL])
     if track_energy:
-        active += abs(e[E_DISSIPATED_FRICTION]) + abs(e[E_DISSIPATED_VISCOUS])
-        active += abs(e[E_DISSIPATED_DAMPING])
+        active += max(e[E_DISSIPATED_FRICTION], 0.0) + max(e[E_DISSIPATED_VISCOUS], 0.0)
+        active += max(e[E_DISSIPATED_DAMPING], 0.0)
     return active
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def energy_excess(e, ref, track_energy):
     """How far the energy balance is off [J] (``e``, ``ref``: the ENERGY_NAMES vectors now
-    and at the start of the run).  With the ledger: ``|total - total_ref|``, conserved
-    up to the integration error.  Without it: the growth of the mechanical energy
-    (kinetic + gravitational + elastic), which every non-conservative force of the engine
-    (Coulomb slip, dashpots, local damping) can only decrease."""
-    if track_energy:
-        return abs(e[E_TOTAL] - ref[E_TOTAL])
+    and at the start of the run): the growth of the mechanical energy (kinetic +
+    gravitational + elastic), which every non-conservative force of the engine (Coulomb
+    slip, dashpots, local damping) can only decrease; with the ledger also ``|total -
+    total_ref|``, conserved up to the integration error (the larger of the two: a
+    blow-up whose work the ledger books as negative dissipation keeps the total but not
+    the mechanical energy).  NaN if any energy is NaN or infinite."""
     mech = 0.0
     mech_ref = 0.0
     for k in range(N_MECHANICAL):
         mech += e[k]
         mech_ref += ref[k]
-    return mech - mech_ref
+    excess = mech - mech_ref
+    if track_energy:
+        excess = max(excess, abs(e[E_TOTAL] - ref[E_TOTAL]))
+    if not math.isfinite(excess) or not math.isfinite(mech):
+        return math.nan
+    return excess
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -664,7 +672,9 @@ def run_loop(
                 )
                 slack = 0.5 * rec.clock[CLOCK_ENERGY_SCALE]
                 slack += 1e-9 * abs(rec.energy_ref[E_GRAVITATIONAL])
-                if energy_excess(rec.energy_now, rec.energy_ref, settings.track_energy) > slack:
+                excess = energy_excess(rec.energy_now, rec.energy_ref, settings.track_energy)
+                # (not `excess > slack`: an overflowing energy reads NaN, and NaN > x is False)
+                if not excess <= slack:
                     return ABORT_RUNAWAY, done
                 if code < 0 and stop[STOP_ARG_KINETIC_BELOW] >= 0.0:
                     kinetic_energy(bodies, kin)

@@ -481,19 +481,23 @@ class Simulation:
     def _abort(self, code):
         if code == engine.ABORT_NAN:
             cause = "a position or velocity became NaN/inf"
-        elif self.settings.track_energy:
-            e = self.energy()
-            cause = (
-                f"the energy balance broke down (total {e['total']:.6g} J, "
-                f"{self.rec.energy_ref[E_TOTAL]:.6g} J at the start of the run)"
-            )
         else:
             now = self.rec.energy_now[:N_MECHANICAL].sum()
             ref = self.rec.energy_ref[:N_MECHANICAL].sum()
-            cause = (
-                f"the mechanical energy grew from {ref:.6g} J to {now:.6g} J (without "
-                "energy tracking; every dissipative force can only lower it)"
-            )
+            if self.settings.track_energy:
+                e = self.energy()
+                dissipated = sum(e[name] for name in ENERGY_NAMES if name.startswith("dissip"))
+                cause = (
+                    f"the energy balance broke down (the mechanical energy went from "
+                    f"{ref:.6g} J to {now:.6g} J, the energy dissipated is "
+                    f"{dissipated:.6g} J, the total {e['total']:.6g} J against "
+                    f"{self.rec.energy_ref[E_TOTAL]:.6g} J at the start of the run)"
+                )
+            else:
+                cause = (
+                    f"the mechanical energy grew from {ref:.6g} J to {now:.6g} J (without "
+                    "energy tracking; every dissipative force can only lower it)"
+                )
         raise RuntimeError(
             f"DEM run aborted at t = {self.time:.6g} s: {cause}. Likely cause: the time step "
             f"dt = {self.dt:.6g} s is too large for the contact stiffness (critical estimate "
