@@ -21,6 +21,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent / "workflow"))
 import workflow_helpers  # noqa: F401  (registers the steppable toy scenario)
 
+from dominowave.chain import ChainParams, DominoChain
 from dominowave.io.checkpoint import save_checkpoint
 
 HERTZ_CHAIN = ["chain", "--n", "4", "--shape", "box", "--normal-law", "hertz"]
@@ -374,6 +375,10 @@ def test_read_only_output_folder(tmp_path, cli):
             ["poisson = 0.5 is outside the valid range [0, 0.5)"],
         ),
         (
+            [*HERTZ_CHAIN, "--young", "100", "--poisson", "0.3"],
+            ["young = 100 Pa (Hertz law) is too soft", "young >= "],
+        ),
+        (
             ["chain", "--n", "4", "--shape", "box", "--poisson", "0.3"],
             ["poisson = 0.3 is an option of normal_law = 'hertz' only"],
         ),
@@ -446,3 +451,15 @@ def test_errors_reach_a_real_terminal_as_one_line(tmp_path):
     assert proc.stdout == ""
     assert proc.stderr.count("\n") == 1 and "scenario.mass = -1.0" in proc.stderr
     assert not (tmp_path / "o").exists()
+
+
+def test_chain_step_from_the_estimate_refuses_before_building():
+    """``DominoChain(safety=...)`` builds a scene for the engine's estimate: the memory
+    and softness checks come first (a 1e5-domino chain would otherwise be built, minutes
+    of work, before it is refused)."""
+    p = ChainParams(shape="box", model="3d", n_dominoes=100_000, young=2.5e9, normal_law="hertz")
+    with pytest.raises(ValueError, match="more than this machine can hold"):
+        DominoChain(p, safety=0.5)
+    soft = ChainParams(shape="box", n_dominoes=4, young=100.0, normal_law="hertz")
+    with pytest.raises(ValueError, match=r"young = 100 Pa \(Hertz law\) is too soft"):
+        DominoChain(soft, safety=0.5)

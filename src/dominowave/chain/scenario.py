@@ -247,38 +247,50 @@ class DominoChain:
         # dominoes stand at these plus their placement errors
         self.positions = chain_positions(params)
         self.placement = placement(params)
-        if safety is not None:  # (the critical estimate needs the built scene)
-            sim, _ = self._build_scene(self.resolve(None), dt=None, safety=safety)
-            self.dt = sim.dt
-        self._check_resolvable()
+        # refuse what the DEM cannot represent before anything is allocated
+        self._check_sink()
         frames = (self.max_time + self.tail_time) / self.frame_interval
         check_memory(
             params.n_dominoes * (BYTES_PER_DOMINO + frames * BYTES_PER_FRAME_DOMINO),
             f"its bodies, contacts and up to {frames:.3g} trajectory frames",
             f"n_dominoes = {params.n_dominoes}",
         )
+        if safety is not None:  # (the critical estimate needs the built scene)
+            sim, _ = self._build_scene(self.resolve(None), dt=None, safety=safety)
+            self.dt = sim.dt
+        self._check_steps()
 
-    def _check_resolvable(self) -> None:
-        """Refuse stiffnesses the DEM cannot represent, before anything is allocated.
-
-        Too soft: a domino standing on the floor would sink more than one sphere
-        radius into it under its own weight (``_sink``), so contacts are no longer
-        small overlaps of rigid spheres (the premise of the linear contact model);
-        such a chain ran one time step longer than the whole wave and reported it.
-        Too stiff: the time step resolving the collision would need more than
-        ``MAX_STEPS`` steps for the run.
-        """
+    def _stiffness_text(self) -> str:
         p = self.params
-        stiffness = f"the contact stiffness k_n = {p.contact_stiffness:.4g} N/m (k/k* = "
-        stiffness += f"{p.stiffness_over_kstar:.4g})"
+        if p.normal_law == "hertz":
+            return f"Young's modulus young = {p.young:.4g} Pa (Hertz law)"
+        text = f"the contact stiffness k_n = {p.contact_stiffness:.4g} N/m (k/k* = "
+        return text + f"{p.stiffness_over_kstar:.4g})"
+
+    def _check_sink(self) -> None:
+        """Too soft: a domino standing on the floor would sink more than one sphere
+        radius (edge rounding) into it under its own weight (``_sink``), so contacts are
+        no longer small overlaps of rigid spheres (the premise of the contact models);
+        such a chain ran one time step longer than the whole wave and reported it."""
+        p = self.params
         sink = self._sink() / p.contact_radius
         radii = "sphere radii" if p.shape == "clump" else "edge roundings r"
-        if not sink <= 1.0:
-            raise ValueError(
-                f"{stiffness} is too soft: a standing domino would sink {sink:.3g} {radii}"
-                f" into the floor under its weight (m g / k_n); the DEM needs well below 1"
-                f" (k/k* >= {p.stiffness_over_kstar * sink:.3g} for this chain)"
-            )
+        if sink <= 1.0:
+            return
+        if p.normal_law == "hertz":  # (the sink goes as E^{-2/3})
+            law, bound = "m g / 4 = K delta^{3/2}", f"young >= {p.young * sink**1.5:.3g} Pa"
+        else:
+            law, bound = "m g / k_n", f"k/k* >= {p.stiffness_over_kstar * sink:.3g}"
+        raise ValueError(
+            f"{self._stiffness_text()} is too soft: a standing domino would sink {sink:.3g}"
+            f" {radii} into the floor under its weight ({law}); the DEM needs well below 1"
+            f" ({bound} for this chain)"
+        )
+
+    def _check_steps(self) -> None:
+        """Too stiff: the time step resolving the collision would need more than
+        ``MAX_STEPS`` steps for the run."""
+        stiffness = self._stiffness_text()
         steps = (self.max_time + self.tail_time) / self.dt
         if not steps <= MAX_STEPS:
             raise ValueError(
