@@ -76,13 +76,32 @@ def profile_split(sim, times, steps=2000, repeat=3):
         )
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--n", type=int, default=100)
+def add_chain_arguments(parser: argparse.ArgumentParser, n: int) -> None:
+    """The options of the chain: --n (default ``n``), --gap, --floor, --young, --poisson."""
+    parser.add_argument("--n", type=int, default=n)
     parser.add_argument("--gap", type=float, default=0.02, help="clear gap d [m]")
     parser.add_argument("--floor", default="hardwood")
     parser.add_argument("--young", type=float, default=2.5e9)
     parser.add_argument("--poisson", type=float, default=0.35)
+
+
+def chain_params(args: argparse.Namespace, held: bool | None):
+    """The standard Hertz chain of the options (lateral asymmetry 0.01)."""
+    return standard_domino(
+        n_dominoes=args.n,
+        gap=args.gap,
+        floor=args.floor,
+        lateral_asymmetry=0.01,
+        young=args.young,
+        normal_law="hertz",
+        poisson=args.poisson,
+        held=held,
+    )
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    add_chain_arguments(parser, n=100)
     parser.add_argument("--dt", type=float, default=None)
     parser.add_argument("--safety", type=float, default=0.02)
     parser.add_argument(
@@ -100,17 +119,7 @@ def main():
         help="instead of the timed runs: the split of a step (box_profile.py) at these times [s]",
     )
     args = parser.parse_args()
-    params = standard_domino(
-        n_dominoes=args.n,
-        gap=args.gap,
-        floor=args.floor,
-        lateral_asymmetry=0.01,
-        young=args.young,
-        normal_law="hertz",
-        poisson=args.poisson,
-        held=args.held or None,
-    )
-    chain = hertz_chain(params, args.dt, args.safety)
+    chain = hertz_chain(chain_params(args, held=args.held or None), args.dt, args.safety)
 
     def fresh():
         return build(chain)

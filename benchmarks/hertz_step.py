@@ -22,10 +22,9 @@ import argparse
 import time
 
 import numpy as np
-from hertz_chain import reached
+from hertz_chain import add_chain_arguments, chain_params, reached
 
 from dominowave.chain import DominoChain
-from dominowave.chain.presets import standard_domino
 
 
 def run_to_end(chain: DominoChain, safety: float, quiet: float):
@@ -50,24 +49,11 @@ def run_to_end(chain: DominoChain, safety: float, quiet: float):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--n", type=int, default=20)
-    parser.add_argument("--gap", type=float, default=0.02, help="clear gap d [m]")
-    parser.add_argument("--floor", default="hardwood")
-    parser.add_argument("--young", type=float, default=2.5e9)
-    parser.add_argument("--poisson", type=float, default=0.35)
+    add_chain_arguments(parser, n=20)
     parser.add_argument("--quiet", type=float, default=0.2, help="end: no onset for [s]")
     parser.add_argument("--safety", type=float, nargs="+", default=[0.02, 0.05, 0.1, 0.2, 0.4])
     args = parser.parse_args()
-    params = standard_domino(
-        n_dominoes=args.n,
-        gap=args.gap,
-        floor=args.floor,
-        lateral_asymmetry=0.01,
-        young=args.young,
-        normal_law="hertz",
-        poisson=args.poisson,
-        held=True,
-    )
+    params = chain_params(args, held=True)
     chain = DominoChain(params, safety=1.0)  # (the step is set per run below)
     n = np.arange(1, args.n)
     reference = None
