@@ -184,6 +184,32 @@ def test_validate_box_box_deepest_point_against_exact_distance(seed):
         assert np.all(normal @ (xj - xi) > 0.0)
 
 
+@pytest.mark.parametrize("seed", range(3))
+def test_validate_box_box_face_contacts_deepest_point_against_exact_distance(seed):
+    """Near-parallel faces (a box leaning on a face, resting on it, tilted across it):
+    where the manifold's deepest corner is as deep as the separating-axis bound allows,
+    box_box skips the search for the exact deepest point; the largest overlap must still
+    be ``r_i + r_j - d`` with d the exact core distance (bounded least squares)."""
+    rng = np.random.default_rng(40 + seed)
+    ri, rj = 0.0005, 0.0005
+    tested = 0
+    for k in range(400):
+        Ri = Rotation.from_rotvec(rng.normal(0.0, 0.3, 3)).as_matrix()
+        Rj = Ri @ Rotation.from_rotvec(rng.normal(0.0, (0.8, 0.05, 0.005)[k % 3], 3)).as_matrix()
+        axis = int(rng.integers(3))
+        lateral = rng.uniform(-1.0, 1.0, 3) * H_J * (np.arange(3) != axis)
+        xi = rng.normal(size=3) * 0.01
+        xj = xi + Ri[:, axis] * (H_I[axis] + H_J[axis] + rng.uniform(-2e-4, 8e-4))
+        xj += Ri @ lateral
+        d = core_distance(xi, Ri, H_I, xj, Rj, H_J)
+        if d < 1e-7 or d >= ri + rj:  # (cores apart, rounded bodies touching)
+            continue
+        _, _, overlap, _ = _box_box(xi, Ri, H_I, ri, xj, Rj, H_J, rj)
+        assert overlap.max() == pytest.approx(ri + rj - d, abs=1e-10)
+        tested += 1
+    assert tested >= 100
+
+
 def test_validate_box_box_no_contact_beyond_reach():
     rng = np.random.default_rng(5)
     ri, rj = 0.002, 0.0015

@@ -40,7 +40,10 @@ vertex over a rounded edge, two crossing edges) it replaces the corner nearest t
 (which keeps its key) or, if none is within ``r_i + r_j``, is added.  An empty manifold
 (e.g. two parallel edges side by side) is replaced by the deepest point, and by every
 vertex within round-off of it (both ends of two parallel edges).  So the largest overlap
-of every manifold is exact.
+of every manifold is exact.  The search is skipped where the separating axes already
+prove a corner exact: cores whose largest separation over the 15 axes is ``s > 0`` are at
+least ``s`` apart, so a corner of overlap ``r_i + r_j - s`` is the deepest point (an edge
+lying on a face, a face resting on a face: the persisting contacts of fallen dominoes).
 """
 
 from __future__ import annotations
@@ -675,6 +678,9 @@ def box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap
         n = _face_manifold(xi, Ri, hi, ri, k_i, xj, Rj, hj, rj, margin, 1.0, 0, work, out)
     # The exact deepest point: the core distance of two boxes is attained at a vertex
     # (point-box distance) or between two crossing edges.
+    separation = max(sep_i, sep_j, sep_e)
+    if n > 0 and separation > 0.0 and _manifold_is_deepest(overlap, n, ri + rj - separation, tol):
+        return n
     v_row, e_row = 16, 24
     m_v = _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, True, rows_from(out, v_row))
     m_e = 0
@@ -702,6 +708,20 @@ def box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap
     else:
         first, count = v_row, m_v
     return merge_deepest(out, n, first, count, ri + rj, tol)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _manifold_is_deepest(overlap, n, bound, tol):
+    """True if no point of the pair can be deeper than the manifold ``overlap[:n]`` by
+    more than ``tol / 2``: ``bound`` = ``r_i + r_j - s`` with ``s`` > 0 the largest
+    separation of the cores over the 15 axes (their projections' gap).  Cores that far
+    apart along an axis are at least ``s`` apart, so no point is deeper than ``bound``; then
+    :func:`merge_deepest` would leave the manifold as it is, and the exact deepest point
+    need not be computed (a face resting on a face, an edge lying on a face)."""
+    deepest = -np.inf
+    for k in range(n):
+        deepest = max(deepest, overlap[k])
+    return bound <= deepest + 0.5 * tol
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
