@@ -59,6 +59,7 @@ __all__ = [
     "box_plane",
     "box_sphere",
     "cuboid_mass_properties",
+    "manifold_is_deepest",
     "merge_deepest",
     "point_box_distance",
     "rows_from",
@@ -679,7 +680,7 @@ def box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap
     # The exact deepest point: the core distance of two boxes is attained at a vertex
     # (point-box distance) or between two crossing edges.
     separation = max(sep_i, sep_j, sep_e)
-    if n > 0 and separation > 0.0 and _manifold_is_deepest(overlap, n, ri + rj - separation, tol):
+    if n > 0 and separation > 0.0 and manifold_is_deepest(overlap, n, ri + rj - separation, tol):
         return n
     v_row, e_row = 16, 24
     m_v = _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, True, rows_from(out, v_row))
@@ -711,7 +712,7 @@ def box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _manifold_is_deepest(overlap, n, bound, tol):
+def manifold_is_deepest(overlap, n, bound, tol):
     """True if no point of the pair can be deeper than the manifold ``overlap[:n]`` by
     more than ``tol / 2``: ``bound`` = ``r_i + r_j - s`` with ``s`` > 0 the largest
     separation of the cores over the 15 axes (their projections' gap).  Cores that far

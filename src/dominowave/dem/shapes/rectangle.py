@@ -8,7 +8,8 @@ of each edge parallel to y, with equal overlaps and normals, and this module ret
 point per pair -- the caller counts each twice (``PLANAR_MULTIPLICITY``).  The geometry is
 the 2D version of the same method: separating axes over the 2 + 2 face normals, the
 incident edge clipped against the reference edge's two side lines (a face on a face: 2
-points), and the exact deepest point -- a corner-edge pair in 2D -- merged in as in 3D.
+points), and the exact deepest point -- a corner-edge pair in 2D -- merged in as in 3D
+(and, as there, not searched for where the separating axes prove a corner exact).
 Arguments and output as in ``cuboid`` (y components of the normals 0).
 """
 
@@ -19,7 +20,12 @@ import math
 import numpy as np
 from numba import njit
 
-from dominowave.dem.shapes.cuboid import merge_deepest, point_box_distance, rows_from
+from dominowave.dem.shapes.cuboid import (
+    manifold_is_deepest,
+    merge_deepest,
+    point_box_distance,
+    rows_from,
+)
 
 __all__ = ["PLANAR_MULTIPLICITY", "edges_separate", "rect_plane", "rect_rect", "rect_sphere"]
 
@@ -212,6 +218,11 @@ def rect_rect(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, normal, point, overlap, ke
         n = _edge_manifold(xj, Rj, hj, rj, k_j, xi, Ri, hi, ri, margin, -1.0, 1, out)
     else:
         n = _edge_manifold(xi, Ri, hi, ri, k_i, xj, Rj, hj, rj, margin, 1.0, 0, out)
+    # (the four face axes are every separating axis of two rectangles: cores apart by
+    # s > 0 along one of them leave no point deeper than r_i + r_j - s; cuboid.box_box)
+    separation = max(sep_i, sep_j)
+    if n > 0 and separation > 0.0 and manifold_is_deepest(overlap, n, ri + rj - separation, tol):
+        return n
     m = _nearest_corners(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, rows_from(out, 8))
     return merge_deepest(out, n, 8, m, ri + rj, tol)
 
