@@ -271,7 +271,9 @@ def _incident_corner(xB, RB, hB, kB, sB, k):
     return e0, e1, e2
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+# (inlined: a call passes its 19 arguments, the arrays as several words each, for every
+# corner where an incident edge crosses a side plane -- two per pair of fallen dominoes)
+@njit(cache=True, error_model="numpy", inline="always")
 def _beyond_side_plane(xA, RA, hA, ku, kv, c0, c1, c2, n0, n1, n2, xB, RB, hB, kB, sB, row,
                        edge, plane):  # fmt: skip
     """The contact that a clipped corner on a side plane stands for.
