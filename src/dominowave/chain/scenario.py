@@ -61,6 +61,7 @@ __all__ = [
     "ChainRun",
     "DominoChain",
     "Push",
+    "default_speed_bound",
     "member_placement_seed",
     "member_push_factor",
 ]
@@ -154,6 +155,13 @@ class ChainRun:
         """Whether the wave reached the last domino."""
         return bool(np.isfinite(self.arrival[-1]))
 
+    @property
+    def cut_short(self) -> bool:
+        """Whether the run ended at its ``max_time`` while the wave was still on its way:
+        the dominoes after the front were not reached because the run stopped, not
+        because the wave died (that ends the run by the quiet time)."""
+        return self.stop_reason == "until" and not self.reached_all
+
 
 @dataclass
 class ChainEnsemble:
@@ -185,6 +193,20 @@ MAX_STEPS = 1e10
 """Most time steps a chain run may need (about a day of engine time at N = 300)."""
 
 
+def default_speed_bound(params: ChainParams) -> float:
+    """The wave speed [m/s] the default ``max_time`` of a run allows for: the smaller of
+    the limit speed of eq 34 and ``sqrt(g l)``.
+
+    Eq 34 is the speed of frictionless elastic dominoes; friction and inelastic contacts
+    between dominoes slow a chain far below it (a standard 48 mm domino at d/l = 0.1:
+    eq 34 about 20 m/s, a DEM chain with friction 0.4 m/s = 0.6 sqrt(g l),
+    docs/real_dominoes.md section 8), while the chains of the package and the filmed
+    rows run at 0.6 to 2 sqrt(g l).  Three times the travel time at this bound (the
+    default ``max_time``) covers any wave faster than a third of ``sqrt(g l)``; a slower
+    one is dying, which ends the run by the quiet time."""
+    return min(theory_speed(params), math.sqrt(params.g * params.height))
+
+
 class DominoChain:
     """The DEM model of a domino chain for parameters ``params`` (``ChainParams``).
 
@@ -194,7 +216,9 @@ class DominoChain:
     above its critical one), ``frame_interval`` [s] between trajectory frames used
     for the event analysis, ``quiet_time`` [s] without any new contact after which
     the run stops (the wave died; default ``10 sqrt(l/g)``), ``max_time`` [s] hard
-    limit (default: three times the theory's travel time plus the quiet time),
+    limit (default: three times the travel time at :func:`default_speed_bound` plus
+    the quiet time; a run that reaches it before the wave reaches the last domino is
+    ``ChainRun.cut_short``),
     ``tail_time`` [s] run on after the wave reached the last domino, to record the
     aftermath (default ``5 sqrt(l/g)``).  ``safety`` (instead of ``dt``): the step as
     that fraction of the engine's critical estimate for the built scene
@@ -239,7 +263,7 @@ class DominoChain:
         check_positive("frame_interval", self.frame_interval)
         check_positive("quiet_time", self.quiet_time)
         if max_time is None:
-            travel = params.n_dominoes * params.pitch / theory_speed(params)
+            travel = params.n_dominoes * params.pitch / default_speed_bound(params)
             max_time = 3.0 * travel + self.quiet_time
         self.max_time = check_positive("max_time", max_time)
         self.shape = domino_shape(params) if params.shape == "clump" else domino_box(params)

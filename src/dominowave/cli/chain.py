@@ -96,6 +96,18 @@ def _print_unsettled(console: Console, run: ChainRun, scale: float) -> None:
         )
 
 
+def _cut_short_note(run: ChainRun, max_time: float, member: int | None) -> str:
+    """Say that a run ended at its ``max_time`` with the wave still on its way."""
+    who = "the run" if member is None else f"member {member}"
+    front = int(np.flatnonzero(np.isfinite(run.arrival)).max())
+    return (
+        f"[yellow]{who} ended at max_time = {_fmt(max_time)} s with the wave at domino"
+        f" {front} of {run.params.n_dominoes - 1}[/yellow]: the dominoes after it were not"
+        " reached because the run stopped, not because the wave died; the speeds above are"
+        " of the dominoes reached (in Python: DominoChain(params, max_time=...))"
+    )
+
+
 def _unsettled(ens: ChainEnsemble) -> str:
     """The members an ensemble speed leaves out, said beside it."""
     failed = ens.speed.n_failed
@@ -353,6 +365,9 @@ def chain_command(
         )
     else:
         _print_unsettled(console, run, scale)
+    for i, r in enumerate([run] if ens is None else ens.runs):
+        if r.cut_short:
+            console.print(_cut_short_note(r, chain.max_time, None if ens is None else i))
     if fit_from is not None:
         fit = chain.speed_from(run, fit_from)
         console.print(

@@ -156,7 +156,8 @@ def _run(loaded, folder: Path, force: bool, policy: dict | None, vtk_every: int,
 
 
 def _speed_line(folder: Path) -> str:
-    """The run's wave speed in one line, or "not settled" with the reason."""
+    """The run's wave speed in one line (with the note of a run cut short at its
+    ``max_time``), or "not settled" with the reason."""
     import math
 
     from dominowave.io.results import read_summary
@@ -166,7 +167,8 @@ def _speed_line(folder: Path) -> str:
     if math.isfinite(speed):
         err = summary.get("speed_err", math.nan)
         spread = f" ± {err:.2g}" if math.isfinite(err) else ""
-        return f"speed: {speed:.4g}{spread} m/s"
+        note = summary.get("speed_note") or ""  # (of a settled speed: a run cut short)
+        return f"speed: {speed:.4g}{spread} m/s" + (f" ({note})" if note else "")
     return f"speed: not settled ({summary.get('speed_note') or 'no reason recorded'})"
 
 

@@ -178,7 +178,7 @@ def chain_result(
         "speed": run.wave.speed,
         "speed_err": run.wave.speed_err,
         "speed_settled": bool(run.wave.settled),
-        "speed_note": unsettled_reason(run.arrival, run.positions),
+        "speed_note": _speed_note(run, chain.max_time),
         "fit_from": -1 if fit_from is None else int(fit_from),
         "speed_fit_from": math.nan if fit_from is None else chain.speed_from(run, fit_from).speed,
         "speed_fit_from_err": (
@@ -221,3 +221,15 @@ def chain_result(
         ),
         spheres=sphere_trajectory(chain, record, run.push, contacts) if spheres else None,
     )
+
+
+def _speed_note(run, max_time: float) -> str:
+    """Why the summary's speed is not the whole chain's ('' if nothing to say): the run
+    ended at ``max_time`` with the wave on its way (``ChainRun.cut_short``), the wave
+    did not settle (``chain.wave.unsettled_reason``), or both."""
+    note = unsettled_reason(run.arrival, run.positions)
+    if run.cut_short:
+        front = int(np.flatnonzero(np.isfinite(run.arrival)).max())
+        cut = f"the run ended at max_time = {max_time:.4g} s with the wave at domino {front}"
+        note = f"{cut}; {note}" if note else cut
+    return note
