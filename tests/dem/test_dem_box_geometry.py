@@ -15,6 +15,8 @@ from dominowave.dem.shapes.cuboid import (
     box_plane,
     box_sphere,
     cuboid_mass_properties,
+    faces_separate,
+    separating_axes,
 )
 from dominowave.dem.shapes.rectangle import rect_plane, rect_rect
 
@@ -208,6 +210,36 @@ def test_validate_box_box_face_contacts_deepest_point_against_exact_distance(see
         assert overlap.max() == pytest.approx(ri + rj - d, abs=1e-10)
         tested += 1
     assert tested >= 100
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_validate_separating_axes_bound_the_core_distance(seed):
+    """The largest gap over the 15 axes is a lower bound of the exact core distance
+    (bounded least squares) -- what box_box's skip of the deepest-point search rests on
+    -- and equals it where a face axis realises the distance (a box resting on the face
+    of another, turned about that face's normal); an axis separating by ``reach`` says
+    apart, and so does faces_separate for exactly the pairs a face axis separates."""
+    rng = np.random.default_rng(70 + seed)
+    work = np.zeros((2, 9, 4))
+    for _ in range(60):
+        xi, Ri, xj, Rj = _random_pair(rng, rng.uniform(1e-4, 0.01))
+        d = core_distance(xi, Ri, H_I, xj, Rj, H_J)
+        got = separating_axes(xi, Ri, H_I, xj, Rj, H_J, np.inf, work)
+        assert not got[0]
+        gap = max(got[1], got[3], got[5])
+        assert 0.0 < gap <= d + 1e-12
+        assert separating_axes(xi, Ri, H_I, xj, Rj, H_J, 0.999 * gap, work)[0]
+        faces = max(got[1], got[3])
+        for reach in (0.999 * faces, 1.001 * faces):
+            assert faces_separate(xi, Ri, H_I, xj, Rj, H_J, reach, work) == (faces >= reach)
+    for _ in range(20):  # face on face: the gap is the distance
+        turn = Rotation.from_rotvec([0.0, 0.0, rng.uniform(-np.pi, np.pi)]).as_matrix()
+        Ri = Rotation.random(random_state=rng).as_matrix()
+        lateral = rng.uniform(-0.5, 0.5, 2) * H_J[:2]
+        gap = rng.uniform(1e-5, 1e-3)
+        xj = Ri @ np.array([*lateral, H_I[2] + H_J[2] + gap])
+        got = separating_axes(np.zeros(3), Ri, H_I, xj, Ri @ turn, H_J, np.inf, work)
+        assert max(got[1], got[3], got[5]) == pytest.approx(gap, abs=1e-15)
 
 
 def test_validate_box_box_no_contact_beyond_reach():

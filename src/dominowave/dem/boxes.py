@@ -483,7 +483,7 @@ def _within_reach(bodies, boxes, walls, a, j, planar):
         if planar:
             if edges_separate(xa, Ra, ha, xb, Rb, hb, reach):
                 return -1.0
-        elif faces_separate(xa, Ra, ha, xb, Rb, hb, reach):
+        elif faces_separate(xa, Ra, ha, xb, Rb, hb, reach, boxes.work):
             return -1.0
     return margin
 

@@ -63,6 +63,7 @@ __all__ = [
     "merge_deepest",
     "point_box_distance",
     "rows_from",
+    "separating_axes",
 ]
 
 MAX_POINTS = 25  # (at most 16 are returned; the rest is scratch)
@@ -199,32 +200,101 @@ def box_sphere(x, R, h, r, c, radius, margin, normal, point, overlap, key):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _face_separation(d0, d1, d2, L0, L1, L2, Ri, hi, Rj, hj):
-    """Gap [m] of the two core boxes along the unit axis L (negative: their projections
-    overlap) and the sign of ``L . (x_j - x_i)``."""
-    radius = 0.0
-    for m in range(3):
-        radius += hi[m] * abs(L0 * Ri[0, m] + L1 * Ri[1, m] + L2 * Ri[2, m])
-        radius += hj[m] * abs(L0 * Rj[0, m] + L1 * Rj[1, m] + L2 * Rj[2, m])
-    along = L0 * d0 + L1 * d1 + L2 * d2
-    return abs(along) - radius, _sign(along)
+def _relative_frame(xi, Ri, xj, Rj, M):
+    """The frame of box j seen from box i, into the scratch rows ``M`` (at least (5, 3)):
+    the direction cosines ``M[a, b] = R_i,a . R_j,b`` and the centre offset ``x_j - x_i``
+    in both frames, ``M[3] = R_i^T (x_j - x_i)``, ``M[4] = R_j^T (x_j - x_i)`` (Gottschalk,
+    Lin & Manocha 1996: every separating-axis projection of two boxes from these 15
+    numbers)."""
+    d0, d1, d2 = xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]
+    for a in range(3):
+        for b in range(3):
+            M[a, b] = Ri[0, a] * Rj[0, b] + Ri[1, a] * Rj[1, b] + Ri[2, a] * Rj[2, b]
+        M[3, a] = Ri[0, a] * d0 + Ri[1, a] * d1 + Ri[2, a] * d2
+        M[4, a] = Rj[0, a] * d0 + Rj[1, a] * d1 + Rj[2, a] * d2
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def faces_separate(xi, Ri, hi, xj, Rj, hj, reach):
+def _face_gap(M, hi, hj, a, of_j):
+    """Gap [m] of the two cores along face axis ``a`` of box i (``of_j`` False) or of box
+    j (True) from the relative frame ``M`` (:func:`_relative_frame`): the centre offset
+    along the axis less the two half-widths, e.g. ``|t_a| - (h_i,a + sum_b h_j,b |C_ab|)``;
+    negative where the projections overlap."""
+    if of_j:
+        half = hi[0] * abs(M[0, a]) + hi[1] * abs(M[1, a]) + hi[2] * abs(M[2, a])
+        return abs(M[4, a]) - (half + hj[a])
+    half = hj[0] * abs(M[a, 0]) + hj[1] * abs(M[a, 1]) + hj[2] * abs(M[a, 2])
+    return abs(M[3, a]) - (hi[a] + half)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def faces_separate(xi, Ri, hi, xj, Rj, hj, reach, work):
     """True if a face axis of box i or j separates the two cores by at least ``reach``
-    [m]: the early exit of :func:`box_box` on its first six axes, in the same order and
-    arithmetic, so that a caller may skip the call (no contact) without changing any
-    result."""
-    d0, d1, d2 = xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]
+    [m]: the early exit of :func:`separating_axes` on its first six axes, in the same
+    arithmetic, so that a caller may skip :func:`box_box` (no contact) without changing
+    any result.  ``work``: the (2, 9, 4) scratch of box_box."""
+    M = work[0]
+    _relative_frame(xi, Ri, xj, Rj, M)
     for m in range(3):
-        s, _ = _face_separation(d0, d1, d2, Ri[0, m], Ri[1, m], Ri[2, m], Ri, hi, Rj, hj)
-        if s >= reach:
-            return True
-        s, _ = _face_separation(d0, d1, d2, Rj[0, m], Rj[1, m], Rj[2, m], Ri, hi, Rj, hj)
-        if s >= reach:
+        if _face_gap(M, hi, hj, m, False) >= reach or _face_gap(M, hi, hj, m, True) >= reach:
             return True
     return False
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def separating_axes(xi, Ri, hi, xj, Rj, hj, reach, work):
+    """The separating-axis test of two core boxes over their 15 axes: the 3 + 3 face
+    normals and the 9 cross products of an edge of each (Gottschalk, Lin & Manocha,
+    SIGGRAPH 1996), from their relative frame (:func:`_relative_frame`, in ``work[0]``).
+
+    Returns ``(apart, sep_i, k_i, sep_j, k_j, sep_e, a, b, e0, e1, e2)``: ``apart`` if an
+    axis separates the cores by at least ``reach`` [m] (then the rest is not computed);
+    else the largest gap [m] over the face axes of i (axis ``k_i``), of j (``k_j``) and
+    over the edge axes (``sep_e``, -inf if every edge pair is parallel within 1e-6 rad:
+    the face axes decide), with the edges ``a`` of i and ``b`` of j of that axis and its
+    unit vector ``e`` (world frame) pointing from i to j.  An edge axis ``R_i,a x R_j,b``
+    has the length ``sqrt(C_a1b^2 + C_a2b^2)`` (a1, a2 the other two axes of i: no
+    cancellation for nearly parallel edges) and projects the offset and the half-widths
+    through the direction cosines ``C`` alone."""
+    M = work[0]
+    _relative_frame(xi, Ri, xj, Rj, M)
+    sep_i, k_i = -np.inf, 0
+    sep_j, k_j = -np.inf, 0
+    for m in range(3):
+        s = _face_gap(M, hi, hj, m, False)
+        if s >= reach:
+            return True, 0.0, 0, 0.0, 0, 0.0, 0, 0, 0.0, 0.0, 0.0
+        if s > sep_i:
+            sep_i, k_i = s, m
+        s = _face_gap(M, hi, hj, m, True)
+        if s >= reach:
+            return True, 0.0, 0, 0.0, 0, 0.0, 0, 0, 0.0, 0.0, 0.0
+        if s > sep_j:
+            sep_j, k_j = s, m
+    sep_e, a_e, b_e, side = -np.inf, 0, 0, 1.0
+    for a in range(3):
+        a1, a2 = (a + 1) % 3, (a + 2) % 3
+        for b in range(3):
+            b1, b2 = (b + 1) % 3, (b + 2) % 3
+            length = math.sqrt(M[a1, b] * M[a1, b] + M[a2, b] * M[a2, b])
+            if length < 1e-6:  # (near-parallel edges: the face axes decide)
+                continue
+            along = M[3, a2] * M[a1, b] - M[3, a1] * M[a2, b]
+            half = hi[a1] * abs(M[a2, b]) + hi[a2] * abs(M[a1, b])
+            half += hj[b1] * abs(M[a, b2]) + hj[b2] * abs(M[a, b1])
+            s = (abs(along) - half) / length
+            if s >= reach:
+                return True, 0.0, 0, 0.0, 0, 0.0, 0, 0, 0.0, 0.0, 0.0
+            if s > sep_e:
+                sep_e, a_e, b_e, side = s, a, b, _sign(along)
+    e0 = e1 = e2 = 0.0
+    if sep_e > -np.inf:
+        L0 = Ri[1, a_e] * Rj[2, b_e] - Ri[2, a_e] * Rj[1, b_e]
+        L1 = Ri[2, a_e] * Rj[0, b_e] - Ri[0, a_e] * Rj[2, b_e]
+        L2 = Ri[0, a_e] * Rj[1, b_e] - Ri[1, a_e] * Rj[0, b_e]
+        scale = side / math.sqrt(L0 * L0 + L1 * L1 + L2 * L2)
+        e0, e1, e2 = L0 * scale, L1 * scale, L2 * scale
+    return False, sep_i, k_i, sep_j, k_j, sep_e, a_e, b_e, e0, e1, e2
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -633,7 +703,7 @@ def _copy_row(out, src, dst):
 def box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap, key):
     """Contact manifold of two rounded boxes i and j (see the module docstring).
 
-    ``work``: (2, 9, 4) float64 scratch (clipping buffers).  Keys: face contact
+    ``work``: (2, 9, 4) float64 scratch (relative frame, clipping buffers).  Keys: face contact
     ``((swap * 6 + face_ref) * 6 + face_inc) * 64 + corner`` (face = 2 axis + [negative
     side], swap = 1 if the reference face is j's, corner = the pair of polygon edge labels
     meeting there: incident edges 0..3, reference side planes 4..7); edge contact
@@ -642,39 +712,12 @@ def box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap
     tolerance (so that ties -- parallel faces -- keep one choice).
     """
     out = (normal, point, overlap, key)
-    d0, d1, d2 = xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]
-    reach = ri + rj + margin
     tol = 1e-9 * (max(hi[0], hi[1], hi[2]) + max(hj[0], hj[1], hj[2]) + ri + rj)
-    sep_i, k_i = -np.inf, 0
-    sep_j, k_j = -np.inf, 0
-    for m in range(3):
-        s, _ = _face_separation(d0, d1, d2, Ri[0, m], Ri[1, m], Ri[2, m], Ri, hi, Rj, hj)
-        if s >= reach:
-            return 0
-        if s > sep_i:
-            sep_i, k_i = s, m
-        s, _ = _face_separation(d0, d1, d2, Rj[0, m], Rj[1, m], Rj[2, m], Ri, hi, Rj, hj)
-        if s >= reach:
-            return 0
-        if s > sep_j:
-            sep_j, k_j = s, m
-    sep_e, a_e, b_e = -np.inf, 0, 0
-    e0 = e1 = e2 = 0.0
-    for a in range(3):
-        for b in range(3):
-            L0 = Ri[1, a] * Rj[2, b] - Ri[2, a] * Rj[1, b]
-            L1 = Ri[2, a] * Rj[0, b] - Ri[0, a] * Rj[2, b]
-            L2 = Ri[0, a] * Rj[1, b] - Ri[1, a] * Rj[0, b]
-            length = math.sqrt(L0 * L0 + L1 * L1 + L2 * L2)
-            if length < 1e-6:  # (near-parallel edges: the face axes decide)
-                continue
-            L0, L1, L2 = L0 / length, L1 / length, L2 / length
-            s, sgn = _face_separation(d0, d1, d2, L0, L1, L2, Ri, hi, Rj, hj)
-            if s >= reach:
-                return 0
-            if s > sep_e:
-                sep_e, a_e, b_e = s, a, b
-                e0, e1, e2 = sgn * L0, sgn * L1, sgn * L2
+    apart, sep_i, k_i, sep_j, k_j, sep_e, a_e, b_e, e0, e1, e2 = separating_axes(
+        xi, Ri, hi, xj, Rj, hj, ri + rj + margin, work
+    )
+    if apart:
+        return 0
     if sep_j > sep_i + tol:
         n = _face_manifold(xj, Rj, hj, rj, k_j, xi, Ri, hi, ri, margin, -1.0, 1, work, out)
     else:
