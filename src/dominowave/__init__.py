@@ -15,3 +15,9 @@ the edges (plots, command-line tables).
 """
 
 __version__ = "0.1.0"
+
+from dominowave.kernel_cache import install as _install_kernel_cache
+
+# before any kernel is defined: a kernel's on-disk cache goes stale with any change of
+# the package's source, not only of its own file (kernel_cache.py)
+_install_kernel_cache()

@@ -4,7 +4,8 @@ The kernels are compiled on their first call after installing or changing the pa
 (tens of seconds on 2 cores; ``cache=True`` keeps the machine code on disk), and loaded
 from that cache in a fraction of a second afterwards. Whether a kernel's cache is fresh
 is read from numba's own index of it: an index that is missing, of another numba
-version, or older than the kernel's source file means a compilation.
+version, or of another version of the package's source (any file of it:
+:mod:`dominowave.kernel_cache`) means a compilation.
 """
 
 from __future__ import annotations

@@ -1,0 +1,81 @@
+"""A cached kernel is compiled anew when any file of its package changes, not only its
+own: an edited contact law must not run as the old one from numba's disk cache."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from dominowave import kernel_cache
+
+
+def _package(root: Path, stamped: bool) -> None:
+    """``mini``: a cached kernel in one file calling an inlined helper of another (as the
+    DEM time loop calls the contact law), with or without the package stamp."""
+    pkg = root / "mini"
+    pkg.mkdir()
+    install = "from dominowave.kernel_cache import install\ninstall(Path(__file__).parent)\n"
+    (pkg / "__init__.py").write_text("from pathlib import Path\n" + (install if stamped else ""))
+    (pkg / "law.py").write_text(
+        "from numba import njit\n\n@njit(inline='always')\ndef force(x):\n    return 1.0 * x\n"
+    )
+    (pkg / "loop.py").write_text(
+        textwrap.dedent(
+            """\
+            from numba import njit
+            from mini.law import force
+
+            @njit(cache=True)
+            def run(x):
+                return force(x)
+            """
+        )
+    )
+
+
+def _run(root: Path) -> float:
+    """``mini.loop.run(2.0)`` in a fresh process (its kernel from the disk cache if fresh)."""
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(root), *sys.path])}
+    out = subprocess.run(
+        [sys.executable, "-c", "from mini.loop import run; print(run(2.0))"],
+        env=env,
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return float(out.stdout.strip().splitlines()[-1])
+
+
+@pytest.mark.parametrize("stamped", [True, False])
+def test_an_edited_callee_recompiles_the_cached_kernel(tmp_path, stamped):
+    """With the package stamp the edited law runs (4.0); with numba's own stamp the
+    cached kernel keeps the old law (2.0) -- the failure this module prevents."""
+    _package(tmp_path, stamped)
+    assert _run(tmp_path) == 2.0  # compiled, cached
+    assert _run(tmp_path) == 2.0  # loaded from the cache
+    law = tmp_path / "mini" / "law.py"
+    law.write_text(law.read_text().replace("1.0 * x", "2.0 * x"))
+    assert _run(tmp_path) == (4.0 if stamped else 2.0)
+
+
+def test_package_stamp_follows_every_source_file(tmp_path):
+    (tmp_path / "a.py").write_text("x = 1\n")
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "b.py").write_text("y = 2\n")
+    first = kernel_cache.package_stamp(tmp_path)
+    assert kernel_cache.package_stamp(tmp_path) == first
+    kernel_cache.package_stamp.cache_clear()
+    (tmp_path / "sub" / "b.py").write_text("y = 3\n")
+    assert kernel_cache.package_stamp(tmp_path) != first
+
+
+def test_the_package_kernels_carry_the_stamp():
+    from dominowave.dem import engine
+
+    stamp = engine.run_loop._cache._impl.locator.get_source_stamp()
+    assert stamp[1] == kernel_cache.package_stamp()
