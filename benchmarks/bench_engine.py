@@ -27,6 +27,7 @@ from __future__ import annotations
 import argparse
 import copy
 import time
+from pathlib import Path
 
 import numpy as np
 from numba import njit
@@ -45,6 +46,10 @@ from dominowave.dem.integrate import (
     update_sphere_positions,
 )
 from dominowave.dem.planar import compute_forces_planar
+from dominowave.kernel_cache import install
+
+# the cached kernels below inline the package's: stale with any change of it
+install(Path(__file__).parent)
 
 R = 0.005
 

@@ -29,6 +29,7 @@ import argparse
 import copy
 import statistics
 import time
+from pathlib import Path
 
 import numpy as np
 from box_chain_speed import box_chain
@@ -45,6 +46,10 @@ from dominowave.dem.boxes import (
     box_forces,
     build_box_candidates,
 )
+from dominowave.kernel_cache import install
+
+# the cached kernels below inline the package's: stale with any change of it
+install(Path(__file__).parent)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)

@@ -78,4 +78,4 @@ def test_the_package_kernels_carry_the_stamp():
     from dominowave.dem import engine
 
     stamp = engine.run_loop._cache._impl.locator.get_source_stamp()
-    assert stamp[1] == kernel_cache.package_stamp()
+    assert stamp[1:] == (kernel_cache.package_stamp(),)

@@ -57,7 +57,9 @@ def _stamped(locator: type, package_dir: Path) -> type:
             return super().from_function(py_func, py_file) if inside else None
 
         def get_source_stamp(self):
-            return (super().get_source_stamp(), package_stamp(package_dir))
+            # (a folder of scripts calling the package's kernels: the package's stamp too)
+            stamps = {package_stamp(package_dir), package_stamp(PACKAGE_DIR)}
+            return (super().get_source_stamp(), *sorted(stamps))
 
     PackageLocator.__name__ = PackageLocator.__qualname__ = f"Package{locator.__name__}"
     return PackageLocator
@@ -65,8 +67,9 @@ def _stamped(locator: type, package_dir: Path) -> type:
 
 def install(package_dir: Path = PACKAGE_DIR) -> bool:
     """Put the stamped locators of ``package_dir``'s files before numba's own (once per
-    folder); call it before the package's kernels are defined.  Returns whether numba's
-    locators were found."""
+    folder); call it before the package's kernels are defined.  Another folder (scripts
+    with kernels of their own that call the package's, e.g. benchmarks/) gets the stamp
+    of its own files and of the package.  Returns whether numba's locators were found."""
     try:
         from numba.core import caching
     except ImportError:  # pragma: no cover - numba is a dependency
