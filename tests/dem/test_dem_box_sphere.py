@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from dominowave.dem import ONSET, Material, Scene, Simulation
+from dominowave.dem import ONSET, Material, Scene, Simulation, timestep
 from dominowave.dem.shapes.cuboid import MAX_POINTS, box_sphere
 from dominowave.dem.shapes.rectangle import rect_sphere
 
@@ -338,3 +338,48 @@ def test_validate_box_sphere_contact_is_stable_below_the_estimate_and_not_above(
     0.9 x its limit would run away."""
     assert _oscillation(0.9) < 0.5
     assert _oscillation(1.1) > 10.0
+
+
+def _box_on_a_bed(n_side, gravity=0.0, lift=0.0):
+    """A light box lying on an ``n_side`` x ``n_side`` bed of heavy fixed balls (radius
+    0.4 mm, 1.2 mm apart: no ball touches another) under the middle of its bottom face,
+    moving along z only, ``lift`` [m] above its rest under ``gravity``; returns the scene,
+    the box's mass and the pair's k_n."""
+    radius, spacing, k = 0.0004, 0.0012, 2e4
+    scene = Scene(gravity=(0.0, 0.0, -gravity))
+    heavy = scene.add_material(Material(density=1e6 * RHO, kn=k, kt_ratio=0.5))
+    light = scene.add_material(Material(density=RHO / 10.0, kn=k, kt_ratio=0.5))
+    offsets = (np.arange(n_side) - 0.5 * (n_side - 1)) * spacing
+    for x in offsets:
+        for y in offsets:
+            scene.add_sphere((x, y, 0.0), radius, heavy, blocked="x y z rx ry rz")
+    mass = 8.0 * HALF.prod() * RHO / 10.0
+    sink = mass * gravity / (n_side**2 * k)
+    scene.add_box((0.0, 0.0, radius + HALF[2] - sink + lift), HALF, R_BOX, light,
+                  blocked="x y rx ry rz")  # fmt: skip
+    return scene, mass, k
+
+
+def test_validate_time_step_estimate_covers_a_box_on_a_bed_of_spheres(monkeypatch):
+    """A light box resting by gravity on N = 144 heavy fixed balls vibrates along z at
+    ``omega^2 = N k_n / M``.  Leapfrog is stable for ``omega dt < 2``; the estimate gives
+    ``omega dt = sqrt(2)`` (the module's Gershgorin bound, ``omega^2 <= K_x / M`` taken
+    at half, as for spheres) because the box-sphere contacts at start enter the box's
+    sum, and a run at the estimate, started 0.1 um above rest, stays within that.
+    Without them the estimate (four corners of the box, ``4 k_n / M``) gives ``omega dt
+    = 6``: the run would blow up."""
+    scene, mass, k = _box_on_a_bed(12, gravity=G)
+    omega = math.sqrt(144 * k / mass)
+    assert omega * scene.build().critical_dt == pytest.approx(math.sqrt(2.0), rel=1e-9)
+    monkeypatch.setattr(timestep, "_touching_box_spheres", lambda *args: [])
+    assert omega * scene.build().critical_dt == pytest.approx(6.0, rel=1e-9)
+    monkeypatch.undo()
+
+    scene, _, _ = _box_on_a_bed(12, gravity=G, lift=1e-7)
+    sim = scene.build()
+    rest = sim.bodies.pos[-1, 2] - 1e-7
+    largest = 0.0
+    for _ in range(20):
+        sim.run(n_steps=50)
+        largest = max(largest, abs(sim.bodies.pos[-1, 2] - rest))
+    assert largest < 1.5e-7

@@ -181,12 +181,15 @@ def _empty_rows(capacity):
     )
 
 
-def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR):
+def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR, n_spheres=0):
     """The box state of a scene (no box: zero-length arrays); ``normal_law`` one of
-    hertz.NORMAL_LAWS' values."""
+    hertz.NORMAL_LAWS' values; ``n_spheres`` the scene's spheres (the box-sphere rows
+    hold one contact of every sphere with each of up to 6 boxes: a box lying on a bed of
+    spheres touches many of them)."""
     body = np.asarray(body, np.int64).reshape(-1)
     nx = body.shape[0]
     capacity = 32 * nx + 32
+    sphere_capacity = capacity + min(nx, 6) * int(n_spheres)
     return Boxes(
         body=body,
         half=np.asarray(half, float).reshape(nx, 3),
@@ -203,8 +206,8 @@ def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR)
         used=np.zeros(capacity, np.uint8),
         props=np.zeros(5),
         n_changes=np.zeros(1, np.int64),
-        changes=np.zeros((capacity, 3), np.int64),
-        change_lag=np.zeros(capacity),
+        changes=np.zeros((capacity + sphere_capacity, 3), np.int64),
+        change_lag=np.zeros(capacity + sphere_capacity),
         cand=np.zeros(8 * nx + 16, np.int64),
         n_cand=np.full(1, -1, np.int64),
         cand_start=np.zeros(nx + 1, np.int64),
@@ -214,8 +217,8 @@ def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR)
         src=np.zeros(nx, np.int64),
         src_start=np.zeros(nx + 1, np.int64),
         n_groups=np.full(1, -1, np.int64),
-        sphere_rows=_empty_rows(capacity),
-        sphere_next=_empty_rows(capacity),
+        sphere_rows=_empty_rows(sphere_capacity),
+        sphere_next=_empty_rows(sphere_capacity),
         sphere_cand=np.zeros(8 * nx + 16, np.int64),
         n_sphere_cand=np.full(1, -1, np.int64),
         sphere_cand_start=np.zeros(nx + 1, np.int64),
@@ -1014,12 +1017,13 @@ def box_state(boxes) -> dict[str, np.ndarray]:
     return out
 
 
-def boxes_from_state(state: dict) -> Boxes:
+def boxes_from_state(state: dict, n_spheres: int = 0) -> Boxes:
     """The :class:`Boxes` of a :func:`box_state` dict (keys without a prefix), with the
-    row capacity of a freshly built scene of the same boxes (:func:`empty_boxes`)."""
+    row capacity of a freshly built scene of the same boxes and ``n_spheres`` spheres
+    (:func:`empty_boxes`)."""
     boxes = empty_boxes(
         state["body"], state["half"], state["radius"], state["material"],
-        int(np.asarray(state["normal_law"]).reshape(-1)[0]),
+        int(np.asarray(state["normal_law"]).reshape(-1)[0]), n_spheres,
     )  # fmt: skip
     for group in ("rows", "sphere_rows"):
         if f"{group}.n" not in state:  # (box-sphere rows: a state of a scene without any)

@@ -510,7 +510,7 @@ class Scene:
         walls = self._walls_arrays()
         if spheres.radius.size:
             _check_initial_overlaps(spheres, walls, overlap_tolerance)
-        boxes = self._boxes_arrays()
+        boxes = self._boxes_arrays(spheres.radius.size)
         if NORMAL_LAWS[self.normal_law] == LAW_HERTZ and spheres.radius.size:
             raise ValueError(
                 "normal_law = 'hertz' is implemented for box and wall contacts only; "
@@ -577,7 +577,7 @@ class Scene:
             height = float((z + reach).max() - (z - reach).min())
         return float(speed.max(initial=0.0) + math.sqrt(2.0 * g * height))
 
-    def _boxes_arrays(self):
+    def _boxes_arrays(self, n_spheres):
         specs = [(b, spec["box"]) for b, spec in enumerate(self._bodies) if "box" in spec]
         return empty_boxes(
             body=[b for b, _ in specs],
@@ -585,6 +585,7 @@ class Scene:
             radius=[box["rounding"] for _, box in specs],
             material=[box["material"] for _, box in specs],
             normal_law=NORMAL_LAWS[self.normal_law],
+            n_spheres=n_spheres,
         )
 
 

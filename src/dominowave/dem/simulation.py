@@ -680,7 +680,7 @@ class Simulation:
         self.bodies, self.spheres, self.walls = new["bodies"], new["spheres"], new["walls"]
         self.mats, self.contacts, self.settings = new["mats"], new["contacts"], new["settings"]
         self.rec = new["rec"]
-        self.boxes = _restored_boxes(self.boxes, state)
+        self.boxes = _restored_boxes(self.boxes, state, self.spheres.radius.size)
         self.critical_dt = float(state["critical_dt"])
         self.planar_kernels = bool(state.get("planar_kernels", True))  # (older files lack it)
 
@@ -718,14 +718,15 @@ class Simulation:
         s = group("settings", Settings)
         settings = {k: (v.item() if np.ndim(v) == 0 else v) for k, v in s._asdict().items()}
         del settings["planar"]  # (decided at each run)
+        spheres = group("spheres", Spheres)
         sim = cls(
             group("bodies", Bodies),
-            group("spheres", Spheres),
+            spheres,
             group("walls", Walls),
             group("mats", MaterialTable),
             critical_dt=float(state["critical_dt"]),
             **settings,
-            boxes=_restored_boxes(empty_boxes(), state),
+            boxes=_restored_boxes(empty_boxes(), state, spheres.radius.size),
         )
         sim.set_state(state)
         return sim
@@ -742,15 +743,16 @@ class Simulation:
         }
 
 
-def _restored_boxes(boxes, state):
+def _restored_boxes(boxes, state, n_spheres):
     """The box state of ``state`` (keys ``boxes.*``, dem.boxes.box_state) for a scene whose
-    boxes are ``boxes``; a state without boxes fits a scene without boxes only."""
+    boxes are ``boxes`` and which has ``n_spheres`` spheres; a state without boxes fits a
+    scene without boxes only."""
     saved = {k[6:]: v for k, v in state.items() if k.startswith("boxes.")}
     if not saved:
         if boxes.body.size:
             raise ValueError("state is missing 'boxes.body' (the scene has boxes)")
         return boxes
-    restored = boxes_from_state(saved)
+    restored = boxes_from_state(saved, n_spheres)
     if boxes.body.size and not (
         np.array_equal(restored.body, boxes.body) and restored.half.shape == boxes.half.shape
     ):

@@ -39,7 +39,10 @@ the pair's normal and tangential stiffness (the box's rounding and the sphere's 
 :func:`_box_sphere_omega2`).  The partner's mobility is counted here (box-box and
 sphere-sphere contacts take each body against a fixed partner, within the factor 2):
 a light ball on a box has the frequency of the pair, which the safety factor need not
-cover.
+cover.  Box-sphere contacts present at start enter the Gershgorin sums: a sphere's as
+above, a box's with its bound ``1/m + rho^2/I`` (``omega^2 <= K_x (1/m + rho^2/I) / 2``
+with ``K_x`` the sum of its sphere contacts' stiffnesses: a box resting on a bed of
+spheres).
 """
 
 from __future__ import annotations
@@ -64,8 +67,10 @@ def critical_timestep(bodies, spheres, walls, mats, boxes=None, impact_speed=0.0
         omega2_boxes = _box_omega2(bodies, boxes, walls, mats, impact_speed, gravity)
     if spheres.radius.size == 0:
         return float(1.0 / np.sqrt(omega2_boxes))
+    touching_boxes = []
     if boxes is not None and boxes.body.size:
         omega2_boxes = max(omega2_boxes, _box_sphere_omega2(bodies, spheres, boxes, mats))
+        touching_boxes = _touching_box_spheres(bodies, spheres, boxes)
 
     def particle(material, radius, tangential):
         k = particle_stiffness(mats.stiffness[material], radius, rule)
@@ -114,7 +119,23 @@ def critical_timestep(bodies, spheres, walls, mats, boxes=None, impact_speed=0.0
         k_sum[spheres.body[i]] += k
         if j >= 0:
             k_sum[spheres.body[j]] += k
+    # box-sphere contacts at start: on the sphere's body as above, and on the box, whose
+    # bound 1/m + rho^2/I replaces the spheres' coupling (a box on a bed of spheres)
+    k_box = np.zeros(n_bodies)
+    for x, s in touching_boxes:
+        k = max(
+            pair_stiffness(
+                particle(boxes.material[x], boxes.radius[x], t),
+                particle(spheres.material[s], spheres.radius[s], t),
+                rule,
+            )
+            for t in (0, 1)
+        )
+        k_sum[spheres.body[s]] += k
+        k_box[boxes.body[x]] += k
     omega2 = np.maximum(omega2, 0.5 * k_sum * (inv_mass + coupling))
+    for x, b in enumerate(boxes.body if touching_boxes else ()):
+        omega2_boxes = max(omega2_boxes, 0.5 * k_box[b] * _box_inverse_mass(bodies, boxes, x))
     return float(1.0 / np.sqrt(max(omega2.max(), omega2_boxes)))
 
 
@@ -208,6 +229,28 @@ def _box_sphere_omega2(bodies, spheres, boxes, mats):
             kt = pair_stiffness(particle(mb, rb, True), particle(ms, rs, True), rule)
             omega2 = max(omega2, kn * (wx + along[sel].max()), kt * (wx + across[sel].max()))
     return omega2
+
+
+def _touching_box_spheres(bodies, spheres, boxes):
+    """(box, sphere) pairs in contact at start: the sphere within its radius plus the
+    box's rounding of the core box (shapes.cuboid.point_box_distance), among the spheres
+    within the box's bounding sphere."""
+    from scipy.spatial import cKDTree
+
+    from dominowave.dem.shapes.cuboid import point_box_distance
+
+    tree = cKDTree(spheres.pos)
+    out = []
+    for x, b in enumerate(boxes.body):
+        reach = np.linalg.norm(boxes.half[x]) + boxes.radius[x] + float(spheres.radius.max())
+        for s in tree.query_ball_point(bodies.pos[b], reach):
+            if spheres.body[s] == b:
+                continue
+            c = spheres.pos[s]
+            d = point_box_distance(bodies.pos[b], bodies.rot[b], boxes.half[x], c[0], c[1], c[2])
+            if d[0] <= boxes.radius[x] + spheres.radius[s]:
+                out.append((x, int(s)))
+    return out
 
 
 def _rotational_coupling(bodies, spheres):
