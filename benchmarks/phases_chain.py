@@ -19,12 +19,17 @@ from __future__ import annotations
 
 import argparse
 import time
+from pathlib import Path
 
 import numpy as np
 from bench_chain import case
 from numba import njit
 
 from dominowave.dem import contact, engine, integrate, planar
+from dominowave.kernel_cache import install
+
+# the cached kernels below inline the package's: stale with any change of it
+install(Path(__file__).parent)
 
 
 @njit(cache=True, _nrt=False)

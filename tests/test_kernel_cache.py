@@ -38,29 +38,29 @@ def _package(root: Path, stamped: bool) -> None:
     )
 
 
-def _run(root: Path) -> float:
-    """``mini.loop.run(2.0)`` in a fresh process (its kernel from the disk cache if fresh)."""
+def _run(root: Path) -> tuple[float, bool]:
+    """``mini.loop.run(2.0)`` in a fresh process, and whether its kernel came from the
+    disk cache (numba's count of cache hits)."""
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(root), *sys.path])}
+    code = "from mini.loop import run; print(run(2.0), sum(run.stats.cache_hits.values()))"
     out = subprocess.run(
-        [sys.executable, "-c", "from mini.loop import run; print(run(2.0))"],
-        env=env,
-        capture_output=True,
-        text=True,
-        check=True,
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
     )
-    return float(out.stdout.strip().splitlines()[-1])
+    value, hits = out.stdout.strip().splitlines()[-1].split()
+    return float(value), int(hits) > 0
 
 
 @pytest.mark.parametrize("stamped", [True, False])
 def test_an_edited_callee_recompiles_the_cached_kernel(tmp_path, stamped):
-    """With the package stamp the edited law runs (4.0); with numba's own stamp the
-    cached kernel keeps the old law (2.0) -- the failure this module prevents."""
+    """With the package stamp the edited law runs (4.0, compiled anew); with numba's own
+    stamp the cached kernel keeps the old law (2.0, from the cache) -- the failure this
+    module prevents (numba checks only the kernel's own file)."""
     _package(tmp_path, stamped)
-    assert _run(tmp_path) == 2.0  # compiled, cached
-    assert _run(tmp_path) == 2.0  # loaded from the cache
+    assert _run(tmp_path) == (2.0, False)  # compiled, cached
+    assert _run(tmp_path) == (2.0, True)  # loaded from the cache
     law = tmp_path / "mini" / "law.py"
     law.write_text(law.read_text().replace("1.0 * x", "2.0 * x"))
-    assert _run(tmp_path) == (4.0 if stamped else 2.0)
+    assert _run(tmp_path) == ((4.0, False) if stamped else (2.0, True))
 
 
 def test_package_stamp_follows_every_source_file(tmp_path):

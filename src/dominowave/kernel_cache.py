@@ -15,7 +15,9 @@ It adds, before numba's own, a locator of each kind numba has (a user-given
 ``NUMBA_CACHE_DIR``, ``__pycache__`` beside the source, the user-wide cache directory)
 restricted to the package's files, with the same cache paths and this stamp.  numba's
 locators are internal API (``numba.core.caching``): where they are missing (another
-numba), the package's kernels keep numba's own stamp.
+numba), or where ``NUMBA_CACHE_LOCATOR_CLASSES`` chooses the locators, the package's
+kernels keep numba's own stamp.  The stamp is taken once per process, at the first
+kernel cache look-up: a file edited while a process runs is seen by the next process.
 """
 
 from __future__ import annotations
@@ -80,7 +82,7 @@ def install(package_dir: Path = PACKAGE_DIR) -> bool:
     if impl is None or any(b is None for b in bases):
         return False
     package_dir = Path(package_dir).resolve()
-    marker = f"_dominowave_stamped_{package_stamp(package_dir)}_{package_dir}"
+    marker = f"_dominowave_stamped_{package_dir}"
     if not getattr(impl, marker, False):
         impl._locator_classes = [_stamped(b, package_dir) for b in bases] + list(
             impl._locator_classes

@@ -52,10 +52,10 @@ def test_a_run_ended_by_max_time_is_cut_short_and_says_so():
     assert run.stop_reason == "until"
     assert run.cut_short and not run.reached_all
     front = int(np.flatnonzero(np.isfinite(run.arrival)).max())
-    assert 1 <= front < 7
+    assert 1 <= front < 7 and run.front == front
     note = _cut_short_note(run, chain.max_time, None)
     assert "max_time = 0.15 s" in note and f"domino {front} of 7" in note
-    assert "not because the wave died" in note
+    assert "before it reached the last domino or went quiet" in note
     assert _speed_note(run, chain.max_time).startswith(
         f"the run ended at max_time = 0.15 s with the wave at domino {front}"
     )

@@ -194,7 +194,7 @@ def test_validate_box_box_face_contacts_deepest_point_against_exact_distance(see
     be ``r_i + r_j - d`` with d the exact core distance (bounded least squares)."""
     rng = np.random.default_rng(40 + seed)
     ri, rj = 0.0005, 0.0005
-    tested = 0
+    tested = skipped = 0
     for k in range(400):
         Ri = Rotation.from_rotvec(rng.normal(0.0, 0.3, 3)).as_matrix()
         Rj = Ri @ Rotation.from_rotvec(rng.normal(0.0, (0.8, 0.05, 0.005)[k % 3], 3)).as_matrix()
@@ -209,7 +209,10 @@ def test_validate_box_box_face_contacts_deepest_point_against_exact_distance(see
         _, _, overlap, _ = _box_box(xi, Ri, H_I, ri, xj, Rj, H_J, rj)
         assert overlap.max() == pytest.approx(ri + rj - d, abs=1e-10)
         tested += 1
+        sure = separating_axes(xi, Ri, H_I, xj, Rj, H_J, np.inf, np.zeros((2, 9, 4)))[11]
+        skipped += bool(sure > 0.0 and overlap.max() >= ri + rj - sure - 1e-12)
     assert tested >= 100
+    assert skipped >= 0.5 * tested  # (the configurations of the skip)
 
 
 @pytest.mark.parametrize("seed", range(3))
@@ -228,6 +231,7 @@ def test_validate_separating_axes_bound_the_core_distance(seed):
         assert not got[0]
         gap = max(got[1], got[3], got[5])
         assert 0.0 < gap <= d + 1e-12
+        assert max(got[1], got[3]) <= got[11] <= gap  # (the bound of box_box's skip)
         assert separating_axes(xi, Ri, H_I, xj, Rj, H_J, 0.999 * gap, work)[0]
         faces = max(got[1], got[3])
         for reach in (0.999 * faces, 1.001 * faces):

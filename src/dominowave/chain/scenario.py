@@ -157,10 +157,15 @@ class ChainRun:
 
     @property
     def cut_short(self) -> bool:
-        """Whether the run ended at its ``max_time`` while the wave was still on its way:
-        the dominoes after the front were not reached because the run stopped, not
-        because the wave died (that ends the run by the quiet time)."""
+        """Whether the run ended at its ``max_time`` before the wave reached the last
+        domino or went quiet (no new contact for the quiet time, which ends a run whose
+        wave died): the dominoes after :attr:`front` may still have fallen."""
         return self.stop_reason == "until" and not self.reached_all
+
+    @property
+    def front(self) -> int:
+        """The highest domino the wave reached (domino 0, pushed, counts)."""
+        return int(np.flatnonzero(np.isfinite(self.arrival)).max())
 
 
 @dataclass
@@ -199,7 +204,7 @@ def default_speed_bound(params: ChainParams) -> float:
 
     Eq 34 is the speed of frictionless elastic dominoes; friction and inelastic contacts
     between dominoes slow a chain far below it (a standard 48 mm domino at d/l = 0.1:
-    eq 34 about 20 m/s, a DEM chain with friction 0.4 m/s = 0.6 sqrt(g l),
+    eq 34 19 m/s, a DEM chain with friction 0.4 m/s = 0.6 sqrt(g l),
     docs/real_dominoes.md section 8), while the chains of the package and the filmed
     rows run at 0.6 to 2 sqrt(g l).  Three times the travel time at this bound (the
     default ``max_time``) covers any wave faster than a third of ``sqrt(g l)``; a slower

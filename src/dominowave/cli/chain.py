@@ -99,12 +99,11 @@ def _print_unsettled(console: Console, run: ChainRun, scale: float) -> None:
 def _cut_short_note(run: ChainRun, max_time: float, member: int | None) -> str:
     """Say that a run ended at its ``max_time`` with the wave still on its way."""
     who = "the run" if member is None else f"member {member}"
-    front = int(np.flatnonzero(np.isfinite(run.arrival)).max())
     return (
         f"[yellow]{who} ended at max_time = {_fmt(max_time)} s with the wave at domino"
-        f" {front} of {run.params.n_dominoes - 1}[/yellow]: the dominoes after it were not"
-        " reached because the run stopped, not because the wave died; the speeds above are"
-        " of the dominoes reached (in Python: DominoChain(params, max_time=...))"
+        f" {run.front} of {run.params.n_dominoes - 1}[/yellow], before it reached the last"
+        " domino or went quiet: the speeds above are of the dominoes reached (in Python:"
+        " DominoChain(params, max_time=...))"
     )
 
 

@@ -40,8 +40,8 @@ vertex over a rounded edge, two crossing edges) it replaces the corner nearest t
 (which keeps its key) or, if none is within ``r_i + r_j``, is added.  An empty manifold
 (e.g. two parallel edges side by side) is replaced by the deepest point, and by every
 vertex within round-off of it (both ends of two parallel edges).  So the largest overlap
-of every manifold is exact.  The search is skipped where the separating axes already
-prove a corner exact: cores whose largest separation over the 15 axes is ``s > 0`` are at
+of every manifold is exact.  The search is skipped where the face axes already prove a
+corner exact: cores whose largest separation over the axes is ``s > 0`` are at
 least ``s`` apart, so a corner of overlap ``r_i + r_j - s`` is the deepest point (an edge
 lying on a face, a face resting on a face: the persisting contacts of fallen dominoes).
 """
@@ -67,6 +67,9 @@ __all__ = [
 ]
 
 MAX_POINTS = 25  # (at most 16 are returned; the rest is scratch)
+
+SURE_EDGE_ANGLE = 1e-3  # edges at least this far from parallel [rad] bound the distance
+# of the skip of box_box's deepest-point search (separating_axes)
 
 COINCIDENT = 1e-6  # points of one face manifold closer than this fraction of the two
 # boxes' largest half-extents are one contact (_merge_coincident)
@@ -247,15 +250,19 @@ def separating_axes(xi, Ri, hi, xj, Rj, hj, reach, work):
     normals and the 9 cross products of an edge of each (Gottschalk, Lin & Manocha,
     SIGGRAPH 1996), from their relative frame (:func:`_relative_frame`, in ``work[0]``).
 
-    Returns ``(apart, sep_i, k_i, sep_j, k_j, sep_e, a, b, e0, e1, e2)``: ``apart`` if an
-    axis separates the cores by at least ``reach`` [m] (then the rest is not computed);
-    else the largest gap [m] over the face axes of i (axis ``k_i``), of j (``k_j``) and
-    over the edge axes (``sep_e``, -inf if every edge pair is parallel within 1e-6 rad:
-    the face axes decide), with the edges ``a`` of i and ``b`` of j of that axis and its
-    unit vector ``e`` (world frame) pointing from i to j.  An edge axis ``R_i,a x R_j,b``
-    has the length ``sqrt(C_a1b^2 + C_a2b^2)`` (a1, a2 the other two axes of i: no
-    cancellation for nearly parallel edges) and projects the offset and the half-widths
-    through the direction cosines ``C`` alone."""
+    Returns ``(apart, sep_i, k_i, sep_j, k_j, sep_e, a, b, e0, e1, e2, sep_sure)``:
+    ``apart`` if an axis separates the cores by at least ``reach`` [m] (then the rest is
+    not computed); else the largest gap [m] over the face axes of i (axis ``k_i``), of j
+    (``k_j``) and over the edge axes (``sep_e``, -inf if every edge pair is parallel within
+    1e-6 rad: the face axes decide), with the edges ``a`` of i and ``b`` of j of that axis
+    and its unit vector ``e`` (world frame) pointing from i to j; ``sep_sure`` the largest
+    gap over the face axes and the edge axes of edges at least :data:`SURE_EDGE_ANGLE`
+    apart (an edge axis's gap divides by its length, and so does its round-off: these
+    gaps are a lower bound of the core distance to well below round-off tolerances).
+    An edge axis ``R_i,a x R_j,b`` has the length ``sqrt(C_a1b^2 + C_a2b^2)`` (a1, a2 the
+    other two axes of i; not ``sqrt(1 - C_ab^2)``, which cancels for nearly parallel
+    edges) and projects the offset and the half-widths through the direction cosines
+    ``C`` alone."""
     M = work[0]
     _relative_frame(xi, Ri, xj, Rj, M)
     sep_i, k_i = -np.inf, 0
@@ -263,15 +270,16 @@ def separating_axes(xi, Ri, hi, xj, Rj, hj, reach, work):
     for m in range(3):
         s = _face_gap(M, hi, hj, m, False)
         if s >= reach:
-            return True, 0.0, 0, 0.0, 0, 0.0, 0, 0, 0.0, 0.0, 0.0
+            return True, 0.0, 0, 0.0, 0, 0.0, 0, 0, 0.0, 0.0, 0.0, 0.0
         if s > sep_i:
             sep_i, k_i = s, m
         s = _face_gap(M, hi, hj, m, True)
         if s >= reach:
-            return True, 0.0, 0, 0.0, 0, 0.0, 0, 0, 0.0, 0.0, 0.0
+            return True, 0.0, 0, 0.0, 0, 0.0, 0, 0, 0.0, 0.0, 0.0, 0.0
         if s > sep_j:
             sep_j, k_j = s, m
     sep_e, a_e, b_e, side = -np.inf, 0, 0, 1.0
+    sep_sure = max(sep_i, sep_j)
     for a in range(3):
         a1, a2 = (a + 1) % 3, (a + 2) % 3
         for b in range(3):
@@ -284,7 +292,9 @@ def separating_axes(xi, Ri, hi, xj, Rj, hj, reach, work):
             half += hj[b1] * abs(M[a, b2]) + hj[b2] * abs(M[a, b1])
             s = (abs(along) - half) / length
             if s >= reach:
-                return True, 0.0, 0, 0.0, 0, 0.0, 0, 0, 0.0, 0.0, 0.0
+                return True, 0.0, 0, 0.0, 0, 0.0, 0, 0, 0.0, 0.0, 0.0, 0.0
+            if length >= SURE_EDGE_ANGLE and s > sep_sure:
+                sep_sure = s
             if s > sep_e:
                 sep_e, a_e, b_e, side = s, a, b, _sign(along)
     e0 = e1 = e2 = 0.0
@@ -294,7 +304,7 @@ def separating_axes(xi, Ri, hi, xj, Rj, hj, reach, work):
         L2 = Ri[0, a_e] * Rj[1, b_e] - Ri[1, a_e] * Rj[0, b_e]
         scale = side / math.sqrt(L0 * L0 + L1 * L1 + L2 * L2)
         e0, e1, e2 = L0 * scale, L1 * scale, L2 * scale
-    return False, sep_i, k_i, sep_j, k_j, sep_e, a_e, b_e, e0, e1, e2
+    return False, sep_i, k_i, sep_j, k_j, sep_e, a_e, b_e, e0, e1, e2, sep_sure
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -713,7 +723,7 @@ def box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap
     """
     out = (normal, point, overlap, key)
     tol = 1e-9 * (max(hi[0], hi[1], hi[2]) + max(hj[0], hj[1], hj[2]) + ri + rj)
-    apart, sep_i, k_i, sep_j, k_j, sep_e, a_e, b_e, e0, e1, e2 = separating_axes(
+    apart, sep_i, k_i, sep_j, k_j, sep_e, a_e, b_e, e0, e1, e2, sure = separating_axes(
         xi, Ri, hi, xj, Rj, hj, ri + rj + margin, work
     )
     if apart:
@@ -724,8 +734,7 @@ def box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap
         n = _face_manifold(xi, Ri, hi, ri, k_i, xj, Rj, hj, rj, margin, 1.0, 0, work, out)
     # The exact deepest point: the core distance of two boxes is attained at a vertex
     # (point-box distance) or between two crossing edges.
-    separation = max(sep_i, sep_j, sep_e)
-    if n > 0 and separation > 0.0 and manifold_is_deepest(overlap, n, ri + rj - separation, tol):
+    if n > 0 and sure > 0.0 and manifold_is_deepest(overlap, n, ri + rj - sure, tol):
         return n
     v_row, e_row = 16, 24
     m_v = _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, True, rows_from(out, v_row))
@@ -759,8 +768,8 @@ def box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap
 @njit(cache=True, error_model="numpy", inline="always")
 def manifold_is_deepest(overlap, n, bound, tol):
     """True if no point of the pair can be deeper than the manifold ``overlap[:n]`` by
-    more than ``tol / 2``: ``bound`` = ``r_i + r_j - s`` with ``s`` > 0 the largest
-    separation of the cores over the 15 axes (their projections' gap).  Cores that far
+    more than ``tol / 2``: ``bound`` = ``r_i + r_j - s`` with ``s`` > 0 a gap of the
+    cores' projections on an axis (``separating_axes``' ``sep_sure``).  Cores that far
     apart along an axis are at least ``s`` apart, so no point is deeper than ``bound``; then
     :func:`merge_deepest` would leave the manifold as it is, and the exact deepest point
     need not be computed (a face resting on a face, an edge lying on a face)."""
