@@ -40,10 +40,11 @@ vertex over a rounded edge, two crossing edges) it replaces the corner nearest t
 (which keeps its key) or, if none is within ``r_i + r_j``, is added.  An empty manifold
 (e.g. two parallel edges side by side) is replaced by the deepest point, and by every
 vertex within round-off of it (both ends of two parallel edges).  So the largest overlap
-of every manifold is exact.  The search is skipped where the face axes already prove a
-corner exact: cores whose largest separation over the axes is ``s > 0`` are at
-least ``s`` apart, so a corner of overlap ``r_i + r_j - s`` is the deepest point (an edge
-lying on a face, a face resting on a face: the persisting contacts of fallen dominoes).
+of every manifold is exact.  The search is skipped where the separating axes already
+prove a corner exact: cores whose largest separation over the axes is ``s > 0`` (edge
+axes of nearly parallel edges left out: ``separating_axes``) are at least ``s`` apart, so
+a corner of overlap ``r_i + r_j - s`` is the deepest point (an edge lying on a face, a
+face resting on a face: the persisting contacts of fallen dominoes).
 """
 
 from __future__ import annotations
