@@ -39,10 +39,10 @@ the pair's normal and tangential stiffness (the box's rounding and the sphere's 
 :func:`_box_sphere_omega2`).  The partner's mobility is counted here (box-box and
 sphere-sphere contacts take each body against a fixed partner, within the factor 2):
 a light ball on a box has the frequency of the pair, which the safety factor need not
-cover.  Box-sphere contacts present at start enter the Gershgorin sums: a sphere's as
-above, a box's with its bound ``1/m + rho^2/I`` (``omega^2 <= K_x (1/m + rho^2/I) / 2``
-with ``K_x`` the sum of its sphere contacts' stiffnesses: a box resting on a bed of
-spheres).
+cover.  Box-sphere contacts present at start enter the box's Gershgorin sum, with its
+bound ``1/m + rho^2/I`` (``omega^2 <= K_x (1/m + rho^2/I) / 2`` with ``K_x`` the sum of
+its sphere contacts' stiffnesses: a box resting on a bed of spheres); a sphere touches
+few boxes, and each is covered by the pair's frequency.
 """
 
 from __future__ import annotations
@@ -119,8 +119,9 @@ def critical_timestep(bodies, spheres, walls, mats, boxes=None, impact_speed=0.0
         k_sum[spheres.body[i]] += k
         if j >= 0:
             k_sum[spheres.body[j]] += k
-    # box-sphere contacts at start: on the sphere's body as above, and on the box, whose
-    # bound 1/m + rho^2/I replaces the spheres' coupling (a box on a bed of spheres)
+    # box-sphere contacts at start, on the box (a box on a bed of spheres); a sphere
+    # touches few boxes, each covered by the pair's own frequency (_box_sphere_omega2),
+    # which the half-sum would only make more conservative for a single ball on a box
     k_box = np.zeros(n_bodies)
     for x, s in touching_boxes:
         k = max(
@@ -131,7 +132,6 @@ def critical_timestep(bodies, spheres, walls, mats, boxes=None, impact_speed=0.0
             )
             for t in (0, 1)
         )
-        k_sum[spheres.body[s]] += k
         k_box[boxes.body[x]] += k
     omega2 = np.maximum(omega2, 0.5 * k_sum * (inv_mass + coupling))
     for x, b in enumerate(boxes.body if touching_boxes else ()):
