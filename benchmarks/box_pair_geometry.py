@@ -92,7 +92,7 @@ def main():
         n = box_box(*p, work, *out)
         sure = separating_axes(p[0], p[1], p[2], p[4], p[5], p[6], np.inf, work)[11]
         tol = 1e-9 * (p[2].max() + p[6].max() + p[3] + p[7])
-        skipped += n > 0 and sure > 0.0 and manifold_is_deepest(out[2], n, p[3] + p[7] - sure, tol)
+        skipped += manifold_is_deepest(out[2], n, p[3] + p[7], sure, tol)
     _manifolds(xs, Rs, hs, rs, margins, 1, work, *out)  # (compilation)
     times = []
     for _ in range(args.repeat):

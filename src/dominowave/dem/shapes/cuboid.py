@@ -735,7 +735,7 @@ def box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap
         n = _face_manifold(xi, Ri, hi, ri, k_i, xj, Rj, hj, rj, margin, 1.0, 0, work, out)
     # The exact deepest point: the core distance of two boxes is attained at a vertex
     # (point-box distance) or between two crossing edges.
-    if n > 0 and sure > 0.0 and manifold_is_deepest(overlap, n, ri + rj - sure, tol):
+    if manifold_is_deepest(overlap, n, ri + rj, sure, tol):
         return n
     v_row, e_row = 16, 24
     m_v = _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, True, rows_from(out, v_row))
@@ -767,17 +767,20 @@ def box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def manifold_is_deepest(overlap, n, bound, tol):
-    """True if no point of the pair can be deeper than the manifold ``overlap[:n]`` by
-    more than ``tol / 2``: ``bound`` = ``r_i + r_j - s`` with ``s`` > 0 a gap of the
-    cores' projections on an axis (``separating_axes``' ``sep_sure``).  Cores that far
-    apart along an axis are at least ``s`` apart, so no point is deeper than ``bound``; then
-    :func:`merge_deepest` would leave the manifold as it is, and the exact deepest point
-    need not be computed (a face resting on a face, an edge lying on a face)."""
+def manifold_is_deepest(overlap, n, reach, separation, tol):
+    """True if the manifold ``overlap[:n]`` is not empty and no point of the pair can be
+    deeper than it by more than ``tol / 2``: ``separation`` > 0 a gap of the cores'
+    projections on an axis (``separating_axes``' ``sep_sure``), ``reach`` = ``r_i + r_j``.
+    Cores that far apart along an axis are at least ``separation`` apart, so no point is
+    deeper than ``reach - separation``; then :func:`merge_deepest` would leave the manifold
+    as it is, and the exact deepest point need not be computed (a face resting on a face,
+    an edge lying on a face)."""
+    if n == 0 or separation <= 0.0:
+        return False
     deepest = -np.inf
     for k in range(n):
         deepest = max(deepest, overlap[k])
-    return bound <= deepest + 0.5 * tol
+    return reach - separation <= deepest + 0.5 * tol
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)

@@ -220,8 +220,7 @@ def rect_rect(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, normal, point, overlap, ke
         n = _edge_manifold(xi, Ri, hi, ri, k_i, xj, Rj, hj, rj, margin, 1.0, 0, out)
     # (the four face axes are every separating axis of two rectangles: cores apart by
     # s > 0 along one of them leave no point deeper than r_i + r_j - s; cuboid.box_box)
-    separation = max(sep_i, sep_j)
-    if n > 0 and separation > 0.0 and manifold_is_deepest(overlap, n, ri + rj - separation, tol):
+    if manifold_is_deepest(overlap, n, ri + rj, max(sep_i, sep_j), tol):
         return n
     m = _nearest_corners(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, rows_from(out, 8))
     return merge_deepest(out, n, 8, m, ri + rj, tol)
