@@ -76,6 +76,10 @@ def critical_timestep(bodies, spheres, walls, mats, boxes=None, impact_speed=0.0
         k = particle_stiffness(mats.stiffness[material], radius, rule)
         return k * mats.kt_ratio[material] if tangential else k
 
+    def stiffest(ma, ra, mb, rb):
+        """The larger of the normal and tangential stiffness of a pair [N/m]."""
+        return max(pair_stiffness(particle(ma, ra, t), particle(mb, rb, t), rule) for t in (0, 1))
+
     n_bodies = bodies.mass.shape[0]
     # one contact: the stiffest normal and tangential contact each body can form
     k_body = np.zeros((2, n_bodies))
@@ -108,14 +112,7 @@ def critical_timestep(bodies, spheres, walls, mats, boxes=None, impact_speed=0.0
     for i, j in _touching_pairs(spheres, walls):
         partner = walls.material[-j - 1] if j < 0 else spheres.material[j]
         r_j = spheres.radius[i] if j < 0 else spheres.radius[j]
-        k = max(
-            pair_stiffness(
-                particle(spheres.material[i], spheres.radius[i], t),
-                particle(partner, r_j, t),
-                rule,
-            )
-            for t in (0, 1)
-        )
+        k = stiffest(spheres.material[i], spheres.radius[i], partner, r_j)
         k_sum[spheres.body[i]] += k
         if j >= 0:
             k_sum[spheres.body[j]] += k
@@ -124,14 +121,7 @@ def critical_timestep(bodies, spheres, walls, mats, boxes=None, impact_speed=0.0
     # which the half-sum would only make more conservative for a single ball on a box
     k_box = np.zeros(n_bodies)
     for x, s in touching_boxes:
-        k = max(
-            pair_stiffness(
-                particle(boxes.material[x], boxes.radius[x], t),
-                particle(spheres.material[s], spheres.radius[s], t),
-                rule,
-            )
-            for t in (0, 1)
-        )
+        k = stiffest(boxes.material[x], boxes.radius[x], spheres.material[s], spheres.radius[s])
         k_box[boxes.body[x]] += k
     omega2 = np.maximum(omega2, 0.5 * k_sum * (inv_mass + coupling))
     for x, b in enumerate(boxes.body if touching_boxes else ()):
