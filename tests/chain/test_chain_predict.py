@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import math
+import os
 import subprocess
 import sys
 
@@ -171,12 +172,18 @@ def test_predict_runs_on_the_sweep_engine_writes_and_resumes(tmp_path):
     ],
 )
 def test_predict_command_bad_input_is_one_line(args, fragment, tmp_path):
+    """One line even where the kernels would be compiled (an empty numba cache): the
+    input is checked before the compile notice."""
     base = {"--gap": "0.01", "--floor": "felt", "--out": str(tmp_path / "p")}
     for flag, value in zip(args[::2], args[1::2], strict=True):
         base[flag] = value
     argv = [a for kv in base.items() for a in kv]
+    env = os.environ | {"NUMBA_CACHE_DIR": str(tmp_path / "numba")}
     proc = subprocess.run(
-        [sys.executable, "-m", "dominowave", "predict", *argv], capture_output=True, text=True
+        [sys.executable, "-m", "dominowave", "predict", *argv],
+        capture_output=True,
+        text=True,
+        env=env,
     )
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()

@@ -50,7 +50,7 @@ def predict_command(
     """Predict the front speed of a real chain with the band of its material data."""
     from dominowave.cli.chain import exit_if_incomplete
     from dominowave.cli.workflow import check_cluster_options
-    from dominowave.sweep.predict import SOBOL_MIN_BASE, predict
+    from dominowave.sweep.predict import SOBOL_MIN_BASE, predict, predict_points
 
     if preset not in PRESETS:
         raise ValueError(f"--preset {preset!r} is not one of {', '.join(PRESETS)}")
@@ -60,6 +60,8 @@ def predict_command(
     ensure_writable_dir(out)
     console = Console(width=120)
     start = time.perf_counter()
+    # bad input (samples, fit_from, gap, floor) fails here, before the compile notice
+    predict_points(gap, floor, samples, n_dominoes=n, fit_from=fit_from, seed=seed, model=model)
     if scheduler is None:
         notice_if_compiling("dem")
 
