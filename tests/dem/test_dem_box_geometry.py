@@ -303,6 +303,66 @@ def test_box_box_symmetric_and_rotation_invariant(ai, aj, q, direction, gap):
     np.testing.assert_allclose(rot[0][order_r], ab[0][order_a] @ Q.T, atol=1e-9)
 
 
+# Dominoes 0 and 1 of the symmetric 3D box chain of Fig 6 (d/l = 0.4, member 0 of
+# docs/fig6/box/planarity.py) at t = 0.2149224 s, lying on each other: cores of equal
+# width, the side edges of the incident face on the side planes of the reference face to
+# the round-off of the 1e-16 entries of the rotations.
+CHAIN_PAIR = (
+    np.array([-0.0027057493375580244, 1.4059334419439555e-19, 0.008475534938664602]),
+    np.array([[0.2207942435076975, 1.5357340863195826e-17, 0.9753204099340168],
+              [-1.494000112064257e-16, 1.0, 1.8075415434360387e-17],
+              [-0.9753204099340168, -1.497038278509152e-16, 0.2207942435076975]]),
+    np.array([0.028732307747715864, -3.0394467070759915e-20, 0.010396083256927894]),
+    np.array([[0.21256497004934538, 3.2876478180612552e-18, 0.977146935474873],
+              [-1.929582145811433e-17, 1.0, 8.330046001371423e-19],
+              [-0.977146935474873, -1.9031920403145662e-17, 0.21256497004934538]]),
+)  # fmt: skip
+CHAIN_CORE = np.array([0.00225, 0.01225, 0.02475])  # 5 x 25 x 50 mm, r = 0.25 mm
+CHAIN_R = 0.00025
+
+
+def _mirror_pairs(n_random):
+    """The chain pair, and ``n_random`` pairs of chain-domino cores turned about y (any
+    angle and direction, the cores 0 to ``2 r`` apart), each rotation perturbed by a
+    random turn of about 1e-15 rad, as the integrated orientations of a planar chain are."""
+    yield CHAIN_PAIR
+    rng = np.random.default_rng(3)
+    for _ in range(n_random):
+        ti, tj, direction = rng.uniform(-np.pi, np.pi, 3)
+        gap = rng.uniform(1e-5, 2 * CHAIN_R)
+        Ri = _about_y(ti) @ _rotation(rng.normal(size=3) * 1e-15)
+        Rj = _about_y(tj) @ _rotation(rng.normal(size=3) * 1e-15)
+        u = np.array([np.cos(direction), 0.0, np.sin(direction)])
+        lo, hi = 0.0, 0.2
+        for _ in range(45):
+            mid = 0.5 * (lo + hi)
+            if core_distance(np.zeros(3), Ri, CHAIN_CORE, mid * u, Rj, CHAIN_CORE) < gap:
+                lo = mid
+            else:
+                hi = mid
+        yield np.zeros(3), Ri, hi * u, Rj
+
+
+def test_mirror_symmetric_pairs_give_mirror_symmetric_manifolds():
+    """Two boxes of equal width placed symmetrically about the plane y = 0 (to round-off)
+    touch with a manifold that is its own mirror image: every point (x, y, z) has a partner
+    at (x, -y, z) with the same overlap and the mirrored normal.  Where the side edges of
+    the incident face lie on the side planes of the reference face, round-off decides on
+    which side of a plane each end falls; a manifold that follows it exerts a torque about
+    the chain's axis from nothing (one side of a line contact dropped for a step tipped the
+    symmetric 3D chain of Fig 6 out of its plane)."""
+    for xi, Ri, xj, Rj in _mirror_pairs(400):
+        normal, point, overlap, _ = _box_box(xi, Ri, CHAIN_CORE, CHAIN_R, xj, Rj, CHAIN_CORE,
+                                             CHAIN_R)  # fmt: skip
+        mirror = point * np.array([1.0, -1.0, 1.0])
+        gaps = np.linalg.norm(point[:, None, :] - mirror[None, :, :], axis=-1)
+        partner = gaps.argmin(axis=1)
+        assert np.all(gaps[np.arange(len(point)), partner] < 1e-12)
+        assert sorted(partner) == list(range(len(point)))  # (a one-to-one pairing)
+        np.testing.assert_allclose(overlap[partner], overlap, atol=1e-15)
+        np.testing.assert_allclose(normal[partner] * [1.0, -1.0, 1.0], normal, atol=1e-12)
+
+
 def test_keys_persist_under_small_motion():
     """A face contact keeps its keys while the boxes slide and turn a little."""
     r = 0.001

@@ -30,9 +30,10 @@ incident face of the other box (the one most anti-parallel to its normal) is cli
 against the side planes of the reference face (Sutherland-Hodgman), and every corner of
 the clipped polygon closer than ``r_i + r_j`` to the reference face is a contact point (a
 face resting on a face gets the corners of their overlap, up to 8); corners closer than
-:data:`COINCIDENT` of the boxes' size to each other are one point (two equally wide faces
-side by side, edges on side planes to round-off).  The deepest point
-of the pair is then found exactly -- the core distance of two boxes is attained at a
+:data:`COINCIDENT` of the boxes' size to each other are one point, and a corner that close
+to a side plane is on it (two equally wide faces side by side, edges on side planes to
+round-off: so a pair placed symmetrically about a plane has a mirror-symmetric manifold).
+The deepest point of the pair is then found exactly -- the core distance of two boxes is attained at a
 vertex of one (point-box distance) or between two crossing edges (the edge axis of
 largest separation, closest points inside both edges; Ericson, Real-Time Collision
 Detection (2005) sec. 5.1.9) -- and if the manifold misses it by more than round-off (a
@@ -73,7 +74,8 @@ SURE_EDGE_ANGLE = 1e-3  # edges at least this far from parallel [rad] bound the 
 # of the skip of box_box's deepest-point search (separating_axes)
 
 COINCIDENT = 1e-6  # points of one face manifold closer than this fraction of the two
-# boxes' largest half-extents are one contact (_merge_coincident)
+# boxes' largest half-extents are one contact (_merge_coincident), and a corner that close
+# to a side plane lies on it (_clip, _beyond_side_plane)
 
 # key offsets of the feature kinds (see box_box)
 KEY_EDGE = 2 * 6 * 6 * 64
@@ -309,18 +311,25 @@ def separating_axes(xi, Ri, hi, xj, Rj, hj, reach, work):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _clip(src, n_src, dst, axis, side, limit, label):
+def _clip(src, n_src, dst, axis, side, limit, label, close):
     """Sutherland-Hodgman: the polygon ``src[:n_src]`` (rows u, v, n, out-edge label) cut
     by the half plane ``side * src[axis] <= limit`` into ``dst``; a new corner on the cut
-    line starts an edge labelled ``label``.  A corner exactly on the cut line is kept and
-    is not repeated as a crossing (it becomes the corner where the edge along the cut line
-    starts, if the polygon leaves the half plane there).  Returns the corner count of
-    ``dst``."""
+    line starts an edge labelled ``label``.  A corner on the cut line -- within ``close``
+    [m] of it -- is kept and is not repeated as a crossing (it becomes the corner where
+    the edge along the cut line starts, if the polygon leaves the half plane there).
+    Returns the corner count of ``dst``.
+
+    The band ``close`` matters where an edge lies along the cut line, as the side edges
+    of two faces of equal width do: by round-off its ends would fall on either side, and
+    the cut would put a corner anywhere along it (``a / (a - b)`` of two round-off
+    errors), on one side of a symmetric pair of faces and not on the other."""
     m = 0
     for k in range(n_src):
         k1 = k + 1 if k + 1 < n_src else 0
         a = side * src[k, axis] - limit
         b = side * src[k1, axis] - limit
+        a = 0.0 if abs(a) <= close else a
+        b = 0.0 if abs(b) <= close else b
         if a <= 0.0:
             for col in range(4):
                 dst[m, col] = src[k, col]
@@ -356,14 +365,16 @@ def _incident_corner(xB, RB, hB, kB, sB, k):
 # corner where an incident edge crosses a side plane -- two per pair of fallen dominoes)
 @njit(cache=True, error_model="numpy", inline="always")
 def _beyond_side_plane(xA, RA, hA, ku, kv, c0, c1, c2, n0, n1, n2, xB, RB, hB, kB, sB, row,
-                       edge, plane):  # fmt: skip
+                       edge, plane, close):  # fmt: skip
     """The contact that a clipped corner on a side plane stands for.
 
     ``row`` (u, v, height above the reference face, label) is the corner where incident
     edge ``edge`` of box B crosses side plane ``plane`` (0..3: +u, -u, +v, -v) of the
     reference face of box A (centre ``c``, outward normal ``n``, face axes ``ku``, ``kv``).
-    If the edge rises beyond the plane, the corner is the contact (the lowest point of
-    the edge over the face; a face resting across an edge): returns ``(-1, ...)``.  If it
+    If the edge rises beyond the plane, or its outer end (the end farther beyond the
+    plane) lies within ``close`` [m] of it (an incident vertex on the plane to round-off),
+    the corner is the contact (the lowest point of the edge over the face; a face resting
+    across an edge): returns ``(-1, ...)``.  If it
     dips (its outer end lower) from a corner above the face, the edge's nearest approach
     to A's core lies beyond the plane, over A's rounded edge: at its outer vertex (a
     corner sliding off the face) or inside the edge.  Then returns ``(vertex, t, d, u (3),
@@ -387,21 +398,28 @@ def _beyond_side_plane(xA, RA, hA, ku, kv, c0, c1, c2, n0, n1, n2, xB, RB, hB, k
     vertex = edge
     a0, a1, a2 = _incident_corner(xB, RB, hB, kB, sB, edge)
     b0, b1, b2 = _incident_corner(xB, RB, hB, kB, sB, (edge + 1) % 4)
-    Ru0, Ru1, Ru2 = RA[0, ku], RA[1, ku], RA[2, ku]
-    Rv0, Rv1, Rv2 = RA[0, kv], RA[1, kv], RA[2, kv]
-    ca = (a0 - c0) * (Ru0 if axis == 0 else Rv0) + (a1 - c1) * (Ru1 if axis == 0 else Rv1)
-    ca += (a2 - c2) * (Ru2 if axis == 0 else Rv2)
-    if side * ca <= limit:  # the edge's outer end is corner edge + 1
+    k_axis = ku if axis == 0 else kv
+    d0, d1, d2 = RA[0, k_axis], RA[1, k_axis], RA[2, k_axis]
+    beyond_a = side * ((a0 - c0) * d0 + (a1 - c1) * d1 + (a2 - c2) * d2) - limit
+    beyond_b = side * ((b0 - c0) * d0 + (b1 - c1) * d1 + (b2 - c2) * d2) - limit
+    if beyond_b > beyond_a:  # the edge's outer end is corner edge + 1
         vertex = (edge + 1) % 4
         a0, a1, a2 = b0, b1, b2
-    height = (a0 - c0) * n0 + (a1 - c1) * n1 + (a2 - c2) * n2
     keep = (-1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    # Two faces of equal width side by side put incident vertices on side planes, and the
+    # clipping a round-off beyond.  Such an edge does not leave the face: taken for a dip
+    # (its two ends equally high to round-off), its corner would become the far end of
+    # the edge, on the opposite side plane, and one side of the contact would vanish for
+    # a step -- a torque from nothing that tips a symmetric chain out of its plane.
+    if max(beyond_a, beyond_b) <= close:
+        return keep
+    height = (a0 - c0) * n0 + (a1 - c1) * n1 + (a2 - c2) * n2
     if height >= row[2] or row[2] <= 0.0:  # (at or below the face: the edge enters A's core)
         return keep
     # the crossing p in world coordinates, the edge beyond it p + t g, t in [0, 1]
-    p0 = c0 + row[0] * Ru0 + row[1] * Rv0 + row[2] * n0
-    p1 = c1 + row[0] * Ru1 + row[1] * Rv1 + row[2] * n1
-    p2 = c2 + row[0] * Ru2 + row[1] * Rv2 + row[2] * n2
+    p0 = c0 + row[0] * RA[0, ku] + row[1] * RA[0, kv] + row[2] * n0
+    p1 = c1 + row[0] * RA[1, ku] + row[1] * RA[1, kv] + row[2] * n1
+    p2 = c2 + row[0] * RA[2, ku] + row[1] * RA[2, kv] + row[2] * n2
     g0, g1, g2 = a0 - p0, a1 - p1, a2 - p2
     end = point_box_distance(xA, RA, hA, a0, a1, a2)
     t = 1.0
@@ -461,11 +479,12 @@ def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work,
         poly[k, 3] = k
     count = 4
     src, dst = work[0], work[1]
+    close = COINCIDENT * (max(hA[0], hA[1], hA[2]) + max(hB[0], hB[1], hB[2]))
     for plane in range(4):  # side planes: +u, -u, +v, -v, labels 4..7
         axis = plane // 2
         side = 1.0 if plane % 2 == 0 else -1.0
         limit = hA[ku] if axis == 0 else hA[kv]
-        count = _clip(src, count, dst, axis, side, limit, 4 + plane)
+        count = _clip(src, count, dst, axis, side, limit, 4 + plane, close)
         src, dst = dst, src
         if count == 0:
             return 0
@@ -473,7 +492,6 @@ def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work,
     face_B = 2 * kB + (0 if sB > 0 else 1)
     base = ((swap * 6 + face_A) * 6 + face_B) * 64
     reach = rA + rB + margin
-    close = COINCIDENT * (max(hA[0], hA[1], hA[2]) + max(hB[0], hB[1], hB[2]))
     n = 0
     for k in range(count):
         pn = src[k, 2]
@@ -486,8 +504,9 @@ def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work,
             near = _vertex_within(xB, RB, hB, kB, sB, edge, c0, c1, c2, RA, ku, kv, n0, n1, n2,
                                   src[k], close)  # fmt: skip
             w = _beyond_side_plane(
-                xA, RA, hA, ku, kv, c0, c1, c2, n0, n1, n2, xB, RB, hB, kB, sB, src[k], edge, plane
-            )
+                xA, RA, hA, ku, kv, c0, c1, c2, n0, n1, n2, xB, RB, hB, kB, sB, src[k], edge,
+                plane, close,
+            )  # fmt: skip
             if w[0] >= 0:  # the incident edge dips beyond the side plane: see below
                 t, d, u0, u1, u2, q0, q1, q2 = w[1], w[2], w[3], w[4], w[5], w[6], w[7], w[8]
                 if d >= reach:
