@@ -4,7 +4,7 @@ Reads the clump summary ``docs/fig6/summary.csv`` and the box summary
 ``docs/fig6/box/summary.csv`` (``dominowave paper-fig6 --shape box --out DIR``) and
 writes ``fig6B..E_beside.png/.csv`` into ``docs/fig6/box/``. Speeds in the tables are
 ``v / sqrt(g l)``: mean +- standard error over the members that settled (their count
-when not all did).
+when not all did; a member that failed counts as not settled).
 
 Run: ``python docs/fig6/box/beside.py``
 """
@@ -28,14 +28,16 @@ def _summary(path: Path) -> list[dict]:
     return rows
 
 
-def _cell(r: dict, scale: float) -> str:
+def _cell(r: dict, scale: float, members: int) -> str:
+    """The cell of one ensemble of ``members`` runs (a member that failed -- its
+    failure.json in the study folder -- is missing from ``r['members']``)."""
     if r["n_settled"] == 0:
-        return f"- (0/{r['members']:.0f})"
+        return f"- (0/{members})"
     text = f"{r['speed_mean'] / scale:.2f}"
     if r["n_settled"] > 1:
         text += f" +- {r['speed_stderr'] / scale:.2f}"
-    if r["n_settled"] < r["members"]:
-        text += f" ({r['n_settled']:.0f}/{r['members']:.0f})"
+    if r["n_settled"] < members:
+        text += f" ({r['n_settled']:.0f}/{members})"
     return text
 
 
@@ -49,8 +51,9 @@ def main() -> None:
     print("| d/l | " + " | ".join(configs) + " |")
     print("|" + " --- |" * (len(configs) + 1))
     table = {(r["config"], r["d_over_l"]): r for r in box}
+    members = int(max(r["members"] for r in box))
     for d in sorted({r["d_over_l"] for r in box}):
-        cells = [_cell(table[(c, d)], scale) for c in configs]
+        cells = [_cell(table[(c, d)], scale, members) for c in configs]
         print(f"| {d:.1f} | " + " | ".join(cells) + " |")
     print()
     print(
