@@ -33,10 +33,10 @@ face resting on a face gets the corners of their overlap, up to 8); corners clos
 :data:`COINCIDENT` of the boxes' size to each other are one point, and a corner that close
 to a side plane is on it (two equally wide faces side by side, edges on side planes to
 round-off: so a pair placed symmetrically about a plane has a mirror-symmetric manifold).
-The deepest point of the pair is then found exactly -- the core distance of two boxes is attained at a
-vertex of one (point-box distance) or between two crossing edges (the edge axis of
-largest separation, closest points inside both edges; Ericson, Real-Time Collision
-Detection (2005) sec. 5.1.9) -- and if the manifold misses it by more than round-off (a
+The deepest point of the pair is then found exactly -- the core distance of two boxes
+is attained at a vertex of one (point-box distance) or between two crossing edges (the
+edge axis of largest separation, closest points inside both edges; Ericson, Real-Time
+Collision Detection (2005) sec. 5.1.9) -- and if the manifold misses it by more than round-off (a
 vertex over a rounded edge, two crossing edges) it replaces the corner nearest to it
 (which keeps its key) or, if none is within ``r_i + r_j``, is added.  An empty manifold
 (e.g. two parallel edges side by side) is replaced by the deepest point, and by every
