@@ -322,45 +322,112 @@ CHAIN_R = 0.00025
 
 
 def _mirror_pairs(n_random):
-    """The chain pair, and ``n_random`` pairs of chain-domino cores turned about y (any
-    angle and direction, the cores 0 to ``2 r`` apart), each rotation perturbed by a
-    random turn of about 1e-15 rad, as the integrated orientations of a planar chain are."""
-    yield CHAIN_PAIR
+    """Pairs ``(xi, Ri, hi, ri, xj, Rj, hj, rj, y0)`` placed symmetrically about the plane
+    y = y0: the chain pair, and ``n_random`` pairs of cores as wide as the chain's turned
+    about y (any angle and direction, the cores 0 to ``2 r`` apart), each rotation
+    perturbed by a random turn of about 1e-15 rad, as the integrated orientations of a
+    planar chain are.  Every other pair varies one thing: j's other sizes, j turned over
+    (about x by pi), j's rounding, or the plane (y0 = 0.1 m)."""
+    yield (*CHAIN_PAIR[:2], CHAIN_CORE, CHAIN_R, *CHAIN_PAIR[2:], CHAIN_CORE, CHAIN_R, 0.0)
     rng = np.random.default_rng(3)
-    for _ in range(n_random):
+    flip = _rotation([np.pi, 0.0, 0.0])
+    for case in range(n_random):
         ti, tj, direction = rng.uniform(-np.pi, np.pi, 3)
-        gap = rng.uniform(1e-5, 2 * CHAIN_R)
+        hj, rj, y0, Rj = CHAIN_CORE, CHAIN_R, 0.0, _about_y(tj)
+        variant = case % 8
+        if variant == 1:
+            hj = CHAIN_CORE * np.array([1.7, 1.0, 0.6])
+        elif variant == 3:
+            Rj = Rj @ flip
+        elif variant == 5:
+            rj = 0.6 * CHAIN_R
+        elif variant == 7:
+            y0 = 0.1
+        gap = rng.uniform(1e-5, CHAIN_R + rj)
         Ri = _about_y(ti) @ _rotation(rng.normal(size=3) * 1e-15)
-        Rj = _about_y(tj) @ _rotation(rng.normal(size=3) * 1e-15)
+        Rj = Rj @ _rotation(rng.normal(size=3) * 1e-15)
         u = np.array([np.cos(direction), 0.0, np.sin(direction)])
         lo, hi = 0.0, 0.2
         for _ in range(45):
             mid = 0.5 * (lo + hi)
-            if core_distance(np.zeros(3), Ri, CHAIN_CORE, mid * u, Rj, CHAIN_CORE) < gap:
+            if core_distance(np.zeros(3), Ri, CHAIN_CORE, mid * u, Rj, hj) < gap:
                 lo = mid
             else:
                 hi = mid
-        yield np.zeros(3), Ri, hi * u, Rj
+        shift = np.array([0.0, y0, 0.0])
+        yield shift, Ri, CHAIN_CORE, CHAIN_R, hi * u + shift, Rj, hj, rj, y0
 
 
 def test_mirror_symmetric_pairs_give_mirror_symmetric_manifolds():
-    """Two boxes of equal width placed symmetrically about the plane y = 0 (to round-off)
-    touch with a manifold that is its own mirror image: every point (x, y, z) has a partner
-    at (x, -y, z) with the same overlap and the mirrored normal.  Where the side edges of
-    the incident face lie on the side planes of the reference face, round-off decides on
-    which side of a plane each end falls; a manifold that follows it exerts a torque about
-    the chain's axis from nothing (one side of a line contact dropped for a step tipped the
-    symmetric 3D chain of Fig 6 out of its plane)."""
-    for xi, Ri, xj, Rj in _mirror_pairs(400):
-        normal, point, overlap, _ = _box_box(xi, Ri, CHAIN_CORE, CHAIN_R, xj, Rj, CHAIN_CORE,
-                                             CHAIN_R)  # fmt: skip
-        mirror = point * np.array([1.0, -1.0, 1.0])
+    """Two boxes of equal width placed symmetrically about a plane y = y0 (to round-off)
+    touch with a manifold that is its own mirror image: every point (x, y0 + y, z) has a
+    partner at (x, y0 - y, z) with the same overlap and the mirrored normal.  Where the
+    side edges of the incident face lie on the side planes of the reference face,
+    round-off decides on which side of a plane each end falls; a manifold that follows it
+    exerts a torque about the chain's axis from nothing (one side of a line contact
+    dropped for a step tipped the symmetric 3D chain of Fig 6 out of its plane)."""
+    for xi, Ri, hi, ri, xj, Rj, hj, rj, y0 in _mirror_pairs(400):
+        normal, point, overlap, _ = _box_box(xi, Ri, hi, ri, xj, Rj, hj, rj)
+        mirror = point * np.array([1.0, -1.0, 1.0]) + np.array([0.0, 2.0 * y0, 0.0])
         gaps = np.linalg.norm(point[:, None, :] - mirror[None, :, :], axis=-1)
         partner = gaps.argmin(axis=1)
         assert np.all(gaps[np.arange(len(point)), partner] < 1e-12)
         assert sorted(partner) == list(range(len(point)))  # (a one-to-one pairing)
         np.testing.assert_allclose(overlap[partner], overlap, atol=1e-15)
         np.testing.assert_allclose(normal[partner] * [1.0, -1.0, 1.0], normal, atol=1e-12)
+
+
+def test_validate_edge_on_a_side_plane_is_a_line_contact_of_both_ends():
+    """A box j over the top face of box i with the bottom edge of its -y face along i's +y
+    side plane (within ``COINCIDENT`` of it, either side, the rotations perturbed by
+    1e-15 rad): the contact is that edge's line contact, one point at each end, each as
+    deep as the end's height above i's face says (the end lies over the face's border,
+    so its core distance is that height).  Read as an edge leaving the face, its corner
+    was replaced by the edge's other end, and the line contact lost one end."""
+    from dominowave.dem.shapes.cuboid import COINCIDENT
+
+    hi, hj, r = np.array([0.02, 0.01, 0.005]), np.array([0.01, 0.008, 0.005]), 0.0005
+    close = COINCIDENT * (hi.max() + hj.max())
+    rng = np.random.default_rng(0)
+    for off in (0.0, 0.3, -0.3):
+        Rj = Rotation.from_rotvec([0.0, 0.01, 0.0]).as_matrix()
+        Rj = Rj @ Rotation.from_rotvec([0.02, 0.0, 0.0]).as_matrix()
+        Rj = Rj @ _rotation(rng.normal(size=3) * 1e-15)
+        ends = np.array([[sx * hj[0], -hj[1], -hj[2]] for sx in (1.0, -1.0)]) @ Rj.T
+        y = hi[1] + off * close - ends[:, 1].mean()  # the edge on i's +y side plane
+        xj = np.array([0.0, y, hi[2] + 2e-4 - ends[:, 2].max()])  # 0.2 mm over i's face
+        _, point, overlap, _ = _box_box(np.zeros(3), np.eye(3), hi, r, xj, Rj, hj, r)
+        ends += xj  # world positions of the two ends
+        assert len(overlap) == 2
+        order = np.argsort(point[:, 0])
+        np.testing.assert_allclose(point[order, :2], ends[np.argsort(ends[:, 0]), :2], atol=close)
+        depth = 2 * r - (ends[:, 2] - hi[2])
+        np.testing.assert_allclose(overlap[order], depth[np.argsort(ends[:, 0])], atol=1e-12)
+
+
+def test_a_face_cut_down_to_one_vertex_keeps_the_vertex_key():
+    """Box j turned 45 deg about z and tilted, one vertex of its bottom face over the +x
+    edge of box i's top face, the rest beyond: as that vertex crosses i's side plane
+    (2 x ``COINCIDENT`` inside, within it either side) the clipped face keeps the point of
+    the vertex under the vertex's key (face key + edge labels 0, 1), so its shear history
+    goes on; a polygon cut down to that one corner had the key of the side plane alone."""
+    from dominowave.dem.shapes.cuboid import COINCIDENT, _face_manifold
+
+    hi, hj, r = np.array([0.02, 0.02, 0.01]), np.array([0.01, 0.01, 0.005]), 0.0005
+    close = COINCIDENT * (hi.max() + hj.max())
+    Rj = Rotation.from_rotvec([0.0, 0.05, 0.0]).as_matrix()
+    Rj = Rj @ Rotation.from_rotvec([0.0, 0.0, np.pi / 4]).as_matrix()
+    bottom = np.array([[sx * hj[0], sy * hj[1], -hj[2]] for sx in (1, -1) for sy in (1, -1)])
+    bottom = bottom @ Rj.T
+    v = bottom[np.argsort(-bottom[:, 0])[3]]  # the vertex of least x
+    keys = []
+    for s in (-2.0 * close, -0.5 * close, 0.5 * close):
+        xj = np.array([hi[0] + s - v[0], 0.003 - v[1], hi[2] + 2e-4 - v[2]])
+        normal, point, overlap, key = _out()
+        n = _face_manifold(np.zeros(3), np.eye(3), hi, r, 2, xj, Rj, hj, r, 0.0, 1.0, 0,
+                           np.zeros((2, 9, 4)), (normal, point, overlap, key))  # fmt: skip
+        keys.append({(k % 64) // 8 * 10 + k % 8 for k in key[:n]})
+    assert all(1 in k for k in keys), keys  # (labels 0, 1: the vertex)
 
 
 def test_keys_persist_under_small_motion():

@@ -315,9 +315,10 @@ def _clip(src, n_src, dst, axis, side, limit, label, close):
     """Sutherland-Hodgman: the polygon ``src[:n_src]`` (rows u, v, n, out-edge label) cut
     by the half plane ``side * src[axis] <= limit`` into ``dst``; a new corner on the cut
     line starts an edge labelled ``label``.  A corner on the cut line -- within ``close``
-    [m] of it -- is kept and is not repeated as a crossing (it becomes the corner where
-    the edge along the cut line starts, if the polygon leaves the half plane there).
-    Returns the corner count of ``dst``.
+    [m] of it; it counts as on the line, its coordinates are not moved -- is kept and is
+    not repeated as a crossing (it becomes the corner where the edge along the cut line
+    starts, if the polygon leaves the half plane there).  Returns the corner count of
+    ``dst``.
 
     The band ``close`` matters where an edge lies along the cut line, as the side edges
     of two faces of equal width do: by round-off its ends would fall on either side, and
@@ -372,12 +373,12 @@ def _beyond_side_plane(xA, RA, hA, ku, kv, c0, c1, c2, n0, n1, n2, xB, RB, hB, k
     edge ``edge`` of box B crosses side plane ``plane`` (0..3: +u, -u, +v, -v) of the
     reference face of box A (centre ``c``, outward normal ``n``, face axes ``ku``, ``kv``).
     If the edge rises beyond the plane, or its outer end (the end farther beyond the
-    plane) lies within ``close`` [m] of it (an incident vertex on the plane to round-off),
-    the corner is the contact (the lowest point of the edge over the face; a face resting
-    across an edge): returns ``(-1, ...)``.  If it
-    dips (its outer end lower) from a corner above the face, the edge's nearest approach
-    to A's core lies beyond the plane, over A's rounded edge: at its outer vertex (a
-    corner sliding off the face) or inside the edge.  Then returns ``(vertex, t, d, u (3),
+    plane) lies within ``close`` [m] of it (the edge lies on the plane: the clipping kept
+    it), the corner is the contact (the lowest point of the edge over the face; a face
+    resting across an edge): returns ``(-1, ...)``.  If it dips (its outer end lower) from
+    a corner above the face, the edge's nearest approach to A's core lies beyond the
+    plane, over A's rounded edge: at its outer vertex (a corner sliding off the face) or
+    inside the edge.  Then returns ``(vertex, t, d, u (3),
     q (3))``: the outer vertex (0..3), the position t in [0, 1] of the nearest approach
     along the edge from the corner (1: the vertex), its core distance ``d`` [m] from A, the
     unit vector ``u`` from A's nearest core point ``q`` towards it.  Beyond the side plane
@@ -406,11 +407,11 @@ def _beyond_side_plane(xA, RA, hA, ku, kv, c0, c1, c2, n0, n1, n2, xB, RB, hB, k
         vertex = (edge + 1) % 4
         a0, a1, a2 = b0, b1, b2
     keep = (-1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    # Two faces of equal width side by side put incident vertices on side planes, and the
-    # clipping a round-off beyond.  Such an edge does not leave the face: taken for a dip
-    # (its two ends equally high to round-off), its corner would become the far end of
-    # the edge, on the opposite side plane, and one side of the contact would vanish for
-    # a step -- a torque from nothing that tips a symmetric chain out of its plane.
+    # An edge lying on the side plane (an edge of a face as wide as the reference face, or
+    # beside it) does not leave the face, whichever end round-off puts farther out.  Taken
+    # for a dip, its corner would become the other end of the edge, already a corner of
+    # the polygon, and one end of the line contact would vanish -- on one side of a
+    # symmetric pair, a torque from nothing that tips a symmetric chain out of its plane.
     if max(beyond_a, beyond_b) <= close:
         return keep
     height = (a0 - c0) * n0 + (a1 - c1) * n1 + (a2 - c2) * n2
@@ -532,7 +533,12 @@ def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work,
                 continue
         if pn >= reach:
             continue
-        if (label_in < 4) != (label_out < 4) and near >= 0:  # (a crossing at a vertex)
+        if label_in == label_out:  # (a polygon cut down to one corner on a side plane)
+            for edge in (0, 2):
+                if near < 0:
+                    near = _vertex_within(xB, RB, hB, kB, sB, edge, c0, c1, c2, RA, ku, kv, n0,
+                                          n1, n2, src[k], close)  # fmt: skip
+        if near >= 0:  # (a crossing at a vertex, or the vertex alone)
             label_in, label_out = near - 1 if near > 0 else 3, near
         lift = 0.5 * (rA + pn - rB)  # midway between the two rounded surfaces
         point[n, 0] = c0 + src[k, 0] * RA[0, ku] + src[k, 1] * RA[0, kv] + lift * n0
