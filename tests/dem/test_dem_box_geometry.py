@@ -49,22 +49,27 @@ def core_distance(xi, Ri, hi, xj, Rj, hj):
     return np.linalg.norm(A @ res.x - (xj - xi))
 
 
+def _at_core_gap(xi, Ri, hi, Rj, hj, u, gap, steps=45):
+    """The centre of box j on the ray ``xi + s u`` (``u`` a unit vector, s in [0, 0.2] m)
+    where its core is ``gap`` [m] from box i's (bisection on the exact distance)."""
+    lo, far = 0.0, 0.2
+    for _ in range(steps):
+        mid = 0.5 * (lo + far)
+        if core_distance(xi, Ri, hi, xi + mid * u, Rj, hj) < gap:
+            lo = mid
+        else:
+            far = mid
+    return xi + far * u
+
+
 def _random_pair(rng, gap):
-    """Box j placed in a random direction from box i with its core at distance ``gap``
-    (found by bisection on the exact distance)."""
+    """Box j placed in a random direction from box i with its core at distance ``gap``."""
     Ri = Rotation.random(random_state=rng).as_matrix()
     Rj = Rotation.random(random_state=rng).as_matrix()
     xi = rng.normal(size=3) * 0.01
     u = rng.normal(size=3)
     u /= np.linalg.norm(u)
-    lo, hi = 0.0, 0.2
-    for _ in range(50):
-        mid = 0.5 * (lo + hi)
-        if core_distance(xi, Ri, H_I, xi + mid * u, Rj, H_J) < gap:
-            lo = mid
-        else:
-            hi = mid
-    return xi, Ri, xi + hi * u, Rj
+    return xi, Ri, _at_core_gap(xi, Ri, H_I, Rj, H_J, u, gap, steps=50), Rj
 
 
 # ----------------------------------------------------------------------- mass properties
@@ -269,14 +274,7 @@ def test_box_box_symmetric_and_rotation_invariant(ai, aj, q, direction, gap):
     u = np.array([np.cos(6.0 * direction), np.sin(6.0 * direction), 0.5])
     u /= np.linalg.norm(u)
     xi = np.zeros(3)
-    lo, hi = 0.0, 0.2  # j along u, its core at distance ``gap`` from i's (bisection)
-    for _ in range(45):
-        mid = 0.5 * (lo + hi)
-        if core_distance(xi, Ri, H_I, mid * u, Rj, H_J) < gap:
-            lo = mid
-        else:
-            hi = mid
-    xj = hi * u
+    xj = _at_core_gap(xi, Ri, H_I, Rj, H_J, u, gap)  # j along u
     r = 0.002
     ab = _box_box(xi, Ri, H_I, r, xj, Rj, H_J, r)
     ba = _box_box(xj, Rj, H_J, r, xi, Ri, H_I, r)
@@ -347,15 +345,9 @@ def _mirror_pairs(n_random):
         Ri = _about_y(ti) @ _rotation(rng.normal(size=3) * 1e-15)
         Rj = Rj @ _rotation(rng.normal(size=3) * 1e-15)
         u = np.array([np.cos(direction), 0.0, np.sin(direction)])
-        lo, hi = 0.0, 0.2
-        for _ in range(45):
-            mid = 0.5 * (lo + hi)
-            if core_distance(np.zeros(3), Ri, CHAIN_CORE, mid * u, Rj, hj) < gap:
-                lo = mid
-            else:
-                hi = mid
+        xj = _at_core_gap(np.zeros(3), Ri, CHAIN_CORE, Rj, hj, u, gap)
         shift = np.array([0.0, y0, 0.0])
-        yield shift, Ri, CHAIN_CORE, CHAIN_R, hi * u + shift, Rj, hj, rj, y0
+        yield shift, Ri, CHAIN_CORE, CHAIN_R, xj + shift, Rj, hj, rj, y0
 
 
 def test_mirror_symmetric_pairs_give_mirror_symmetric_manifolds():
@@ -481,14 +473,8 @@ def test_validate_planar_rectangles_are_the_cuboid_pairs(ti, tj, direction, gap)
     h_i = np.array([0.012, 0.004, 0.024])
     h_j = np.array([0.010, 0.004, 0.020])
     u = np.array([np.cos(direction), 0.0, np.sin(direction)])
-    lo, hi = 0.0, 0.2
-    for _ in range(45):
-        mid = 0.5 * (lo + hi)
-        if core_distance(np.zeros(3), Ri, h_i, mid * u, Rj, h_j) < gap:
-            lo = mid
-        else:
-            hi = mid
-    xi, xj = np.zeros(3), hi * u
+    xi = np.zeros(3)
+    xj = _at_core_gap(xi, Ri, h_i, Rj, h_j, u, gap)
     r = 0.002
     n3, p3, o3, _ = _box_box(xi, Ri, h_i, r, xj, Rj, h_j, r)
     normal, point, overlap, key = _out()
