@@ -596,12 +596,14 @@ def _energy_drift_to_the_end(stepper, chunk):
 def test_wide_spacing_3d_box_chain_member_runs_with_its_energy_balance():
     """A regression test: the 30-domino 3D box chain at d/l = 0.8, floor friction 0.3,
     member 6 of the wide-spacing study (docs/long_chains.md), aborted at t = 1.17 s before
-    the side-plane rule of shapes.cuboid (the ledger's total from 0.046 to 0.094 J, docs/
-    dem.md "Overlaps beyond the rounding").  Now it runs to its end, and the ledger's total
-    (kinetic + potential + elastic + dissipated) drifts by 5.4e-3 of the energy released
-    (the push and the falls): far more than the integration error of an impact (1e-7),
-    the mark of the overlaps beyond the rounding, whose cause is not removed.  The bound,
-    1e-2, separates that from a breakdown (the abort: a drift of the order of 1)."""
+    the side-plane rule of shapes.cuboid (the ledger's total from 0.046 to 0.094 J, a drift
+    of 1.4 times the energy released; docs/dem.md "Overlaps beyond the rounding").  It runs
+    to its end, and the ledger's total (kinetic + potential + elastic + dissipated) drifts
+    by a few 1e-3 of the energy released (the push and the falls), the amount following the
+    trajectory (5.4e-3 on 25 Nov 2026; 9.0e-3 with the manifolds of 28 Nov 2026, mostly in
+    three steps of 1e-4 J at t = 0.76-0.97 s): far more than the integration error of an
+    impact (1e-7), the mark of the overlaps beyond the rounding, whose cause is not
+    removed.  The bound, 3e-2, separates that from a breakdown (the abort, 1.4)."""
     from dominowave.chain import ChainParams, DominoChain
     from dominowave.chain.scenario import member_push_factor
     from dominowave.chain.stepper import ChainStepper
@@ -613,7 +615,7 @@ def test_wide_spacing_3d_box_chain_member_runs_with_its_energy_balance():
     stepper = ChainStepper(chain, push)
     drift, released = _energy_drift_to_the_end(stepper, 20000)
     assert stepper.reached > 1
-    assert drift < 1e-2 * released
+    assert drift < 3e-2 * released
 
 
 @pytest.mark.slow

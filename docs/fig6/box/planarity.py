@@ -3,10 +3,11 @@ perturbations grow in it?  Box dominoes by default, ``--shape clump`` for the pa
 
 Per run: the wave speed, the first times at which some domino's centre has moved more
 than 1e-12, 1e-9, 1e-6 and 1e-3 m across the chain's line (from its placement), and the
-growth rate ``ln(1e3) / (t_1e-6 - t_1e-9)`` [1/s] between the middle two.  Without a seed
-the chain is symmetric to round-off; ``--yaw`` seeds each domino with a random yaw of up to
-that amplitude [rad] (``lateral_asymmetry``, seed 0), ``--safety`` sets the time step as a
-fraction of the critical one (default: the chain's).
+growth rate ``ln(1e3) / (t_1e-6 - t_1e-9)`` [1/s] between the middle two (NaN if both are
+crossed in the same frame or never), and the largest lateral displacement over the run.
+Without a seed the chain is symmetric to round-off; ``--yaw`` seeds each domino with a
+random yaw of up to that amplitude [rad] (``lateral_asymmetry``, seed 0), ``--safety``
+sets the time step as a fraction of the critical one (default: the chain's).
 
 Run: ``python docs/fig6/box/planarity.py [--d-over-l 0.4] [--members 0 1 2 3]
 [--yaw 0 1e-14 1e-12 ...] [--safety 0.1] [--shape clump]``
@@ -57,7 +58,8 @@ def main() -> None:
     for yaw in args.yaw:
         for m in args.members:
             wave, times, largest = lateral_departure(args.d_over_l, m, yaw, args.safety, args.shape)
-            rate = math.log(1e3) / (times[2] - times[1])
+            span = times[2] - times[1]  # (0 or NaN: no rate from these frames)
+            rate = math.log(1e3) / span if span > 0 else math.nan
             when = ", ".join("never" if math.isnan(t) else f"{t:.3f}" for t in times)
             print(
                 f"yaw {yaw:.0e} member {m}: v = {wave.speed:.4f} m/s (reached {wave.reached});"
