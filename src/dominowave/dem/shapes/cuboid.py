@@ -325,12 +325,17 @@ def _clip(src, n_src, dst, axis, side, limit, label, close):
     the cut would put a corner anywhere along it (``a / (a - b)`` of two round-off
     errors), on one side of a symmetric pair of faces and not on the other."""
     m = 0
+    first = side * src[0, axis] - limit if n_src > 0 else 0.0
+    first = 0.0 if abs(first) <= close else first
+    b = first
     for k in range(n_src):
         k1 = k + 1 if k + 1 < n_src else 0
-        a = side * src[k, axis] - limit
-        b = side * src[k1, axis] - limit
-        a = 0.0 if abs(a) <= close else a
-        b = 0.0 if abs(b) <= close else b
+        a = b  # (each corner's distance beyond the line is found once)
+        if k1 == 0:
+            b = first
+        else:
+            b = side * src[k1, axis] - limit
+            b = 0.0 if abs(b) <= close else b
         if a <= 0.0:
             for col in range(4):
                 dst[m, col] = src[k, col]
