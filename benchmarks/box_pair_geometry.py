@@ -8,6 +8,10 @@ contact manifold of all of them (``shapes.cuboid.box_box``) is then timed in a c
 loop (CPU time per pair, median of --repeat loops of --loops passes over the pairs), and
 the share of the pairs whose exact-deepest-point search the separating axes let
 box_box skip (``separating_axes``' ``sep_sure``, ``manifold_is_deepest``) is counted.
+A second loop times what the engine does for such a pair: the face test of
+``_within_reach`` (``faces_separate``) and then ``box_box`` on the relative frame that
+test left (``frame_ready=True``); and, for comparison, the same two calls with the frame
+computed again by box_box.
 
 Run:  python benchmarks/box_pair_geometry.py [--n 30] [--times 0.25 0.5 1.0 1.5]
 """
@@ -27,6 +31,7 @@ from dominowave.dem.boxes import _within_reach
 from dominowave.dem.shapes.cuboid import (
     MAX_POINTS,
     box_box,
+    faces_separate,
     manifold_is_deepest,
     separating_axes,
 )
@@ -66,6 +71,34 @@ def _manifolds(xs, Rs, hs, rs, margins, passes, work, normal, point, overlap, ke
     return points
 
 
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _engine_pairs(xs, Rs, hs, rs, margins, passes, shared, work, normal, point, overlap, key):
+    """``passes`` times the engine's work on every pair k: the face test, then the
+    manifold (``shared``: on the frame the test left)."""
+    points = 0
+    for _ in range(passes):
+        for k in range(xs.shape[0]):
+            reach = rs[k, 0] + rs[k, 1] + margins[k]
+            if faces_separate(xs[k, 0], Rs[k, 0], hs[k, 0], xs[k, 1], Rs[k, 1], hs[k, 1],
+                              reach, work):  # fmt: skip
+                continue
+            points += box_box(
+                xs[k, 0], Rs[k, 0], hs[k, 0], rs[k, 0], xs[k, 1], Rs[k, 1], hs[k, 1], rs[k, 1],
+                margins[k], work, normal, point, overlap, key, shared,
+            )  # fmt: skip
+    return points
+
+
+def _median_ns(run, loops, repeat, n_pairs):
+    """Median over ``repeat`` of the CPU time [ns] per pair of ``run(loops)``."""
+    times = []
+    for _ in range(repeat):
+        t0 = time.process_time()
+        run(loops)
+        times.append((time.process_time() - t0) / loops / n_pairs)
+    return 1e9 * statistics.median(times)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=30)
@@ -93,16 +126,21 @@ def main():
         sure = separating_axes(p[0], p[1], p[2], p[4], p[5], p[6], np.inf, work)[11]
         tol = 1e-9 * (p[2].max() + p[6].max() + p[3] + p[7])
         skipped += manifold_is_deepest(out[2], n, p[3] + p[7], sure, tol)
-    _manifolds(xs, Rs, hs, rs, margins, 1, work, *out)  # (compilation)
-    times = []
-    for _ in range(args.repeat):
-        t0 = time.process_time()
-        _manifolds(xs, Rs, hs, rs, margins, args.loops, work, *out)
-        times.append((time.process_time() - t0) / args.loops / len(pairs))
+    args_ = (xs, Rs, hs, rs, margins)
+    _manifolds(*args_, 1, work, *out)  # (compilation)
+    _engine_pairs(*args_, 1, True, work, *out)
+    timing = (args.loops, args.repeat, len(pairs))
+    alone = _median_ns(lambda k: _manifolds(*args_, k, work, *out), *timing)
+    engine = {}
+    for shared in (True, False):
+        engine[shared] = _median_ns(
+            lambda k, s=shared: _engine_pairs(*args_, k, s, work, *out), *timing
+        )
     print(
         f"{len(pairs)} box-box pairs within reach ({args.n} dominoes at t = {args.times} s); "
-        f"deepest-point search skipped for {skipped}; "
-        f"{1e9 * statistics.median(times):.0f} ns per pair (median of {args.repeat})"
+        f"deepest-point search skipped for {skipped}; median of {args.repeat}, ns per pair: "
+        f"box_box {alone:.0f}; face test + box_box on its frame {engine[True]:.0f} "
+        f"(frame computed twice: {engine[False]:.0f})"
     )
 
 

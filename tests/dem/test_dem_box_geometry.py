@@ -251,6 +251,33 @@ def test_validate_separating_axes_bound_the_core_distance(seed):
         assert max(got[1], got[3], got[5]) == pytest.approx(gap, abs=1e-15)
 
 
+def test_box_box_takes_the_frame_left_by_faces_separate():
+    """The engine's order -- faces_separate, then box_box(..., frame_ready=True) on the
+    frame it left in ``work[0]`` -- gives the manifold of a fresh box_box to the bit, for
+    touching, near and interpenetrating pairs (work[0] is scrubbed in between for the
+    fresh call, so a frame that were not recomputed would show)."""
+    rng = np.random.default_rng(11)
+    ri, rj = 0.001, 0.0015
+    touching = 0
+    for gap in rng.uniform(-0.002, 0.004, 80):
+        xi, Ri, xj, Rj = _random_pair(rng, max(gap, 1e-6))
+        if gap < 0:  # (cores interpenetrating: box j moved towards box i)
+            xj = xi + (xj - xi) * (1 + gap / np.linalg.norm(xj - xi))
+        margin = 0.5 * (ri + rj)
+        work = np.zeros((2, 9, 4))
+        if faces_separate(xi, Ri, H_I, xj, Rj, H_J, ri + rj + margin, work):
+            continue
+        shared = _out()
+        n = box_box(xi, Ri, H_I, ri, xj, Rj, H_J, rj, margin, work, *shared, True)
+        fresh = _out()
+        work[:] = np.nan
+        assert box_box(xi, Ri, H_I, ri, xj, Rj, H_J, rj, margin, work, *fresh) == n
+        for a, b in zip(shared, fresh, strict=True):
+            np.testing.assert_array_equal(a[:n], b[:n])
+        touching += n > 0
+    assert touching > 20
+
+
 def test_validate_box_box_no_contact_beyond_reach():
     rng = np.random.default_rng(5)
     ri, rj = 0.002, 0.0015

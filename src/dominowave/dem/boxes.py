@@ -411,7 +411,8 @@ def _partner(boxes, a, k, nx, nw):
 @njit(cache=True, error_model="numpy", inline="always")
 def _manifold(bodies, boxes, walls, a, j, planar, margin):
     """Contact points of box a with partner j (box, or -(wall + 1)) into boxes.m_*;
-    returns their number."""
+    returns their number.  Called right after :func:`_within_reach` passed the pair: two
+    boxes in 3D take the relative frame that its face test left in ``boxes.work[0]``."""
     normal, point, overlap, keyf = boxes.m_normal, boxes.m_point, boxes.m_overlap, boxes.m_key
     ba = boxes.body[a]
     xa, Ra, ha, ra = bodies.pos[ba], bodies.rot[ba], boxes.half[a], boxes.radius[a]
@@ -422,8 +423,9 @@ def _manifold(bodies, boxes, walls, a, j, planar, margin):
             n = rect_rect(xa, Ra, ha, ra, xb, Rb, hb, rb, margin, normal, point, overlap, keyf)
         else:
             n = box_box(
-                xa, Ra, ha, ra, xb, Rb, hb, rb, margin, boxes.work, normal, point, overlap, keyf
-            )
+                xa, Ra, ha, ra, xb, Rb, hb, rb, margin, boxes.work, normal, point, overlap, keyf,
+                True,
+            )  # fmt: skip
     else:
         w = -j - 1
         p0, nw = walls.point[w], walls.normal[w]

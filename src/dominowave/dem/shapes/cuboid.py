@@ -238,7 +238,8 @@ def faces_separate(xi, Ri, hi, xj, Rj, hj, reach, work):
     """True if a face axis of box i or j separates the two cores by at least ``reach``
     [m]: the early exit of :func:`separating_axes` on its first six axes, in the same
     arithmetic, so that a caller may skip :func:`box_box` (no contact) without changing
-    any result.  ``work``: the (2, 9, 4) scratch of box_box."""
+    any result.  ``work``: the (2, 9, 4) scratch of box_box; ``work[0]`` keeps the
+    relative frame (:func:`_relative_frame`) for ``box_box(..., frame_ready=True)``."""
     M = work[0]
     _relative_frame(xi, Ri, xj, Rj, M)
     for m in range(3):
@@ -248,7 +249,7 @@ def faces_separate(xi, Ri, hi, xj, Rj, hj, reach, work):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def separating_axes(xi, Ri, hi, xj, Rj, hj, reach, work):
+def separating_axes(xi, Ri, hi, xj, Rj, hj, reach, work, frame_ready=False):
     """The separating-axis test of two core boxes over their 15 axes: the 3 + 3 face
     normals and the 9 cross products of an edge of each (Gottschalk, Lin & Manocha,
     SIGGRAPH 1996), from their relative frame (:func:`_relative_frame`, in ``work[0]``).
@@ -265,9 +266,12 @@ def separating_axes(xi, Ri, hi, xj, Rj, hj, reach, work):
     An edge axis ``R_i,a x R_j,b`` has the length ``sqrt(C_a1b^2 + C_a2b^2)`` (a1, a2 the
     other two axes of i; not ``sqrt(1 - C_ab^2)``, which cancels for nearly parallel
     edges) and projects the offset and the half-widths through the direction cosines
-    ``C`` alone."""
+    ``C`` alone.  ``frame_ready``: ``work[0]`` already holds the relative frame of these
+    two boxes at these positions (left there by :func:`faces_separate`), which is then not
+    computed again."""
     M = work[0]
-    _relative_frame(xi, Ri, xj, Rj, M)
+    if not frame_ready:
+        _relative_frame(xi, Ri, xj, Rj, M)
     sep_i, k_i = -np.inf, 0
     sep_j, k_j = -np.inf, 0
     for m in range(3):
@@ -741,10 +745,15 @@ def _copy_row(out, src, dst):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap, key):
+def box_box(
+    xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap, key, frame_ready=False
+):
     """Contact manifold of two rounded boxes i and j (see the module docstring).
 
-    ``work``: (2, 9, 4) float64 scratch (relative frame, clipping buffers).  Keys: face contact
+    ``work``: (2, 9, 4) float64 scratch (relative frame, clipping buffers); with
+    ``frame_ready``, ``work[0]`` holds the relative frame of the two boxes already, as
+    :func:`faces_separate` leaves it (the engine's bounding test, boxes._within_reach,
+    calls that just before; the frame is the same arithmetic either way).  Keys: face contact
     ``((swap * 6 + face_ref) * 6 + face_inc) * 64 + corner`` (face = 2 axis + [negative
     side], swap = 1 if the reference face is j's, corner = the pair of polygon edge labels
     meeting there: incident edges 0..3, reference side planes 4..7); edge contact
@@ -755,7 +764,7 @@ def box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap
     out = (normal, point, overlap, key)
     tol = 1e-9 * (max(hi[0], hi[1], hi[2]) + max(hj[0], hj[1], hj[2]) + ri + rj)
     apart, sep_i, k_i, sep_j, k_j, sep_e, a_e, b_e, e0, e1, e2, sure = separating_axes(
-        xi, Ri, hi, xj, Rj, hj, ri + rj + margin, work
+        xi, Ri, hi, xj, Rj, hj, ri + rj + margin, work, frame_ready
     )
     if apart:
         return 0
