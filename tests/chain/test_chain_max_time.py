@@ -57,7 +57,7 @@ def test_a_run_ended_by_max_time_is_cut_short_and_says_so():
     assert "max_time = 0.15 s" in note and f"domino {front} of 7" in note
     assert "before it reached the last domino or went quiet" in note
     assert _speed_note(run, chain.max_time).startswith(
-        f"the run ended at max_time = 0.15 s with the wave at domino {front}"
+        f"the run ended at max_time = 0.15 s with the wave at domino {front} of 7"
     )
 
 

@@ -162,6 +162,15 @@ class ChainRun:
         wave died): the dominoes after :attr:`front` may still have fallen."""
         return self.stop_reason == "until" and not self.reached_all
 
+    def cut_short_text(self, max_time: float) -> str:
+        """How a :attr:`cut_short` run ended, in words: "ended at max_time = 1.2 s with
+        the wave at domino 17 of 29" (``max_time`` [s], the run's limit).  The command
+        line and a study's ``speed_note`` say it so."""
+        return (
+            f"ended at max_time = {max_time:.4g} s with the wave at domino {self.front}"
+            f" of {self.params.n_dominoes - 1}"
+        )
+
     @property
     def front(self) -> int:
         """The highest domino the wave reached (domino 0, pushed, counts)."""

@@ -100,8 +100,7 @@ def _cut_short_note(run: ChainRun, max_time: float, member: int | None) -> str:
     """Say that a run ended at its ``max_time`` with the wave still on its way."""
     who = "the run" if member is None else f"member {member}"
     return (
-        f"[yellow]{who} ended at max_time = {_fmt(max_time)} s with the wave at domino"
-        f" {run.front} of {run.params.n_dominoes - 1}[/yellow], before it reached the last"
+        f"[yellow]{who} {run.cut_short_text(max_time)}[/yellow], before it reached the last"
         " domino or went quiet: the speeds above are of the dominoes reached (in Python:"
         " DominoChain(params, max_time=...))"
     )

@@ -229,6 +229,6 @@ def _speed_note(run, max_time: float) -> str:
     did not settle (``chain.wave.unsettled_reason``), or both."""
     note = unsettled_reason(run.arrival, run.positions)
     if run.cut_short:
-        cut = f"the run ended at max_time = {max_time:.4g} s with the wave at domino {run.front}"
+        cut = f"the run {run.cut_short_text(max_time)}"
         note = f"{cut}; {note}" if note else cut
     return note
