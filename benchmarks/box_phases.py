@@ -123,6 +123,9 @@ def _timed_steps(bodies, spheres, walls, mats, contacts, settings, rec, bx, n_st
     if has_boxes:
         bx.n_groups[0] = -1
     rebuild_due = contact.needs_rebuild(bodies, settings.skin, contacts.n[0])
+    if has_boxes:
+        bx.n_cand[0] = -1
+    first, stop, n_moving = engine._moving_range(bodies)
     builds = 0
     t0 = rec.clock[engine.CLOCK_TIME]
     for _ in range(n_steps):
@@ -183,6 +186,11 @@ def _timed_steps(bodies, spheres, walls, mats, contacts, settings, rec, bx, n_st
             engine._bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, step == 0)
             if has_boxes:
                 bx.n_groups[0] = -1
+        if n_changes > 0 or (has_boxes and bx.n_changes[0] > 0):
+            was_moving = n_moving
+            first, stop, n_moving = engine._moving_range(bodies)
+            if has_boxes and n_moving > was_moving:
+                bx.n_cand[0] = -1
         code = -1  # (no stop condition: the quiet test with an infinite quiet time)
         if engine.quiet_reached(t, dt, max(rec.last_onset[0], t0), np.inf):
             code = 0
@@ -190,7 +198,7 @@ def _timed_steps(bodies, spheres, walls, mats, contacts, settings, rec, bx, n_st
         acc[BOOK] += c3 - c2
         check_due = (step + 1) % settings.check_every == 0 or code >= 0
         if not check_due:
-            rebuild_due = engine._advance_bodies(bodies, settings)
+            rebuild_due = engine._advance_bodies(bodies, settings, first, stop)
             c4 = _cycles()
             acc[ADVANCE] += c4 - c3
         else:

@@ -1,6 +1,8 @@
 """Engine behaviour: contact events, held bodies, stop conditions, neighbour search,
 checkpoints, bad input and aborts."""
 
+from collections import namedtuple
+
 import numpy as np
 import pytest
 from dem_scenes import RHO, R, column
@@ -662,3 +664,18 @@ def test_energy_indices_name_the_energy_vector():
     e = sim.energy()
     assert e["kinetic_translational"] > 0.0 and e["gravitational"] != 0.0
     assert e["total"] == pytest.approx(sum(e[name] for name in energy.ENERGY_NAMES[:-1]))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.integers(0, 1), min_size=1, max_size=40))
+def test_moving_range_holds_every_body_that_is_not_held(flags):
+    """The fused body pass looks only at ``range(first, stop)`` (engine._moving_range):
+    every body that is not held lies in it, and it is the tightest such range."""
+    held = np.array(flags, dtype=np.uint8)
+    first, stop, count = engine._moving_range(namedtuple("HeldFlags", ["held"])(held))
+    free = np.flatnonzero(held == 0)
+    assert count == free.size
+    if free.size == 0:
+        assert first >= stop
+    else:
+        assert (first, stop) == (free[0], free[-1] + 1)

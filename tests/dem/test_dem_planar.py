@@ -96,7 +96,7 @@ def test_validate_planar_body_pass_is_the_general_one_to_the_bit(damping):
         s = sim.settings._replace(planar=planar)
         sim.bodies.fresh[[1, 4]] = 1  # the half kick of a velocity-Verlet start
         for _ in range(50):
-            _advance_bodies(sim.bodies, s)
+            _advance_bodies(sim.bodies, s, 0, sim.bodies.mass.shape[0])
         power = kick(sim.bodies, s.gravity, s.dt, damping, True, planar)
         drift(sim.bodies, s.dt, planar)
         states.append((sim.bodies, power))

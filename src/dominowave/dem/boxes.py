@@ -264,6 +264,12 @@ def build_box_candidates(bodies, boxes, walls, skin):
     if ``boxes.cand`` is too short (then ``n_cand`` is -1: every pair is a candidate
     until the caller grows it and builds again).
 
+    Pairs that get no rows while the list lasts are left out: two held boxes, a held box
+    and a wall (:func:`_held_pair`).  So the search looks only around the boxes that are
+    not held (contact._scan_active), and costs what the moving part of a chain held
+    until touched costs; the engine builds the list again when a box is released (and at
+    the start of every run, as the caller may have released some).
+
     The bounding sphere of box x has the radius ``reach_x + r_x`` (core half-diagonal plus
     twice the rounding), which covers the tests of :func:`box_forces` with their margins:
     two boxes pass them only closer than ``reach_a + reach_b + (r_a + r_b) / 2``, a box
@@ -289,7 +295,10 @@ def build_box_candidates(bodies, boxes, walls, skin):
         listed=boxes.body,
         n_listed=boxes.n_cand,
     )
-    keys, _ = _candidate_pairs(bound, walls, skin)
+    moving = np.empty(nx, np.uint8)
+    for x in range(nx):
+        moving[x] = 1 - bodies.held[boxes.body[x]]
+    keys, _ = _candidate_pairs(bound, walls, skin, moving)
     n = keys.shape[0]
     if n > boxes.cand.shape[0]:
         boxes.n_cand[0] = -1
@@ -334,8 +343,9 @@ def _visit_pairs(bodies, boxes, nx, nw):
 
     Only the boxes that are not held are looked at -- each with its own candidates
     (a, j > a) and walls, and the held boxes a < b of its reverse list (``boxes.rev``) --
-    so a held box costs one test, however many candidates it has, and the list is not
-    rebuilt when a box is released.  Each candidate is in exactly one of those lists,
+    so a held box costs one test, however many candidates it has.  (A list built before
+    a release holds no pairs of two held boxes; the engine builds it again at the start
+    of the next step.)  Each candidate is in exactly one of those lists,
     and the sort restores the pair order of the list (a reverse pair (a, b) comes before
     b's own pairs): the pairs are visited in the order of the full list, so the forces
     are the same to the bit."""

@@ -240,8 +240,10 @@ def moved_beyond(bodies, b, limit):
 
 
 @njit(cache=True, error_model="numpy")
-def _candidate_pairs(spheres, walls, skin):
-    """All sphere-sphere (different bodies) and sphere-wall pairs closer than the skin.
+def _candidate_pairs(spheres, walls, skin, active=None):
+    """All sphere-sphere (different bodies) and sphere-wall pairs closer than the skin;
+    with ``active`` ((ns,) uint8), only those with an active sphere (two spheres of which
+    one is active, an active sphere and a wall).
 
     Linked-cell search with cells of edge >= 2 R_max + skin.  Returns the int64 keys
     ``i * (ns + nw) + jj``, ascending, with ``jj = j > i`` for spheres and ``ns + w`` for
@@ -280,11 +282,15 @@ def _candidate_pairs(spheres, walls, skin):
     _bin_spheres(pos, lo, inv_width, ncell, head, nxt, cidx)
     raw = np.empty(16 * ns + 16, np.int64)
     raw_first = np.empty(raw.shape[0], np.int64)
-    n = _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, raw, raw_first)
+    n = -1
     while n < 0:  # keys too short: the scan wrote nothing that counts, redo with room
-        raw = np.empty(2 * raw.shape[0], np.int64)
-        raw_first = np.empty(raw.shape[0], np.int64)
-        n = _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, raw, raw_first)
+        if active is None:
+            n = _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, raw, raw_first)
+        else:
+            n = _scan_active(spheres, walls, skin, active, ncell, head, nxt, cidx, raw, raw_first)
+        if n < 0:
+            raw = np.empty(2 * raw.shape[0], np.int64)
+            raw_first = np.empty(raw.shape[0], np.int64)
     keys = np.empty(n, np.int64)
     first = np.empty(n, np.int64)
     _sort_pairs(raw[:n], raw_first[:n], np.zeros(ns + 1, np.int64), keys, first)
@@ -345,6 +351,53 @@ def _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys, first):
                     t = head[(cx * ncell[1] + cy) * ncell[2] + cz]
                     while t >= 0:
                         if (t > s or not own) and body[t] != body[s]:
+                            dx = pos[t, 0] - pos[s, 0]
+                            dy = pos[t, 1] - pos[s, 1]
+                            dz = pos[t, 2] - pos[s, 2]
+                            reach = radius[s] + radius[t] + skin
+                            if dx * dx + dy * dy + dz * dz < reach * reach:
+                                if n == capacity:
+                                    return -1
+                                first[n] = min(s, t)
+                                keys[n] = first[n] * stride + max(s, t)
+                                n += 1
+                        t = nxt[t]
+        for w in range(nw):
+            dist = 0.0
+            for d in range(3):
+                dist += (pos[s, d] - wall_point[w, d]) * wall_normal[w, d]
+            if dist < radius[s] + skin:
+                if n == capacity:
+                    return -1
+                first[n] = s
+                keys[n] = s * stride + ns + w
+                n += 1
+    return n
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _scan_active(spheres, walls, skin, active, ncell, head, nxt, cidx, keys, first):
+    """:func:`_scan_cells` for the pairs with an active sphere only: each active sphere s
+    meets the spheres of its own and all 26 neighbour cells (a pair of two active
+    spheres is kept from its lower index), and the walls; an inactive sphere is not
+    looked at.  The cost grows with the active spheres, not with all of them (a chain of
+    dominoes held until touched: the moving ones)."""
+    pos, radius, body = spheres.pos, spheres.radius, spheres.body
+    wall_point, wall_normal = walls.point, walls.normal
+    ns = pos.shape[0]
+    nw = wall_point.shape[0]
+    stride = ns + nw
+    capacity = keys.shape[0]
+    n = 0
+    for s in range(ns):
+        if not active[s]:
+            continue
+        for cx in range(max(cidx[s, 0] - 1, 0), min(cidx[s, 0] + 2, ncell[0])):
+            for cy in range(max(cidx[s, 1] - 1, 0), min(cidx[s, 1] + 2, ncell[1])):
+                for cz in range(max(cidx[s, 2] - 1, 0), min(cidx[s, 2] + 2, ncell[2])):
+                    t = head[(cx * ncell[1] + cy) * ncell[2] + cz]
+                    while t >= 0:
+                        if (t > s or not active[t]) and body[t] != body[s]:
                             dx = pos[t, 0] - pos[s, 0]
                             dy = pos[t, 1] - pos[s, 1]
                             dz = pos[t, 2] - pos[s, 2]

@@ -472,15 +472,32 @@ def steps_until_quiet(t0: float, dt: float, since: float, quiet: float, limit: i
     return None if n < 0 else int(n)
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _moving_range(bodies):
+    """``(first, stop, count)``: the ``count`` bodies that are not held all lie in
+    ``range(first, stop)`` (empty if every body is held).  In a chain held until touched
+    the moving dominoes are the first ones, so the fused pass (:func:`_advance_bodies`)
+    looks at those and not at every held domino after them."""
+    held = bodies.held
+    first, stop, count = held.shape[0], 0, 0
+    for b in range(held.shape[0]):
+        if not held[b]:
+            first = min(first, b)
+            stop = b + 1
+            count += 1
+    return first, stop, count
+
+
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _advance_bodies(bodies, settings):
+def _advance_bodies(bodies, settings, first, stop):
     """Kick and drift in one pass over the bodies, for the steps in which nothing reads the
     state between the two (the same arithmetic as :func:`kick` then :func:`drift`: each
     body's update is independent of the others, and its data stays in registers); the
     Verlet-list test of the next step (:func:`needs_rebuild`) is done on the way, for the
     bodies that are not held: a held body has not moved since the last build (it is
-    fixed, and the first step of a run tests every body).  Returns whether the list must
-    be rebuilt."""
+    fixed, and the first step of a run tests every body).  Only the bodies of
+    ``range(first, stop)`` are looked at, which holds every body that is not held
+    (:func:`_moving_range`).  Returns whether the list must be rebuilt."""
     half_skin = 0.5 * settings.skin
     g, dt = settings.gravity, settings.dt
     damping, damp_gravity = settings.damping, settings.damp_gravity
@@ -489,14 +506,14 @@ def _advance_bodies(bodies, settings):
     if settings.planar:
         # the same results with fewer operations, and without the full-step quantities
         # that nothing reads in these steps (integrate.advance_body_planar)
-        for b in range(bodies.mass.shape[0]):
+        for b in range(first, stop):
             if held[b]:  # (a held body does not move: nothing to advance or test)
                 continue
             advance_body_planar(bodies, b, g, dt, damping, damp_gravity)
             if not rebuild:
                 rebuild = moved_beyond(bodies, b, half_skin)
         return rebuild
-    for b in range(bodies.mass.shape[0]):
+    for b in range(first, stop):
         if held[b]:
             continue
         kick_body(bodies, b, g, dt, damping, damp_gravity)
@@ -530,9 +547,15 @@ def run_loop(
     planar = settings.planar
     shear_kinematics = mats.shear_kinematics[0]
     has_boxes = boxes.body.shape[0] > 0
-    if has_boxes:  # (the caller may have changed the held flags: boxes._visit_pairs)
+    if has_boxes:
+        # the caller may have released held boxes: their pairs with held boxes are not
+        # in the candidate list (boxes.build_box_candidates), which is built anew at the
+        # first step, and the visited pairs with it (boxes._visit_pairs)
+        boxes.n_cand[0] = -1
         boxes.n_groups[0] = -1
     rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
+    # (in here only a release changes the held flags)
+    first_moving, stop_moving, n_moving = _moving_range(bodies)
     for done in range(n_steps):
         t = rec.clock[CLOCK_TIME]
         if t >= t_end - 0.5 * dt:
@@ -607,6 +630,11 @@ def run_loop(
             _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, step == 0)
             if has_boxes:
                 boxes.n_groups[0] = -1
+        if n_changes > 0 or (has_boxes and boxes.n_changes[0] > 0):
+            was_moving = n_moving
+            first_moving, stop_moving, n_moving = _moving_range(bodies)
+            if has_boxes and n_moving > was_moving:
+                boxes.n_cand[0] = -1  # (released boxes: the list is built at the next step)
         if settings.record_peak_force:
             _record_peak_force(spheres, contacts, rec)
             if has_boxes:
@@ -622,7 +650,7 @@ def run_loop(
         check_due = (step + 1) % settings.check_every == 0 or last or code >= 0
         if not (traj_due or energy_due or check_due or settings.track_energy):
             # nothing reads the state between kick and drift: one pass over the bodies
-            rebuild_due = _advance_bodies(bodies, settings)
+            rebuild_due = _advance_bodies(bodies, settings, first_moving, stop_moving)
         else:
             p_damping = kick(
                 bodies, settings.gravity, dt, settings.damping, settings.damp_gravity, planar
