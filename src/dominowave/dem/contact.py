@@ -317,6 +317,68 @@ def _bin_spheres(pos, lo, inv_width, ncell, head, nxt, cidx):
         head[flat] = s
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _within_skin(pos, radius, s, t, skin):
+    """Whether the surfaces of spheres s and t are closer than ``skin`` [m] (the same
+    decision from either side: the squares and the sums do not depend on the order)."""
+    dx = pos[t, 0] - pos[s, 0]
+    dy = pos[t, 1] - pos[s, 1]
+    dz = pos[t, 2] - pos[s, 2]
+    reach = radius[s] + radius[t] + skin
+    return dx * dx + dy * dy + dz * dz < reach * reach
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _add_pair(keys, first, n, i, key):
+    """Append ``key`` (first index ``i``) at position n; returns n + 1, or -1 if full."""
+    if n == keys.shape[0]:
+        return -1
+    first[n] = i
+    keys[n] = key
+    return n + 1
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _add_cell_pairs(spheres, s, t, nxt, own, active, skin, stride, keys, first, n):
+    """Append the pairs of sphere s with the spheres of one cell's list (``t`` its head,
+    ``nxt`` the links) closer than ``skin`` [m]: of other bodies, and in the cell of s
+    (``own``) only those after s; with ``active`` ((ns,) or None), an active sphere only
+    after s as well (the pair is found from both sides).  Returns the new count, or -1 if
+    full."""
+    pos, radius, body = spheres.pos, spheres.radius, spheres.body
+    while t >= 0:
+        ordered = own if active is None else active[t]
+        if (t > s or not ordered) and body[t] != body[s] and _within_skin(pos, radius, s, t, skin):
+            i = min(s, t)
+            n = _add_pair(keys, first, n, i, i * stride + max(s, t))
+            if n < 0:
+                return -1
+        t = nxt[t]
+    return n
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _scan_walls(spheres, walls, skin, active, keys, first, n):
+    """Append after the n pairs found the pairs of every sphere (with ``active``, every
+    active sphere) with the walls it is closer to than ``skin`` [m]; returns the new
+    count, or -1 if full."""
+    pos, radius = spheres.pos, spheres.radius
+    ns = pos.shape[0]
+    stride = ns + walls.point.shape[0]
+    for s in range(ns):
+        if active is not None and not active[s]:
+            continue
+        for w in range(walls.point.shape[0]):
+            dist = 0.0
+            for d in range(3):
+                dist += (pos[s, d] - walls.point[w, d]) * walls.normal[w, d]
+            if dist < radius[s] + skin:
+                n = _add_pair(keys, first, n, s, s * stride + ns + w)
+                if n < 0:
+                    return -1
+    return n
+
+
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys, first):
     """Write the keys of all pairs closer than the skin into ``keys`` (in no particular
@@ -327,12 +389,8 @@ def _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys, first):
     13 neighbour cells whose offset is lexicographically positive, so that every pair of
     neighbouring cells is visited once, from one side.
     """
-    pos, radius, body = spheres.pos, spheres.radius, spheres.body
-    wall_point, wall_normal = walls.point, walls.normal
-    ns = pos.shape[0]
-    nw = wall_point.shape[0]
-    stride = ns + nw
-    capacity = keys.shape[0]
+    ns = spheres.pos.shape[0]
+    stride = ns + walls.point.shape[0]
     n = 0
     for s in range(ns):
         for ox in range(0, 2):
@@ -349,30 +407,11 @@ def _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys, first):
                         continue
                     own = ox == 0 and oy == 0 and oz == 0
                     t = head[(cx * ncell[1] + cy) * ncell[2] + cz]
-                    while t >= 0:
-                        if (t > s or not own) and body[t] != body[s]:
-                            dx = pos[t, 0] - pos[s, 0]
-                            dy = pos[t, 1] - pos[s, 1]
-                            dz = pos[t, 2] - pos[s, 2]
-                            reach = radius[s] + radius[t] + skin
-                            if dx * dx + dy * dy + dz * dz < reach * reach:
-                                if n == capacity:
-                                    return -1
-                                first[n] = min(s, t)
-                                keys[n] = first[n] * stride + max(s, t)
-                                n += 1
-                        t = nxt[t]
-        for w in range(nw):
-            dist = 0.0
-            for d in range(3):
-                dist += (pos[s, d] - wall_point[w, d]) * wall_normal[w, d]
-            if dist < radius[s] + skin:
-                if n == capacity:
-                    return -1
-                first[n] = s
-                keys[n] = s * stride + ns + w
-                n += 1
-    return n
+                    n = _add_cell_pairs(spheres, s, t, nxt, own, None, skin, stride, keys,
+                                        first, n)  # fmt: skip
+                    if n < 0:
+                        return -1
+    return _scan_walls(spheres, walls, skin, None, keys, first, n)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -382,12 +421,8 @@ def _scan_active(spheres, walls, skin, active, ncell, head, nxt, cidx, keys, fir
     spheres is kept from its lower index), and the walls; an inactive sphere is not
     looked at.  The cost grows with the active spheres, not with all of them (a chain of
     dominoes held until touched: the moving ones)."""
-    pos, radius, body = spheres.pos, spheres.radius, spheres.body
-    wall_point, wall_normal = walls.point, walls.normal
-    ns = pos.shape[0]
-    nw = wall_point.shape[0]
-    stride = ns + nw
-    capacity = keys.shape[0]
+    ns = spheres.pos.shape[0]
+    stride = ns + walls.point.shape[0]
     n = 0
     for s in range(ns):
         if not active[s]:
@@ -396,30 +431,11 @@ def _scan_active(spheres, walls, skin, active, ncell, head, nxt, cidx, keys, fir
             for cy in range(max(cidx[s, 1] - 1, 0), min(cidx[s, 1] + 2, ncell[1])):
                 for cz in range(max(cidx[s, 2] - 1, 0), min(cidx[s, 2] + 2, ncell[2])):
                     t = head[(cx * ncell[1] + cy) * ncell[2] + cz]
-                    while t >= 0:
-                        if (t > s or not active[t]) and body[t] != body[s]:
-                            dx = pos[t, 0] - pos[s, 0]
-                            dy = pos[t, 1] - pos[s, 1]
-                            dz = pos[t, 2] - pos[s, 2]
-                            reach = radius[s] + radius[t] + skin
-                            if dx * dx + dy * dy + dz * dz < reach * reach:
-                                if n == capacity:
-                                    return -1
-                                first[n] = min(s, t)
-                                keys[n] = first[n] * stride + max(s, t)
-                                n += 1
-                        t = nxt[t]
-        for w in range(nw):
-            dist = 0.0
-            for d in range(3):
-                dist += (pos[s, d] - wall_point[w, d]) * wall_normal[w, d]
-            if dist < radius[s] + skin:
-                if n == capacity:
-                    return -1
-                first[n] = s
-                keys[n] = s * stride + ns + w
-                n += 1
-    return n
+                    n = _add_cell_pairs(spheres, s, t, nxt, True, active, skin, stride, keys,
+                                        first, n)  # fmt: skip
+                    if n < 0:
+                        return -1
+    return _scan_walls(spheres, walls, skin, active, keys, first, n)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
