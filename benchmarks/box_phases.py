@@ -106,7 +106,7 @@ def _split_boxes(bodies, bx, walls, pl, acc):
             t3 = _cycles()
             reach_cycles += t3 - t2
             if margin >= 0.0:
-                boxes._manifold(bodies, bx, walls, a, j, pl, margin)
+                boxes._manifold(bodies, bx, walls, a, j, pl, margin, True)
                 manifold_cycles += _cycles() - t3
     acc[REACH] += reach_cycles
     acc[MANIFOLD] += manifold_cycles
@@ -123,7 +123,7 @@ def _timed_steps(bodies, spheres, walls, mats, contacts, settings, rec, bx, n_st
     if has_boxes:
         bx.n_groups[0] = -1
     rebuild_due = contact.needs_rebuild(bodies, settings.skin, contacts.n[0])
-    if has_boxes:
+    if has_boxes and boxes.released_since_build(bodies, bx):
         bx.n_cand[0] = -1
     first, stop, n_moving = engine._moving_range(bodies)
     builds = 0
@@ -189,7 +189,7 @@ def _timed_steps(bodies, spheres, walls, mats, contacts, settings, rec, bx, n_st
         if n_changes > 0 or (has_boxes and bx.n_changes[0] > 0):
             was_moving = n_moving
             first, stop, n_moving = engine._moving_range(bodies)
-            if has_boxes and n_moving > was_moving:
+            if has_boxes and n_moving > was_moving and boxes.released_since_build(bodies, bx):
                 bx.n_cand[0] = -1
         code = -1  # (no stop condition: the quiet test with an infinite quiet time)
         if engine.quiet_reached(t, dt, max(rec.last_onset[0], t0), np.inf):

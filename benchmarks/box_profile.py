@@ -81,7 +81,7 @@ def _search_and_manifold(bodies, boxes, walls, planar, reps):
                 j = jj if jj < nx else -(jj - nx) - 1
                 margin = _within_reach(bodies, boxes, walls, a, j, planar)
                 if margin >= 0.0:
-                    points += _manifold(bodies, boxes, walls, a, j, planar, margin)
+                    points += _manifold(bodies, boxes, walls, a, j, planar, margin, True)
     return points
 
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from dominowave.dem import ONSET, Material, Scene, StopCondition
+from dominowave.dem import ONSET, Material, Scene, Simulation, StopCondition
 
 G = 9.81
 RHO = 1000.0
@@ -121,3 +121,57 @@ def test_kept_visited_pairs_follow_releases_and_the_callers_held_flags(planar):
         n = rows.n[0]
         landed |= bool(np.any((rows.i[:n] == 2) & (rows.j[:n] == -1)))
     assert landed
+
+
+def _mixed_scene(planar):
+    """A pushed box toppling a row of four held boxes into a held clump and two held boxes
+    touching each other, the last touching a second wall; on the other side a free ball
+    rolling into two more held boxes (releases by box-box, box-sphere and sphere contacts)."""
+    scene = Scene(gravity=(0.0, 0.0, -G))
+    m = scene.add_material(Material(density=RHO, kn=2e4, friction=0.4, restitution=0.5))
+    scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), m)
+    scene.add_wall((0.2, 0.0, 0.0), (-1.0, 0.0, 0.0), m)
+    blocked = "y rx rz" if planar else ""
+    w = np.array([0.0, 8.0, 0.0])
+    centre = np.array([0.0, 0.0, HALF[2]])
+    scene.add_box(centre, HALF, ROUND, m, blocked=blocked,
+                  velocity=np.cross(w, centre - np.array([HALF[0] - ROUND, 0.0, 0.0])),
+                  angular_velocity=w)  # fmt: skip
+    R = Rotation.from_rotvec([0.0, 0.05, 0.0]).as_matrix()
+    for x in (0.03, 0.06, 0.09, 0.12):
+        centre = np.array([x + HALF[0], 0.0, 0.0]) + R @ np.array([-HALF[0], 0.0, HALF[2]])
+        scene.add_box(centre, HALF, ROUND, m, orientation=R, blocked=blocked, held=True)
+    last = 0.2 - HALF[0]
+    for x in (last - 2 * HALF[0] - 1e-4, last):
+        scene.add_box([x, 0.0, HALF[2]], HALF, ROUND, m, blocked=blocked, held=True)
+    scene.add_clump([[0.155, 0.0, 0.004], [0.155, 0.0, 0.012]], 0.004, m, blocked=blocked,
+                    held=True)  # fmt: skip
+    for x in (-0.1, -0.13):
+        scene.add_box([x, 0.0, HALF[2]], HALF, ROUND, m, blocked=blocked, held=True)
+    scene.add_sphere([-0.06, 0.0, 0.04], 0.005, m, blocked=blocked, velocity=(-0.6, 0.0, 0.0))
+    return scene.build(safety=0.05)
+
+
+@pytest.mark.parametrize("planar", [True, False])
+def test_every_held_body_of_a_mixed_scene_is_released_alike_in_pieces_and_resumed(planar):
+    """The box neighbour list leaves out the pairs of held boxes and is built again when a
+    box is released (boxes.build_box_candidates): in a scene of boxes, a clump and a ball,
+    every held body is released -- by a box, a sphere, a clump, and two touching held
+    boxes one after the other -- and the run in one piece, in uneven pieces and resumed
+    from a saved state end in the same state to the bit."""
+    end = 0.6
+    whole = _mixed_scene(planar)
+    whole.run(until=end, trajectory_every=50)  # (the trajectory buffers grow: re-entries)
+    assert np.isfinite(whole.release_time[1:-1]).all()  # (the ball, last, is not held)
+    pieces = _mixed_scene(planar)
+    rng = np.random.default_rng(1)
+    while pieces.time < end - 0.5 * pieces.dt:
+        pieces.run(n_steps=int(rng.integers(1, 400)), until=end)
+    first = _mixed_scene(planar)
+    first.run(until=end / 3)
+    resumed = Simulation.from_state(first.get_state())
+    resumed.run(until=end)
+    for sim in (pieces, resumed):
+        for name in ("pos", "quat", "vel", "omega", "held"):
+            np.testing.assert_array_equal(getattr(sim.bodies, name), getattr(whole.bodies, name))
+        np.testing.assert_array_equal(sim.release_time, whole.release_time)

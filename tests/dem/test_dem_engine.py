@@ -12,7 +12,12 @@ from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation
 
 from dominowave.dem import END, ONSET, Material, Scene, Simulation, StopCondition, engine, integrate
-from dominowave.dem.contact import build_verlet_list, needs_rebuild, pair_properties
+from dominowave.dem.contact import (
+    _candidate_pairs,
+    build_verlet_list,
+    needs_rebuild,
+    pair_properties,
+)
 from dominowave.dem.energy import ENERGY_NAMES, N_MECHANICAL
 
 
@@ -154,6 +159,27 @@ def test_validate_verlet_build_matches_brute_force(seed):
             pair_properties(c.i[k], c.j[k], spheres, walls, bodies, sim.mats, props)
             assert (c.kn[k], c.kt[k], c.mu[k], c.cn[k]) == tuple(props)
         before = {f: getattr(c, f)[:n].copy() for f in fields}
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_validate_search_of_the_active_spheres_matches_brute_force(seed):
+    """The search around active spheres only (contact._scan_active: every neighbour cell
+    of each active sphere) lists exactly the brute-force pairs with an active member --
+    two spheres of which one is active, an active sphere and a wall -- in key order."""
+    sim, rng = _random_walled_scene(seed)
+    spheres, walls = sim.spheres, sim.walls
+    ns, nw = spheres.pos.shape[0], walls.point.shape[0]
+    skin = sim.settings.skin
+    full = _brute_force_keys(spheres, walls, skin)
+    for share in (0.0, 0.1, 0.5, 1.0):
+        active = (rng.random(ns) < share).astype(np.uint8)
+        i, j = full // (ns + nw), full % (ns + nw)
+        partner_active = np.where(j < ns, active[np.minimum(j, ns - 1)], 0)
+        expected = full[(active[i] == 1) | (partner_active == 1)]
+        keys, first = _candidate_pairs(spheres, walls, skin, active)
+        np.testing.assert_array_equal(keys, expected)
+        np.testing.assert_array_equal(first, keys // (ns + nw))
+    np.testing.assert_array_equal(_candidate_pairs(spheres, walls, skin)[0], full)
 
 
 def test_validate_energy_balance_with_friction_and_damping():

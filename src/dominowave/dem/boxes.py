@@ -32,8 +32,9 @@ Contact rows are kept in pair order (box i, then partner: boxes j > i, then wall
 rebuilt every step.  Pairs within reach are found in two stages, as for spheres: a
 neighbour (Verlet) list of candidate pairs whose bounding spheres come closer than the
 skin (:func:`build_box_candidates`, the linked-cell search of contact.py, rebuilt with the
-spheres' list when a body may have moved by half the skin), and each step the bounding
-tests of :func:`box_forces` on the candidates only.  The candidates are a superset of the
+spheres' list when a body may have moved by half the skin, and after the release of a
+held box whose pairs it left out), and each step the bounding tests of
+:func:`box_forces` on the candidates only.  The candidates are a superset of the
 pairs that pass those tests, visited in the same order, so the forces do not depend on
 when the list was built.  Held boxes (engine.py) have no rows with walls or with other
 held boxes (:func:`_held_pair`); the loop of each step looks only at the candidates of
@@ -127,6 +128,8 @@ Boxes = namedtuple(
         "src",  # (nx,) int64 scratch: the boxes a of the visited pairs, ascending
         "src_start",  # (nx + 1,) int64 scratch: first visited pair of each src entry
         "n_groups",  # (1,) int64: groups of visit/src/src_start, -1: to be rebuilt
+        "held_at_build",  # (nx,) uint8: 1 if the box's pairs with held boxes and walls may
+        #   be missing from cand (held at the list build; a new state: 1)
         "sphere_rows",  # BoxContacts of the box-sphere contacts (box_sphere.py), j: sphere
         "sphere_next",  # BoxContacts being built (scratch)
         "sphere_cand",  # (Q,) int64 candidate box-sphere pairs, box * ns + sphere, ascending
@@ -217,6 +220,7 @@ def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR,
         src=np.zeros(nx, np.int64),
         src_start=np.zeros(nx + 1, np.int64),
         n_groups=np.full(1, -1, np.int64),
+        held_at_build=np.ones(nx, np.uint8),
         sphere_rows=_empty_rows(sphere_capacity),
         sphere_next=_empty_rows(sphere_capacity),
         sphere_cand=np.zeros(8 * nx + 16, np.int64),
@@ -258,17 +262,21 @@ def _reach_of(boxes, x):
 # run loop, which is compiled without it and whose callees inherit that setting)
 @njit(cache=True, error_model="numpy", _nrt=True)
 def build_box_candidates(bodies, boxes, walls, skin):
-    """The neighbour list of the box contacts: every box-box and box-wall pair whose
+    """The neighbour list of the box contacts: the box-box and box-wall pairs whose
     bounding spheres come closer than ``skin`` [m], into ``boxes.cand`` (ascending
     :func:`_pair_code`) and ``boxes.cand_start``.  Returns their number, or ``-needed``
     if ``boxes.cand`` is too short (then ``n_cand`` is -1: every pair is a candidate
     until the caller grows it and builds again).
 
-    Pairs that get no rows while the list lasts are left out: two held boxes, a held box
-    and a wall (:func:`_held_pair`).  So the search looks only around the boxes that are
-    not held (contact._scan_active), and costs what the moving part of a chain held
-    until touched costs; the engine builds the list again when a box is released (and at
-    the start of every run, as the caller may have released some).
+    While at most half of the boxes move, the pairs that get no rows while the list
+    lasts are left out -- two held boxes, a held box and a wall (:func:`_held_pair`) --
+    and the search looks only around the boxes that are not held (contact._scan_active,
+    every neighbour cell of each): it costs what the moving part of a chain held until
+    touched costs.  ``boxes.held_at_build`` marks the boxes held then; the engine builds
+    the list again at the step after one of them is released (or at the start of a run
+    in which it is free, :func:`released_since_build`).  With more boxes moving, every
+    pair is listed (the half-shell search over all boxes, contact._scan_cells, is the
+    cheaper one then) and no box is marked.
 
     The bounding sphere of box x has the radius ``reach_x + r_x`` (core half-diagonal plus
     twice the rounding), which covers the tests of :func:`box_forces` with their margins:
@@ -296,9 +304,17 @@ def build_box_candidates(bodies, boxes, walls, skin):
         n_listed=boxes.n_cand,
     )
     moving = np.empty(nx, np.uint8)
+    n_moving = 0
     for x in range(nx):
-        moving[x] = 1 - bodies.held[boxes.body[x]]
-    keys, _ = _candidate_pairs(bound, walls, skin, moving)
+        moving[x] = 0 if bodies.held[boxes.body[x]] else 1
+        n_moving += moving[x]
+    if 2 * n_moving <= nx:
+        keys, _ = _candidate_pairs(bound, walls, skin, moving)
+        for x in range(nx):
+            boxes.held_at_build[x] = 1 - moving[x]
+    else:
+        keys, _ = _candidate_pairs(bound, walls, skin)
+        boxes.held_at_build[:] = 0
     n = keys.shape[0]
     if n > boxes.cand.shape[0]:
         boxes.n_cand[0] = -1
@@ -327,6 +343,17 @@ def build_box_candidates(bodies, boxes, walls, skin):
     return n
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def released_since_build(bodies, boxes):
+    """True if a box held at the last list build is free now: its pairs with held boxes
+    and walls may be missing from the list (:func:`build_box_candidates`), which must be
+    built again before the next :func:`box_forces`."""
+    for x in range(boxes.body.shape[0]):
+        if boxes.held_at_build[x] and not bodies.held[boxes.body[x]]:
+            return True
+    return False
+
+
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _visit_pairs(bodies, boxes, nx, nw):
     """The listed candidate pairs that are not held pairs (:func:`_held_pair`), ascending,
@@ -343,9 +370,9 @@ def _visit_pairs(bodies, boxes, nx, nw):
 
     Only the boxes that are not held are looked at -- each with its own candidates
     (a, j > a) and walls, and the held boxes a < b of its reverse list (``boxes.rev``) --
-    so a held box costs one test, however many candidates it has.  (A list built before
-    a release holds no pairs of two held boxes; the engine builds it again at the start
-    of the next step.)  Each candidate is in exactly one of those lists,
+    so a held box costs one test, however many candidates it has (a list that leaves
+    out the pairs of held boxes, :func:`build_box_candidates`, has none to skip).  Each
+    candidate is in exactly one of those lists,
     and the sort restores the pair order of the list (a reverse pair (a, b) comes before
     b's own pairs): the pairs are visited in the order of the full list, so the forces
     are the same to the bit."""
@@ -419,10 +446,11 @@ def _partner(boxes, a, k, nx, nw):
 # compiled function passes every array of its tuple arguments one by one, about 0.5 us
 # for the bodies and the box state)
 @njit(cache=True, error_model="numpy", inline="always")
-def _manifold(bodies, boxes, walls, a, j, planar, margin):
+def _manifold(bodies, boxes, walls, a, j, planar, margin, frame_ready):
     """Contact points of box a with partner j (box, or -(wall + 1)) into boxes.m_*;
-    returns their number.  Called right after :func:`_within_reach` passed the pair: two
-    boxes in 3D take the relative frame that its face test left in ``boxes.work[0]``."""
+    returns their number.  ``frame_ready``: :func:`_within_reach` has just passed this
+    pair, and nothing has written ``boxes.work`` since -- two boxes in 3D then take the
+    relative frame that its face test left there (shapes.cuboid.box_box)."""
     normal, point, overlap, keyf = boxes.m_normal, boxes.m_point, boxes.m_overlap, boxes.m_key
     ba = boxes.body[a]
     xa, Ra, ha, ra = bodies.pos[ba], bodies.rot[ba], boxes.half[a], boxes.radius[a]
@@ -434,7 +462,7 @@ def _manifold(bodies, boxes, walls, a, j, planar, margin):
         else:
             n = box_box(
                 xa, Ra, ha, ra, xb, Rb, hb, rb, margin, boxes.work, normal, point, overlap, keyf,
-                True,
+                frame_ready,
             )  # fmt: skip
     else:
         w = -j - 1
@@ -794,7 +822,7 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
             o_end = o
             while o_end < old.n[0] and _pair_code(old.i[o_end], old.j[o_end], nx, nw) == code:
                 o_end += 1
-            m = _manifold(bodies, boxes, walls, a, j, planar, margin)
+            m = _manifold(bodies, boxes, walls, a, j, planar, margin, True)  # (_within_reach)
             tol = _continuation_distance(boxes, a, j)
             first_row = n_new
             end_depth, end_speed = 0.0, 0.0
@@ -1004,7 +1032,7 @@ def _raise_peak(peak, bi, bj, fn):
 # --- checkpoints -----------------------------------------------------------------------------
 _BOX_ARRAYS = (
     "body", "half", "radius", "material", "normal_law",
-    "cand", "n_cand", "cand_start", "rev", "rev_start",
+    "cand", "n_cand", "cand_start", "rev", "rev_start", "held_at_build",
 )  # fmt: skip
 """Arrays of :class:`Boxes` a resumed run depends on; the rest is per-step scratch (the
 rows being built, the manifold of one pair, the visited pairs, the change list), written
@@ -1056,6 +1084,9 @@ def boxes_from_state(state: dict, n_spheres: int = 0) -> Boxes:
             **{name: np.array(state[name], np.int64).reshape(-1) for name in _SPHERE_LIST}
         )
     cand = np.array(state["cand"], np.int64)
+    if "held_at_build" in state:  # (else every box counts as held at the build: a run
+        # in which one is free builds the list again at its start)
+        boxes.held_at_build[:] = np.asarray(state["held_at_build"], np.uint8)
     return boxes._replace(
         cand=cand,
         n_cand=np.array(state["n_cand"], np.int64).reshape(1),

@@ -6,9 +6,10 @@ buffer or the Verlet list needs more room (Python grows it and calls again, the 
 being untouched by the interrupted step), or when the run must be aborted.
 
 One step (see integrate.py for the scheme):
-rebuild the Verlet list if a body's spheres may have moved more than skin/2 (then place
-every sphere; between builds only the listed ones are moved; the candidate pairs of the
-boxes are rebuilt with it) -> contact forces -> contact
+rebuild the Verlet list if a body's spheres may have moved more than skin/2, or if a box
+was released whose pairs the box list left out (then place every sphere; between builds
+only the listed ones are moved; the candidate pairs of the boxes are rebuilt with it) ->
+contact forces -> contact
 onset/end bookkeeping (held bodies, events, pair statistics) -> stop conditions at t_n ->
 kick -> recorders and checks at t_n -> drift -> place the listed spheres.  In the steps
 where no recorder, check or energy ledger reads the state between kick and drift, kick
@@ -38,6 +39,7 @@ from dominowave.dem.boxes import (
     box_peak_force,
     box_power,
     build_box_candidates,
+    released_since_build,
 )
 from dominowave.dem.contact import (
     CHANGE_CONTACT,
@@ -548,11 +550,12 @@ def run_loop(
     shear_kinematics = mats.shear_kinematics[0]
     has_boxes = boxes.body.shape[0] > 0
     if has_boxes:
-        # the caller may have released held boxes: their pairs with held boxes are not
-        # in the candidate list (boxes.build_box_candidates), which is built anew at the
-        # first step, and the visited pairs with it (boxes._visit_pairs)
-        boxes.n_cand[0] = -1
+        # the caller may have changed the held flags: the visited pairs are built anew
+        # (boxes._visit_pairs), and the list too if it leaves out pairs of a box released
+        # since (boxes.build_box_candidates)
         boxes.n_groups[0] = -1
+        if released_since_build(bodies, boxes):
+            boxes.n_cand[0] = -1
     rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
     # (in here only a release changes the held flags)
     first_moving, stop_moving, n_moving = _moving_range(bodies)
@@ -633,8 +636,8 @@ def run_loop(
         if n_changes > 0 or (has_boxes and boxes.n_changes[0] > 0):
             was_moving = n_moving
             first_moving, stop_moving, n_moving = _moving_range(bodies)
-            if has_boxes and n_moving > was_moving:
-                boxes.n_cand[0] = -1  # (released boxes: the list is built at the next step)
+            if has_boxes and n_moving > was_moving and released_since_build(bodies, boxes):
+                boxes.n_cand[0] = -1  # (the list is built at the next step)
         if settings.record_peak_force:
             _record_peak_force(spheres, contacts, rec)
             if has_boxes:
