@@ -7,11 +7,13 @@ growth rate ``ln(1e3) / (t_1e-6 - t_1e-9)`` [1/s] between the middle two (NaN if
 crossed in the same frame or never), and the largest lateral displacement over the run.
 Without a seed the chain is symmetric to round-off; ``--yaw`` seeds each domino with a
 random yaw of up to that amplitude [rad] (``lateral_asymmetry``, seed 0), ``--safety``
-sets the time step as a fraction of the critical one (default: the chain's), and
-``--stiffness-ratio`` the contact stiffness k/k* (default: the preset's 1e4).
+sets the time step as a fraction of the critical one (default: the chain's),
+``--stiffness-ratio`` the contact stiffness k/k* (default: the preset's 1e4), and
+``--friction-dominoes`` the friction between dominoes (default: the preset's 0).
 
 Run: ``python docs/fig6/box/planarity.py [--d-over-l 0.4] [--members 0 1 2 3]
-[--yaw 0 1e-14 1e-12 ...] [--safety 0.1] [--shape clump] [--stiffness-ratio 1e5]``
+[--yaw 0 1e-14 1e-12 ...] [--safety 0.1] [--shape clump] [--stiffness-ratio 1e5]
+[--friction-dominoes 0.3]``
 """
 
 from __future__ import annotations
@@ -36,6 +38,7 @@ def lateral_departure(
     safety: float | None,
     shape: str = "box",
     stiffness_ratio: float | None = None,
+    friction_dominoes: float | None = None,
 ):
     """Run one member; returns the wave, the first times [s] (NaN: never) at which a
     domino's centre is more than each of THRESHOLDS off its start across the line, and
@@ -43,6 +46,8 @@ def lateral_departure(
     params = dataclasses.replace(fig6_params("3d", d_over_l, 30, shape), lateral_asymmetry=yaw)
     if stiffness_ratio is not None:
         params = dataclasses.replace(params, stiffness_ratio=stiffness_ratio)
+    if friction_dominoes is not None:
+        params = dataclasses.replace(params, friction_dominoes=friction_dominoes)
     chain = DominoChain(params, safety=safety)
     push = chain.resolve(None).scaled(member_push_factor(0, member, 1e-3))  # (the preset's)
     run = chain.run(push, keep_record=True)
@@ -63,11 +68,18 @@ def main() -> None:
     ap.add_argument("--safety", type=float, default=None)
     ap.add_argument("--shape", choices=("box", "clump"), default="box")
     ap.add_argument("--stiffness-ratio", type=float, default=None, help="k/k* (preset: 1e4)")
+    ap.add_argument("--friction-dominoes", type=float, default=None, help="(preset: 0)")
     args = ap.parse_args()
     for yaw in args.yaw:
         for m in args.members:
             wave, times, largest = lateral_departure(
-                args.d_over_l, m, yaw, args.safety, args.shape, args.stiffness_ratio
+                args.d_over_l,
+                m,
+                yaw,
+                args.safety,
+                args.shape,
+                args.stiffness_ratio,
+                args.friction_dominoes,
             )
             span = times[2] - times[1]  # (0 or NaN: no rate from these frames)
             rate = math.log(1e3) / span if span > 0 else math.nan
