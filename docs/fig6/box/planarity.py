@@ -1,10 +1,12 @@
 """Does the symmetric 3D chain of Fig 6 stay in its plane, and how fast do lateral
 perturbations grow in it?  Box dominoes by default, ``--shape clump`` for the paper's.
 
-Per run: the wave speed, the first times at which some domino's centre has moved more
-than 1e-12, 1e-9, 1e-6 and 1e-3 m across the chain's line (from its placement), and the
-growth rate ``ln(1e3) / (t_1e-6 - t_1e-9)`` [1/s] between the middle two (NaN if both are
-crossed in the same frame or never), and the largest lateral displacement over the run.
+Per run: the wave speed (and that of the same member in 2D, the chain the symmetric 3D
+one would equal if it stayed in its plane), the first times at which some domino's
+centre has moved more than 1e-12, 1e-9, 1e-6 and 1e-3 m across the chain's line (from
+its placement), the growth rate ``ln(1e3) / (t_1e-6 - t_1e-9)`` [1/s] between the middle
+two (NaN if both are crossed in the same frame or never), and the largest lateral
+displacement over the run.
 Without a seed the chain is symmetric to round-off; ``--yaw`` seeds each domino with a
 random yaw of up to that amplitude [rad] (``lateral_asymmetry``, seed 0), ``--safety``
 sets the time step as a fraction of the critical one (default: the chain's),
@@ -31,26 +33,18 @@ from dominowave.chain.scenario import member_push_factor
 THRESHOLDS = (1e-12, 1e-9, 1e-6, 1e-3)  # lateral displacements [m]
 
 
-def lateral_departure(
-    d_over_l: float,
-    member: int,
-    yaw: float,
-    safety: float | None,
-    shape: str = "box",
-    stiffness_ratio: float | None = None,
-    friction_dominoes: float | None = None,
-):
-    """Run one member; returns the wave, the first times [s] (NaN: never) at which a
-    domino's centre is more than each of THRESHOLDS off its start across the line, and
-    the largest such displacement [m]."""
-    params = dataclasses.replace(fig6_params("3d", d_over_l, 30, shape), lateral_asymmetry=yaw)
-    if stiffness_ratio is not None:
-        params = dataclasses.replace(params, stiffness_ratio=stiffness_ratio)
-    if friction_dominoes is not None:
-        params = dataclasses.replace(params, friction_dominoes=friction_dominoes)
+def member_run(params, member: int, safety: float | None, keep_record: bool = False):
+    """Run ensemble member ``member`` of the chain ``params`` (the Fig 6 preset's push)."""
     chain = DominoChain(params, safety=safety)
-    push = chain.resolve(None).scaled(member_push_factor(0, member, 1e-3))  # (the preset's)
-    run = chain.run(push, keep_record=True)
+    push = chain.resolve(None).scaled(member_push_factor(0, member, 1e-3))
+    return chain.run(push, keep_record=keep_record)
+
+
+def lateral_departure(params, member: int, safety: float | None):
+    """Run one member of the 3D chain ``params``; returns the wave, the first times [s]
+    (NaN: never) at which a domino's centre is more than each of THRESHOLDS off its start
+    across the line, and the largest such displacement [m]."""
+    run = member_run(params, member, safety, keep_record=True)
     y = run.record.com[..., 1]  # (F, N) [m]
     off = np.abs(y - y[0]).max(axis=1)  # (F,) largest lateral displacement per frame
     times = []
@@ -70,22 +64,23 @@ def main() -> None:
     ap.add_argument("--stiffness-ratio", type=float, default=None, help="k/k* (preset: 1e4)")
     ap.add_argument("--friction-dominoes", type=float, default=None, help="(preset: 0)")
     args = ap.parse_args()
+    base = fig6_params("3d", args.d_over_l, 30, args.shape)
+    if args.stiffness_ratio is not None:
+        base = dataclasses.replace(base, stiffness_ratio=args.stiffness_ratio)
+    if args.friction_dominoes is not None:
+        base = dataclasses.replace(base, friction_dominoes=args.friction_dominoes)
+    planar = dataclasses.replace(base, model="2d")
     for yaw in args.yaw:
         for m in args.members:
-            wave, times, largest = lateral_departure(
-                args.d_over_l,
-                m,
-                yaw,
-                args.safety,
-                args.shape,
-                args.stiffness_ratio,
-                args.friction_dominoes,
-            )
+            params = dataclasses.replace(base, lateral_asymmetry=yaw)
+            wave, times, largest = lateral_departure(params, m, args.safety)
+            v_2d = member_run(planar, m, args.safety).wave.speed
             span = times[2] - times[1]  # (0 or NaN: no rate from these frames)
             rate = math.log(1e3) / span if span > 0 else math.nan
             when = ", ".join("never" if math.isnan(t) else f"{t:.3f}" for t in times)
             print(
-                f"yaw {yaw:.0e} member {m}: v = {wave.speed:.4f} m/s (reached {wave.reached});"
+                f"yaw {yaw:.0e} member {m}: v = {wave.speed:.4f} m/s (reached {wave.reached};"
+                f" 2D {v_2d:.4f} m/s);"
                 f" off the line by 1e-12/1e-9/1e-6/1e-3 m at {when} s;"
                 f" growth {rate:.0f} /s; largest {largest:.3g} m"
             )
