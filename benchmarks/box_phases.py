@@ -125,7 +125,7 @@ def _timed_steps(bodies, spheres, walls, mats, contacts, settings, rec, bx, n_st
     rebuild_due = contact.needs_rebuild(bodies, settings.skin, contacts.n[0])
     if has_boxes and boxes.released_since_build(bodies, bx):
         bx.n_cand[0] = -1
-    first, stop, n_moving = engine._moving_range(bodies)
+    first, stop = engine._moving_range(bodies)
     builds = 0
     t0 = rec.clock[engine.CLOCK_TIME]
     for _ in range(n_steps):
@@ -166,6 +166,7 @@ def _timed_steps(bodies, spheres, walls, mats, contacts, settings, rec, bx, n_st
             )  # fmt: skip
         c2 = _cycles()
         acc[SPHERES] += c2 - c1
+        released = False
         if has_boxes:
             if split:
                 _split_boxes(bodies, bx, walls, pl, acc)
@@ -180,17 +181,16 @@ def _timed_steps(bodies, spheres, walls, mats, contacts, settings, rec, bx, n_st
             c2 = _cycles()
             acc[BOX_SPHERE] += c2 - c3
             if bx.n_changes[0] > 0:
-                engine._bookkeep_boxes(bodies, spheres, contacts, bx, rec, settings, t)
-                bx.n_groups[0] = -1
+                released = engine._bookkeep_boxes(bodies, spheres, contacts, bx, rec, settings, t)
         if n_changes > 0:
-            engine._bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, step == 0)
+            released |= engine._bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t,
+                                         step == 0)  # fmt: skip
+        if released:
+            first, stop = engine._moving_range(bodies)
             if has_boxes:
                 bx.n_groups[0] = -1
-        if n_changes > 0 or (has_boxes and bx.n_changes[0] > 0):
-            was_moving = n_moving
-            first, stop, n_moving = engine._moving_range(bodies)
-            if has_boxes and n_moving > was_moving and boxes.released_since_build(bodies, bx):
-                bx.n_cand[0] = -1
+                if boxes.released_since_build(bodies, bx):
+                    bx.n_cand[0] = -1
         code = -1  # (no stop condition: the quiet test with an infinite quiet time)
         if engine.quiet_reached(t, dt, max(rec.last_onset[0], t0), np.inf):
             code = 0

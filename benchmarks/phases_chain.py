@@ -37,7 +37,7 @@ def _steps(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, force
     """n_steps engine steps (run_loop's fused path); ``forces`` False: no contact forces;
     the body pass with the settings ``still`` (dt = 0) if given a different dt."""
     rebuild_due = contact.needs_rebuild(bodies, settings.skin, contacts.n[0])
-    first, stop, _ = engine._moving_range(bodies)  # (no releases here: no bookkeeping)
+    first, stop = engine._moving_range(bodies)  # (no releases here: no bookkeeping)
     builds = 0
     for _ in range(n_steps):
         if rebuild_due:

@@ -364,9 +364,8 @@ def _visit_pairs(bodies, boxes, nx, nw):
     The visited pairs change only when the list is built or a box is released, so they
     are kept from step to step (``boxes.n_groups``) and built again only after
     ``n_groups`` is set to -1: by :func:`build_box_candidates`, by the engine after every
-    step with onsets or ends (the only steps that release held bodies) and at the start
-    of every run (a caller may have changed the held flags), and by :func:`box_forces`
-    at a first step.
+    step that released a held body and at the start of every run (a caller may have
+    changed the held flags), and by :func:`box_forces` at a first step.
 
     Only the boxes that are not held are looked at -- each with its own candidates
     (a, j > a) and walls, and the held boxes a < b of its reverse list (``boxes.rev``) --

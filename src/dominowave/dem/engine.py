@@ -240,8 +240,10 @@ def _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, first_step
 
     Onsets are processed before ends, so that a body pair whose contact passes from one
     sphere to another in the same step (count 1 -> 2 -> 1) keeps one continuous contact.
-    Event times are interpolated within the step (:func:`event_time`).
+    Event times are interpolated within the step (:func:`event_time`).  Returns whether
+    a held body was released.
     """
+    released = False
     for sweep in (ONSET, END):
         for k in range(n_changes):
             c = rec.changes[k, CHANGE_CONTACT]
@@ -252,11 +254,9 @@ def _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, first_step
             j = contacts.j[c]
             if j >= 0:
                 bj = spheres.body[j]
-                if kind == ONSET:
-                    if bodies.held[bi] and not bodies.held[bj]:
-                        _release(bodies, spheres, contacts, bi, t)
-                    elif bodies.held[bj] and not bodies.held[bi]:
-                        _release(bodies, spheres, contacts, bj, t)
+                if kind == ONSET and bodies.held[bi] != bodies.held[bj]:
+                    _release(bodies, spheres, contacts, bi if bodies.held[bi] else bj, t)
+                    released = True
                 if not settings.record_pairs:
                     continue
                 te = event_time(contacts, c, t, settings.dt, kind == ONSET, first_step)
@@ -264,6 +264,7 @@ def _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, first_step
             elif settings.record_pairs:
                 te = event_time(contacts, c, t, settings.dt, kind == ONSET, first_step)
                 _count_wall_change(rec, bi, j, kind, te)
+    return released
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -276,7 +277,8 @@ def _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t):
     already overlaps one step later, at the onset of their first rows.  Onsets are
     processed before ends, as in :func:`_bookkeep`: a clump whose contact with a box
     passes from one sphere to another in one step (box-sphere rows are per sphere) keeps
-    one continuous body contact."""
+    one continuous body contact.  Returns whether a held body was released."""
+    released = False
     for sweep in (ONSET, END):
         for k in range(boxes.n_changes[0]):
             kind = boxes.changes[k, 2]
@@ -286,6 +288,7 @@ def _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t):
             j = boxes.changes[k, 1]
             if kind == ONSET and j >= 0 and bodies.held[bi] != bodies.held[j]:
                 _release(bodies, spheres, contacts, bi if bodies.held[bi] else j, t)
+                released = True
             if not settings.record_pairs:
                 continue
             te = t - boxes.change_lag[k]
@@ -293,6 +296,7 @@ def _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t):
                 _count_pair_change(rec, bi, j, kind, te, t)
             else:
                 _count_wall_change(rec, bi, j, kind, te)
+    return released
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -476,18 +480,17 @@ def steps_until_quiet(t0: float, dt: float, since: float, quiet: float, limit: i
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _moving_range(bodies):
-    """``(first, stop, count)``: the ``count`` bodies that are not held all lie in
-    ``range(first, stop)`` (empty if every body is held).  In a chain held until touched
-    the moving dominoes are the first ones, so the fused pass (:func:`_advance_bodies`)
-    looks at those and not at every held domino after them."""
+    """``(first, stop)``: the bodies that are not held all lie in ``range(first, stop)``
+    (empty if every body is held).  In a chain held until touched the moving dominoes
+    are the first ones, so the fused pass (:func:`_advance_bodies`) looks at those and
+    not at every held domino after them."""
     held = bodies.held
-    first, stop, count = held.shape[0], 0, 0
+    first, stop = held.shape[0], 0
     for b in range(held.shape[0]):
         if not held[b]:
             first = min(first, b)
             stop = b + 1
-            count += 1
-    return first, stop, count
+    return first, stop
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -558,7 +561,7 @@ def run_loop(
             boxes.n_cand[0] = -1
     rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
     # (in here only a release changes the held flags)
-    first_moving, stop_moving, n_moving = _moving_range(bodies)
+    first_moving, stop_moving = _moving_range(bodies)
     for done in range(n_steps):
         t = rec.clock[CLOCK_TIME]
         if t >= t_end - 0.5 * dt:
@@ -622,22 +625,22 @@ def run_loop(
                 step == 0,
                 shear_kinematics,
             )
+        released = False
         if has_boxes:
             box_forces(bodies, boxes, walls, mats, dt, rec.ledger, step == 0, planar)
             if spheres.body.shape[0] > 0:  # (the call alone costs ~0.5 us: _zero_forces)
                 box_sphere_forces(bodies, spheres, boxes, mats, dt, rec.ledger, step == 0, planar)
             if boxes.n_changes[0] > 0:
-                _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t)
-                boxes.n_groups[0] = -1  # (held boxes may have been released)
+                released = _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t)
         if n_changes > 0:
-            _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, step == 0)
+            released |= _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t,
+                                  step == 0)  # fmt: skip
+        if released:  # (the held flags changed)
+            first_moving, stop_moving = _moving_range(bodies)
             if has_boxes:
-                boxes.n_groups[0] = -1
-        if n_changes > 0 or (has_boxes and boxes.n_changes[0] > 0):
-            was_moving = n_moving
-            first_moving, stop_moving, n_moving = _moving_range(bodies)
-            if has_boxes and n_moving > was_moving and released_since_build(bodies, boxes):
-                boxes.n_cand[0] = -1  # (the list is built at the next step)
+                boxes.n_groups[0] = -1  # (boxes._visit_pairs)
+                if released_since_build(bodies, boxes):
+                    boxes.n_cand[0] = -1  # (the list is built at the next step)
         if settings.record_peak_force:
             _record_peak_force(spheres, contacts, rec)
             if has_boxes:
