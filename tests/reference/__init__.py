@@ -113,4 +113,16 @@ sliding_contact (a rounded box driven at constant velocity over a fixed one, ful
       box_box_distance (exact core distance, any feature pair) + closed form; checked
       against a vertex over a face and over an edge -- dem/test_dem_box_validate
       (validation 5, feature changes)
+leaning_frictionless (the leaning train without friction: geometry + conservation laws)
+  train_tilts: the train's tilts -- brentq (xtol 1e-15) on the corner's distance from the
+      next back face -- test_reference via frictionless_steady_speed
+  frictionless_steady_speed: steady speed -- generalised momentum in the collision, energy
+      in the fall, Phi by central differences, Gauss-Legendre fall time (1e-10) --
+      theory/test_theory_leaning (frictionless limit)
+leaning_train (the leaning train with friction, one body per domino)
+  simulate_train: hits, angular velocities, losses -- Lagrange multipliers solved with the
+      accelerations, Baumgarte, solve_ivp DOP853 rtol 1e-10 with events, impulse problems
+      over the whole train -- theory/test_theory_leaning (transient);
+      test_leaning_reference checks it against the pendulum quadrature, an energy balance
+      and hand-solved two-domino impacts
 """
