@@ -14,6 +14,7 @@ import pytest
 from dominowave import theory as th
 from dominowave.cli import main
 from dominowave.cli.theory import parse_values, theory_table
+from dominowave.theory import leaning
 
 
 def run(*args: str) -> subprocess.CompletedProcess:
@@ -123,7 +124,7 @@ def test_parse_values_ranges():
 def test_figures_written_with_their_data(tmp_path):
     result = run("figures", "--out", str(tmp_path / "figs"))
     assert result.returncode == 0, result.stderr
-    for name in ("fig1d", "fig4a", "fig4b", "fig5b"):
+    for name in ("fig1d", "fig4a", "fig4b", "fig5b", "leaning"):
         png = tmp_path / "figs" / f"{name}.png"
         assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
         assert (tmp_path / "figs" / f"{name}.csv").exists()
@@ -131,6 +132,12 @@ def test_figures_written_with_their_data(tmp_path):
     np.testing.assert_allclose(data["v_k1e4"], th.wave_speed(data["beta"], 1, 1, 1e4, 1), rtol=1e-9)
     np.testing.assert_array_equal(
         data["pair_k1e8"].astype(bool), th.pair_regime_holds(data["beta"], 1, 1, 1e8, 1)
+    )
+    lean = np.genfromtxt(tmp_path / "figs" / "leaning.csv", delimiter=",", names=True)
+    np.testing.assert_allclose(
+        lean["leaning_mu03_m_s"],
+        leaning.limit_speed(height=0.048, thickness=0.0075, gap=lean["gap_m"], friction=0.3),
+        rtol=1e-12,
     )
     fig5 = np.genfromtxt(tmp_path / "figs" / "fig5b.csv", delimiter=",", names=True)
     np.testing.assert_allclose(
@@ -151,3 +158,29 @@ def test_figures_bad_directory(tmp_path):
     assert result.returncode == 2
     assert len(result.stderr.strip().splitlines()) == 1
     assert result.stderr.startswith("dominowave: error:")
+
+
+def test_leaning_json_matches_library_with_units_in_the_table_header():
+    result = run("leaning", "--gap", "0.00938,0.045", "--friction", "0.3", "--format", "json")
+    assert result.returncode == 0, result.stderr
+    steady, flat = json.loads(result.stdout)
+    st = leaning.steady_state(0.048, 0.0075, 0.00938, 0.3)
+    assert steady["speed"] == pytest.approx(st.speed, rel=1e-14)
+    assert steady["friction_loss"] == pytest.approx(1e3 * 0.008 * st.friction_loss, rel=1e-14)
+    assert steady["note"] == "steady train"
+    assert flat["speed"] == "nan" and "lie flat" in flat["note"]
+    table = run("leaning", "--gap", "0.00938", "--friction", "0,0.525").stdout.splitlines()
+    assert table[0].startswith("# leaning train") and "m/s^2" in table[0]
+    for unit in ("gap[m]", "v[m/s]", "omega+[rad/s]", "T[s]", "E_rel[mJ]"):
+        assert unit in table[1]
+    assert len(table) == 4
+
+
+def test_leaning_help_shows_units_and_bad_gap_is_one_line():
+    help_text = run("leaning", "--help").stdout
+    for option_unit in ("d [m]", "l [m]", "s [m]", "[kg]", "[m/s^2]"):
+        assert option_unit in help_text
+    result = run("leaning", "--gap", "0.06")
+    assert result.returncode == 2
+    assert result.stderr.strip().startswith("dominowave: error: gap = 0.06 is outside")
+    assert len(result.stderr.strip().splitlines()) == 1

@@ -54,7 +54,7 @@ def _options(
 
 
 # Command modules of this package, each exposing ``register(app)``.
-_COMMAND_MODULES: tuple[str, ...] = ("theory", "rods", "chain", "predict", "workflow")
+_COMMAND_MODULES: tuple[str, ...] = ("theory", "leaning", "rods", "chain", "predict", "workflow")
 
 
 def _register_all() -> None:

@@ -1,4 +1,4 @@
-"""Theory figures of the paper: Fig 1D, Fig 4A, Fig 4B and Fig 5B.
+"""Theory figures of the paper: Fig 1D, Fig 4A, Fig 4B and Fig 5B (and the leaning train).
 
 Each figure is computed in dimensionless form (``l = g = m = 1``, hence ``k* = 1`` and
 ``k = k/k*``), written as a PNG (matplotlib's Agg canvas, no display needed) and as a
@@ -16,6 +16,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
 from dominowave import theory as th
+from dominowave.plots.leaning import leaning_figure
 
 __all__ = ["FIGURES", "fig1d", "fig4", "fig5b", "write_all"]
 
@@ -171,6 +172,7 @@ FIGURES = {
     "fig4a": lambda out: fig4(out, thick=False),
     "fig4b": lambda out: fig4(out, thick=True),
     "fig5b": fig5b,
+    "leaning": leaning_figure,  # beyond the paper: the leaning train and the films
 }
 
 

@@ -71,6 +71,8 @@ NODES = 48
 """Chebyshev nodes on the leaning phase 0 -> beta (spectral: 1e-13 relative, tested)."""
 TAIL_TOLERANCE = 1e-16
 """The train is cut where ``Phi_k`` (the tail's share of the motion) falls below this."""
+CHUNK = 32
+"""Points solved together (bounds the memory of long trains: n x CHUNK x NODES floats)."""
 MAX_TRAIN = 20000
 """Longest train computed; only gaps within ~1e-3 of the smallest need more."""
 
@@ -376,8 +378,8 @@ def _inputs(height, thickness, gap, friction, g):
     if np.any(d >= l):
         bad = d[np.argmax(d >= l)]
         raise ValueError(
-            f"gap = {bad:.6g} is outside the valid range (0, height): a domino at least as"
-            " tall as the gap never reaches the next one"
+            f"gap = {bad:.6g} is outside the valid range (0, height): across a gap as wide"
+            " as the domino is tall it never reaches the next one"
         )
     return l, s, d, mu, grav, arrays[0].shape
 
@@ -412,6 +414,17 @@ def steady_state(height, thickness, gap, friction=0.0, g=G_STANDARD) -> LeaningS
     ``(d + s) / T``, ``T`` the fall of the front from 0 to ``beta``.
     """
     l, s, d, mu, g, shape = _inputs(height, thickness, gap, friction, g)
+    chunks = [
+        _steady(*(a[i : i + CHUNK] for a in (l, s, d, mu, g))) for i in range(0, l.size, CHUNK)
+    ]
+    fields = {k: np.concatenate([c[k] for c in chunks]) for k in chunks[0]}
+    if shape == ():  # scalar in, scalars out (float, bool, str)
+        return LeaningSteadyState(**{k: v.tolist()[0] for k, v in fields.items()})
+    return LeaningSteadyState(**{k: v.reshape(shape) for k, v in fields.items()})
+
+
+def _steady(l, s, d, mu, g) -> dict[str, np.ndarray]:
+    """:func:`steady_state` on flat arrays: the fields of ``LeaningSteadyState``."""
     lam = d + s
     n = _train_length(l, s, lam)
     ph = _phase(l, s, lam, mu, g, n, infinite=True)
@@ -428,7 +441,7 @@ def steady_state(height, thickness, gap, friction=0.0, g=G_STANDARD) -> LeaningS
     ok = reason == ""
     nan = np.where(ok, 1.0, np.nan)
     omega_before = np.sqrt(np.abs(fall.u_end)) * nan
-    fields = {
+    return {
         "speed": lam / fall.duration * nan,
         "period": fall.duration * nan,
         "omega_after": np.sqrt(np.abs(u_after)) * nan,
@@ -440,9 +453,6 @@ def steady_state(height, thickness, gap, friction=0.0, g=G_STANDARD) -> LeaningS
         "exists": ok,
         "reason": reason,
     }
-    if shape == ():  # scalar in, scalars out (float, bool, str)
-        return LeaningSteadyState(**{k: np.asarray(v).reshape(-1)[0] for k, v in fields.items()})
-    return LeaningSteadyState(**{k: np.asarray(v).reshape(shape) for k, v in fields.items()})
 
 
 def _why_not(released, u_after, cycle_gain, fall: _Fall, lowest, col: _Collision):
