@@ -10,7 +10,10 @@ the friction would have to be for the model to run as fast as the films, it fits
 
 Usage::
 
-    python docs/real_dominoes/friction_scan.py --out docs/real_dominoes/friction_scan.csv
+    python docs/real_dominoes/friction_scan.py --out src/dominowave/chain/data/dem_friction_scan.csv
+
+The package ships the result (``dominowave.chain.reconcile`` reads it to infer the
+friction at which the DEM matches a measurement).
 """
 
 from __future__ import annotations
@@ -58,6 +61,7 @@ def main() -> None:
                     {
                         "model": model,
                         "floor": floor,
+                        "gap_m": args.gap,
                         "friction_dominoes": friction,
                         "speed_m_s": f"{v:.4f}",
                         "speed_stderr_m_s": f"{se:.4f}",

@@ -21,6 +21,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from dominowave.chain.build import ChainParams
+from dominowave.chain.reconcile import reconcile_lines
 from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push
 from dominowave.chain.wave import check_fit_from, fit_speed, local_speeds, unsettled_reason
 from dominowave.checks import check_in_range
@@ -131,6 +132,15 @@ def _what_to_quote(run: ChainRun, ens: ChainEnsemble | None) -> str:
         "quote the mean speed over the last dominoes beside the theory's transient over the "
         f"same dominoes: this chain is too short for the wave to settle; {limit}"
     )
+
+
+def _quoted_speed(run: ChainRun, chain: DominoChain, fit_from: int | None) -> float:
+    """The speed to compare with a measurement [m/s]: the fit from ``fit_from`` on where
+    given (as the films are fitted), else the steady speed; NaN if the wave did not settle."""
+    if fit_from is not None:
+        fit = chain.speed_from(run, fit_from)
+        return fit.speed if fit.settled else math.nan
+    return run.wave.speed if run.wave.settled else math.nan
 
 
 def _preset_params(preset, gap, floor, n, physical, others) -> ChainParams:
@@ -391,8 +401,17 @@ def chain_command(
         f"measured push Omega_1 = {_fmt(run.omega_1)} rad/s"
     )
     if run.secondary is not None and run.secondary.catching_up:
-        console.print(f"secondary wave catching up; merged at pair {run.secondary.merged_pair}")
+        merged = run.secondary.merged_pair
+        where = "not merged within the chain" if merged is None else f"merged at pair {merged}"
+        console.print(f"secondary wave catching up; {where}")
     console.print(_what_to_quote(run, ens))
+    if preset is not None:
+        quoted = ens.speed.mean if ens is not None else _quoted_speed(run, chain, fit_from)
+        lines = reconcile_lines(
+            quoted, gap=gap, floor=floor, model=p.model, friction=p.friction_dominoes
+        )
+        for line in lines:
+            console.print(escape(line))
     note = " (including compiling the kernels)" if compiling else ""
     console.print(f"dt = {run.dt:.3g} s, {run.n_steps} steps, wall {wall:.2f} s{note}")
     if out is not None:

@@ -48,6 +48,7 @@ def predict_command(
     ] = None,
 ) -> None:
     """Predict the front speed of a real chain with the band of its material data."""
+    from dominowave.chain.reconcile import reconcile_lines
     from dominowave.cli.chain import exit_if_incomplete
     from dominowave.cli.workflow import check_cluster_options
     from dominowave.sweep.predict import SOBOL_MIN_BASE, predict, predict_points
@@ -94,6 +95,14 @@ def predict_command(
         + (f" ({pred.n_died} waves died before the end)" if pred.n_died else "")
         + (f" ({pred.n_failed} runs failed: see failure.json)" if pred.n_failed else "")
     )
+    lean_lo, lean_mid, lean_hi = pred.leaning_band
+    console.print(
+        f"leaning train (inelastic, rigid, theory.leaning) at the same samples' friction:"
+        f" median {_fmt(lean_mid, 4)} m/s, 90 % band [{_fmt(lean_lo, 4)}, {_fmt(lean_hi, 4)}]"
+        " m/s (milliseconds a sample)"
+    )
+    for line in reconcile_lines(mid, gap=gap, floor=floor, model=model, label="median"):
+        console.print(escape(line))
     table = Table(  # escaped: rich would read "[m/s]" as markup
         title=escape(
             "sensitivity of the speed: change over each value's range [m/s];"

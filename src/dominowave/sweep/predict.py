@@ -131,6 +131,9 @@ class Prediction:
     indices with their 95 % confidence half-widths ``*_conf`` (NaN where undefined),
     ``effect`` (D,) [m/s] the change of the speed over each value's range (module
     docstring), ``fixed`` the values not varied, ``run`` what the sweep stored.
+    ``leaning_speed`` (S,) [m/s] is the leaning train's steady speed
+    (:mod:`dominowave.theory.leaning`) at each sample's friction between dominoes (the
+    only material value it depends on) and ``leaning_band`` its quantiles :data:`BAND`.
     """
 
     gap: float
@@ -150,6 +153,8 @@ class Prediction:
     effect: np.ndarray
     fixed: dict[str, float]
     run: PresetRun
+    leaning_speed: np.ndarray
+    leaning_band: tuple[float, float, float]
 
 
 def _problem(floor: str, materials=None) -> tuple[dict, dict[str, float]]:
@@ -280,6 +285,9 @@ def _analyse(gap, floor, problem, x, speed, fixed, done) -> Prediction:
         si = sobol_analyze.analyze(problem, speed, calc_second_order=False, seed=0)
         first, first_conf = np.asarray(si["S1"]), np.asarray(si["S1_conf"])
         total, total_conf = np.asarray(si["ST"]), np.asarray(si["ST_conf"])
+    leaning_speed = _leaning_speeds(gap, problem, x, fixed)
+    lean_ok = leaning_speed[np.isfinite(leaning_speed)]
+    lean_band = tuple(float(q) for q in np.quantile(lean_ok, BAND)) if lean_ok.size else band
     return Prediction(
         gap=gap,
         floor=floor,
@@ -298,7 +306,28 @@ def _analyse(gap, floor, problem, x, speed, fixed, done) -> Prediction:
         effect=effect,
         fixed=fixed,
         run=done,
+        leaning_speed=leaning_speed,
+        leaning_band=lean_band if lean_ok.size else (math.nan,) * 3,
     )
+
+
+def _leaning_speeds(gap, problem, x, fixed) -> np.ndarray:
+    """The leaning train's speed [m/s] at each sample's friction between dominoes, (S,)."""
+    from dominowave.chain.materials import load_materials
+    from dominowave.theory import leaning
+
+    domino = load_materials().domino
+    names = list(problem["names"])
+    if "friction_dominoes" in names:
+        friction = x[:, names.index("friction_dominoes")]
+    else:
+        friction = np.full(len(x), fixed["friction_dominoes"])
+    return np.asarray(
+        leaning.limit_speed(
+            height=domino.height.value, thickness=domino.thickness.value, gap=gap, friction=friction
+        ),
+        dtype=float,
+    ).reshape(-1)
 
 
 def _effects(problem: dict, x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -324,11 +353,18 @@ def write_prediction(pred: Prediction, out_dir: Path) -> list[Path]:
 
     out_dir = Path(out_dir)
     rows = [
-        {"sample": i, **dict(zip(pred.names, map(float, row), strict=True)), "speed": v}
-        for i, (row, v) in enumerate(zip(pred.samples, pred.speed, strict=True))
+        {
+            "sample": i,
+            **dict(zip(pred.names, map(float, row), strict=True)),
+            "speed": v,
+            "leaning_speed": lean,
+        }
+        for i, (row, v, lean) in enumerate(
+            zip(pred.samples, pred.speed, pred.leaning_speed, strict=True)
+        )
     ]
     with (out_dir / SAMPLES_CSV).open("w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=["sample", *pred.names, "speed"])
+        writer = csv.DictWriter(fh, fieldnames=["sample", *pred.names, "speed", "leaning_speed"])
         writer.writeheader()
         writer.writerows(rows)
     units = {"mass": "kg", "young": "Pa"}
@@ -337,6 +373,11 @@ def write_prediction(pred: Prediction, out_dir: Path) -> list[Path]:
         for j, name in enumerate(pred.names)
     }
     data["speed"] = ("sample", pred.speed, {"units": "m/s", "long_name": "front speed"})
+    data["leaning_speed"] = (
+        "sample",
+        pred.leaning_speed,
+        {"units": "m/s", "long_name": "steady speed of the leaning train"},
+    )
     ds = xr.Dataset(
         data,
         coords={"sample": np.arange(pred.speed.size)},
@@ -355,6 +396,8 @@ def write_prediction(pred: Prediction, out_dir: Path) -> list[Path]:
         for q, v in zip(BAND, pred.band, strict=True):
             writer.writerow([f"speed_q{round(100 * q):02d}", v, "", "m/s"])
         writer.writerow(["speed_mean", pred.mean, "", "m/s"])
+        for q, v in zip(BAND, pred.leaning_band, strict=True):
+            writer.writerow([f"leaning_speed_q{round(100 * q):02d}", v, "", "m/s"])
         writer.writerow(["waves_died", pred.n_died, "", "1"])
         writer.writerow(["runs_failed", pred.n_failed, "", "1"])
         for j, name in enumerate(pred.names):
