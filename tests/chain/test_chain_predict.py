@@ -226,15 +226,19 @@ def test_chain_command_preset_bad_input_is_one_line(args, fragment):
     assert len(lines) == 1 and fragment in lines[0], proc.stderr
 
 
-def test_chain_command_runs_the_standard_preset():
-    args = ["--preset", "standard", "--gap", "0.012", "--floor", "hardwood", "--n", "4"]
+def test_chain_command_runs_the_standard_preset_and_shows_the_films():
+    args = ["--preset", "standard", "--gap", "0.00938", "--floor", "hardwood", "--n", "4"]
     proc = subprocess.run(
         [sys.executable, "-m", "dominowave", "chain", *args, "--model", "2d", "--fit-from", "1"],
         capture_output=True,
         text=True,
     )
     assert proc.returncode == 0, proc.stderr
-    assert "front speed from domino 1 on (pitch-based)" in proc.stdout
+    out = " ".join(proc.stdout.split())  # rich wraps long lines
+    assert "front speed from domino 1 on (pitch-based)" in out
+    assert "leaning train (rigid, inelastic; theory.leaning) at friction 0.525: 0.694 m/s" in out
+    assert "measured (high-speed films, hardwood, gap 9.38 mm, 7 rows): 1.264 m/s" in out
+    assert "inferred from the measurement (not a material value): leaning train 0.04;" in out
 
 
 # --------------------------------------------------------------------------- study files

@@ -115,7 +115,7 @@ sliding_contact (a rounded box driven at constant velocity over a fixed one, ful
       (validation 5, feature changes)
 leaning_frictionless (the leaning train without friction: geometry + conservation laws)
   train_tilts: the train's tilts -- brentq (xtol 1e-15) on the corner's distance from the
-      next back face -- test_reference via frictionless_steady_speed
+      next back face -- used by frictionless_steady_speed
   frictionless_steady_speed: steady speed -- generalised momentum in the collision, energy
       in the fall, Phi by central differences, Gauss-Legendre fall time (1e-10) --
       theory/test_theory_leaning (frictionless limit)
