@@ -22,6 +22,9 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    # plain help text: rich markup would read the units "[m]", "[s]" of the options as
+    # tags and drop them
+    rich_markup_mode=None,
 )
 
 

@@ -105,16 +105,16 @@ def leaning_cmd(
     gap: Annotated[
         str,
         typer.Option(
-            help="Clear gap d \\[m] in (0, height): '0.00938', list or 'start:stop:count'."
+            help="Clear gap d [m] in (0, height): '0.00938', list or 'start:stop:count'."
         ),
     ] = "0.00938,0.01509,0.025",
     friction: Annotated[
         str, typer.Option(help="Friction between dominoes (>= 0): list or range.")
     ] = "0,0.1,0.3,0.525",
-    height: Annotated[float, typer.Option(help="Domino height l \\[m].")] = 0.048,
-    thickness: Annotated[float, typer.Option(help="Domino thickness s \\[m].")] = 0.0075,
-    mass: Annotated[float, typer.Option(help="Domino mass \\[kg] (energies only).")] = 0.008,
-    g: Annotated[float, typer.Option(help="Gravity \\[m/s^2].")] = G_STANDARD,
+    height: Annotated[float, typer.Option(help="Domino height l [m].")] = 0.048,
+    thickness: Annotated[float, typer.Option(help="Domino thickness s [m].")] = 0.0075,
+    mass: Annotated[float, typer.Option(help="Domino mass [kg] (energies only).")] = 0.008,
+    g: Annotated[float, typer.Option(help="Gravity [m/s^2].")] = G_STANDARD,
     fmt: Annotated[str, typer.Option("--format", help="table, csv or json.")] = "table",
 ) -> None:
     """Steady speed of the leaning train (inelastic collisions, friction between dominoes).

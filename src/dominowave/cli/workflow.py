@@ -173,7 +173,7 @@ def _speed_line(folder: Path) -> str:
 
 
 def sweep_cmd(
-    study: Annotated[Path, typer.Argument(help=r"Study file with a \[sweep] table.")],
+    study: Annotated[Path, typer.Argument(help="Study file with a [sweep] table.")],
     out: Annotated[Path | None, typer.Option(help="Sweep folder (default: output.dir).")] = None,
     scheduler: Annotated[
         str | None, typer.Option(help="Address of an existing Dask scheduler (tcp://host:port).")
