@@ -335,6 +335,15 @@ def test_read_only_output_folder(tmp_path, cli):
         ),
         (["chain", "--n", "4", "--stiffness-ratio", "1e-6"], ["k/k* = 1e-06) is too soft"]),
         (["chain", "--n", "4", "--fit-from", "3"], ["fit_from = 3 is outside [1, 2]"]),
+        (  # the user's stiffness is named, not the time step it would give
+            ["chain", "--n", "4", "--shape", "box", "--stiffness-ratio", "inf"],
+            ["stiffness_ratio = inf is outside the valid range (0, inf)"],
+        ),
+        (["chain", "--n", "4", "--young", "inf"], ["young = inf is outside"]),
+        (  # the chain's length is named, not the fit that it leaves no room for
+            ["predict", "--gap", "0.00938", "--floor", "felt", "--n", "1"],
+            ["n_dominoes = 1 is outside the valid range [3, inf)"],
+        ),
         (["chain", "--n", "4", "--fit-from", "0"], ["fit_from = 0 is outside [1, 2]"]),
         (["chain", "--n", "4", "--placement-along", "-1e-3"], ["placement_along = -0.001"]),
         (["chain", "--n", "4", "--placement-across", "1e-3"], ["needs model = '3d'"]),

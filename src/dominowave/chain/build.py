@@ -160,12 +160,9 @@ class ChainParams:
         "paper's k/k* (k per particle, contact spring k_n = k/2, eq 24); 1e4 when neither"
         " kn nor young is given",
         gt=0,
-        allow_inf=True,
     )
-    kn: float | None = parameter(None, "N/m", "contact spring k_n, directly", gt=0, allow_inf=True)
-    young: float | None = parameter(
-        None, "Pa", "Young's modulus (with young_rule)", gt=0, allow_inf=True
-    )
+    kn: float | None = parameter(None, "N/m", "contact spring k_n, directly", gt=0)
+    young: float | None = parameter(None, "Pa", "Young's modulus (with young_rule)", gt=0)
     normal_law: NormalLaw = parameter(
         "linear",
         "",
@@ -233,7 +230,7 @@ class ChainParams:
     asymmetry_seed: int = parameter(
         0, "", "seed of the placement errors (yaw, along, across, push)", ge=0
     )
-    g: float = parameter(G_STANDARD, "m/s^2", "gravitational acceleration", gt=0, allow_inf=True)
+    g: float = parameter(G_STANDARD, "m/s^2", "gravitational acceleration", gt=0)
 
     def __post_init__(self):
         check_parameters(self)

@@ -417,6 +417,11 @@ def check_fit_from(first, n_dominoes: int) -> int:
     """``first`` if it is a valid ``fit_from`` for ``n_dominoes``, else one ``ValueError``."""
     if isinstance(first, bool) or not isinstance(first, int | np.integer):
         raise ValueError(f"fit_from = {first!r} is not an integer domino index")
+    if n_dominoes < 3:  # no fit from any domino: name the chain's length, not fit_from
+        raise ValueError(
+            f"n_dominoes = {n_dominoes} is outside the valid range [3, inf) for a fitted speed"
+            " (domino 0 is pushed, a fit needs two arrival times)"
+        )
     if not 1 <= first <= n_dominoes - 2:
         raise ValueError(
             f"fit_from = {first} is outside [1, {n_dominoes - 2}] (1 <= K <= N - 2 for a chain"

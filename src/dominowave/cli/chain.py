@@ -341,7 +341,7 @@ def chain_command(
     console = Console(width=140)
     scale = float(speed_scale(p.height, p.g))
     table = Table(
-        title=f"domino chain: N={n}, d/l={d_over_l}, k/k*={p.stiffness_over_kstar:.3g}",
+        title=f"domino chain: N={n}, d/l={d_over_l:.4g}, k/k*={p.stiffness_over_kstar:.3g}",
         caption="-: not defined (domino 0 has no local speed, the last domino no rebound)"
         " or not reached by the wave",
     )
