@@ -1,4 +1,4 @@
-"""Speed of the DEM domino chain against YADE 2023.02a (issue 4), one thread each.
+"""Speed of the DEM domino chain against YADE 2023.02a, one thread each.
 
 Cases (2D, s/l = 0.1 -> 10 spheres per domino, k/k* = 1e4, d/l = 0.4, two-sphere base
 and no holding so that YADE runs the identical scene without Python callbacks):

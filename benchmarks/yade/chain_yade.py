@@ -16,19 +16,20 @@ radius R and 2 E for the base spheres of radius R/2, every sphere-sphere contact
 same k_n as dominowave's (kn given per material); k_s = poisson * k_n with poisson =
 kt_ratio. Friction angle atan(mu), min rule per contact (YADE's default).
 
-Two scene mismatches of earlier versions (together the cause of the 0.07-0.8 % differences
-of the 2nd and 3rd collision times; see benchmarks/README.md):
+Two details of YADE that the scene must get right (each alone moves the 2nd and 3rd
+collision times by 0.07-0.8 %; benchmarks/README.md):
 
-* The floor: a wall-sphere contact uses the wall's E with the *sphere's* radius, so one
-  wall of E = k_n / R gave the R/2 base spheres k_n = 2 (k_n/2) k_n / (3 k_n/2) = 2/3 k_n
-  (a softer floor under every base; standing dominoes out of equilibrium at the sink
-  computed for k_n). Now: one wall per sphere radius, both at z = 0, E_wall = k_n / r,
-  and collision masks so that each sphere only meets the wall of its own radius (bit 0:
-  all spheres, bit 1 + i: wall i). Every floor contact has k_n, as in dominowave.
+* The floor: a wall-sphere contact uses the wall's E with the *sphere's* radius, so a
+  single wall of E = k_n / R would give the R/2 base spheres k_n = 2 (k_n/2) k_n /
+  (3 k_n/2) = 2/3 k_n (a softer floor under every base; standing dominoes out of
+  equilibrium at the sink computed for k_n). Hence one wall per sphere radius, both at
+  z = 0, E_wall = k_n / r, and collision masks so that each sphere only meets the wall
+  of its own radius (bit 0: all spheres, bit 1 + i: wall i). Every floor contact has
+  k_n, as in dominowave.
 * Blocked rotations (2D): YADE then integrates the clump with its spherical integrator,
   torque[i] / state.inertia[i] in world components, but a clump's state.inertia holds
-  its principal moments in the body frame (here body z = world y): the domino turned
-  with I_xx instead of I_yy (7.3e-4 smaller). Now state.inertia is set to the moments
+  its principal moments in the body frame (here body z = world y): the domino would turn
+  with I_xx instead of I_yy (7.3e-4 smaller). Hence state.inertia is set to the moments
   about the world axes (``probe_clump_blocked_inertia.py`` shows the YADE behaviour).
 
 Modes: ``record`` -- a PyRunner after the InteractionLoop (every step) notes the step
@@ -68,8 +69,7 @@ def material(radius, density, friction):
 
 
 # one floor wall per sphere radius (see the module docstring), masks 0b10, 0b100, ...
-# (the single wall of earlier versions gave the R/2 base spheres a floor of 2/3 k_n; it
-# was not faster either: benchmarks/README.md, session 3)
+# (a single wall would give the R/2 base spheres a floor of 2/3 k_n)
 radii_all = sorted({r for body in scene["bodies"] for r in body["radii"]})
 wall_mask = {r: 1 << (1 + i) for i, r in enumerate(radii_all)}
 for r in radii_all:

@@ -1,4 +1,4 @@
-"""Cross-check dominowave's DEM chain against YADE 2023.02a (issue 4).
+"""Cross-check dominowave's DEM chain against YADE 2023.02a.
 
 For d/l in {0.2, 0.4, 0.6}, the identical 2D chain (N = 30, s/l = 0.1, k/k* = 1e4,
 phi_f = 0.3, phi_d = 0, no damping, two-sphere base, no holding) is run in both codes:
@@ -15,12 +15,12 @@ dominowave runs with each of the ``--shear-kinematics`` given (its default
 ``contact_point``, and ``yade``: YADE's ratcheting-free shear rate, which YADE 2023.02a
 uses by default), against the same YADE runs; one JSON line per spacing and kinematics.
 
-``--chain issue17`` runs instead the chain of issue 17 (l = 0.1 m, s/l = 0.1, density
+``--chain soft-held`` runs instead a soft chain held until touched (l = 0.1 m, s/l = 0.1, density
 2000 kg/m^3, k_n = E R with E = 1.308e6 Pa, k_t/k_n = 0.25, one-sphere base, dominoes held
 until touched, floor friction 0.3, none between dominoes).
 
 Usage: ``python benchmarks/yade/compare_yade.py [--members 8] [--d-over-l 0.2 0.4 0.6]
-[--shear-kinematics contact_point yade] [--chain default|issue17] [--seed 0]
+[--shear-kinematics contact_point yade] [--chain default|soft-held] [--seed 0]
 [--out results.json]``.
 Skips (exit 0 with a message) if ``yade`` is not installed.
 """
@@ -49,7 +49,7 @@ HERE = Path(__file__).resolve().parent
 
 CHAINS = {
     "default": {"base": "two", "held": False},
-    "issue17": {
+    "soft-held": {
         "height": 0.1,
         "thickness": 0.01,
         "density": 2000.0,

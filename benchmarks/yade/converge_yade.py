@@ -1,4 +1,4 @@
-"""YADE and dominowave against the independent rigid-body ODE as dt -> 0 (issue 4, (a)).
+"""YADE and dominowave against the independent rigid-body ODE as dt -> 0.
 
 A 4-domino 2D chain on a frictionless floor (two-sphere base, no holding), the scene of
 ``compare_yade.py``: the first three collision times of each code, at the chain's time

@@ -1,4 +1,4 @@
-"""Long chains and wide spacings of the paper's clump chain (issue 14, docs/long_chains.md).
+"""Long chains and wide spacings of the paper's clump chain (docs/long_chains.md).
 
 Two studies of the 2D (and 3D) clump chain of Fig 6 (s/l = 0.1, phi_f = 0.3, phi_d = 0,
 no damping, held until touched; the configurations of ``dominowave.chain.paper_fig6``),

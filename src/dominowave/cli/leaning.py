@@ -104,9 +104,7 @@ FORMATTERS = {"table": _as_table, "csv": _as_csv, "json": _as_json}
 def leaning_cmd(
     gap: Annotated[
         str,
-        typer.Option(
-            help="Clear gap d [m] in (0, height): '0.00938', list or 'start:stop:count'."
-        ),
+        typer.Option(help="Clear gap d [m] in (0, height): '0.00938', list or 'start:stop:count'."),
     ] = "0.00938,0.01509,0.025",
     friction: Annotated[
         str, typer.Option(help="Friction between dominoes (>= 0): list or range.")

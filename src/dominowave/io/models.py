@@ -165,7 +165,7 @@ RodsScenario = create_model(
     "RodsScenario",
     __base__=_RodsRun,
     __doc__=(
-        "Hinged compliant dominoes simulated with Newton's laws (dominowave.rods, issue 5)."
+        "Hinged compliant dominoes simulated with Newton's laws (dominowave.rods)."
         "\n\nThe physical fields are those of :class:`dominowave.chain.params.RodsParams`"
         " (names, defaults, units, ranges), plus ``push_omega`` and ``steps_per_contact``."
     ),

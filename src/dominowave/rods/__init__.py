@@ -1,4 +1,4 @@
-"""The paper's hinged compliant-domino model, simulated with Newton's laws (issue 5).
+"""The paper's hinged compliant-domino model, simulated with Newton's laws.
 
 A reduced model: one angle per domino about its base hinge, compliant contacts between
 neighbours (linear or Hertzian, optional dashpot and friction, geometric or head-on

@@ -1,4 +1,4 @@
-"""The ``rods`` scenario: the paper's hinged compliant dominoes, simulated (issue 5).
+"""The ``rods`` scenario: the paper's hinged compliant dominoes, simulated.
 
 The chain is built by :func:`dominowave.chain.theory_vs_rods.paper_chain` (the
 paper's per-particle stiffness ``k`` becomes the contact spring ``k/2``, eq 24)
