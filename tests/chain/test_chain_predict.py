@@ -14,6 +14,7 @@ import pytest
 from dominowave.chain.materials import load_materials
 from dominowave.chain.presets import SAMPLED, standard_domino, standard_entries
 from dominowave.sweep.predict import (
+    SAMPLES_CSV,
     PredictSample,
     _analyse,
     predict,
@@ -284,3 +285,46 @@ def test_a_study_file_with_a_bad_preset_is_refused(table, message, tmp_path):
     study.write_text(f'[scenario]\nkind = "chain"\n{table}\n')
     with pytest.raises(ValueError, match=message):
         load_study(study)
+
+
+# --------------------------------------------------------------------------- interrupts
+
+
+def _interrupted_run(n_points: int, n_done: int, tmp_path):
+    from dominowave.sweep.presets import PresetRun
+    from dominowave.sweep.runner import SweepReport
+
+    def fake_run_preset(points, out, **_):
+        report = SweepReport(tmp_path, total=len(points), skipped=0, ran=n_done, interrupted=130)
+        done = [{"speed": 0.7}] * n_done + [None] * (len(points) - n_done)
+        return PresetRun(report, done, [None] * len(points), failed=[])
+
+    return fake_run_preset
+
+
+def test_an_interrupted_prediction_writes_no_result_and_counts_no_dead_wave(tmp_path, monkeypatch):
+    """Points the sweep did not run are missing, not 'waves died', and no prediction.csv,
+    samples.csv or samples.nc is written from them (the CLI then exits 130)."""
+    import dominowave.sweep.predict as predict_module
+
+    monkeypatch.setattr(predict_module, "run_preset", _interrupted_run(0, 5, tmp_path))
+    pred = predict(0.00938, "felt", tmp_path, 1, n_dominoes=6, fit_from=2)
+    assert pred.n_missing == pred.speed.size - 5 and pred.n_died == 0 and pred.n_failed == 0
+    assert not any((tmp_path / name).exists() for name in (SAMPLES_CSV, "samples.nc"))
+    assert not (tmp_path / "prediction.csv").exists()
+
+
+def test_the_predict_command_says_an_interrupted_run_wrote_nothing(tmp_path, monkeypatch):
+    from typer.testing import CliRunner
+
+    import dominowave.sweep.predict as predict_module
+    from dominowave.cli import app
+
+    monkeypatch.setattr(predict_module, "run_preset", _interrupted_run(0, 3, tmp_path))
+    out = tmp_path / "p"
+    args = ["predict", "--gap", "0.00938", "--floor", "felt", "--samples", "1", "--n", "6"]
+    result = CliRunner().invoke(app, [*args, "--fit-from", "2", "--out", str(out)])
+    assert result.exit_code == 130
+    assert "points did not run: no prediction written" in " ".join(result.output.split())
+    assert "predicted front speed" not in result.output
+    assert not (out / "prediction.csv").exists()

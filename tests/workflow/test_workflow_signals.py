@@ -85,3 +85,29 @@ def test_a_signal_stops_a_sweep_cleanly(tmp_path, signum, to_group, background, 
     )
     assert again.returncode == 0, again.stderr
     assert f"{len(stored)} already stored, {12 - len(stored)} run now" in again.stdout
+
+
+def test_an_interrupted_fig6_writes_no_summary_and_resumes(tmp_path):
+    """A summary of some of the points would read as the figure: after a signal the
+    command writes none, says so, and keeps the points for the re-run."""
+    out = tmp_path / "fig6"
+    proc = subprocess.Popen(
+        [*CLI, "paper-fig6", "--quick", "--out", str(out), "--workers", "1"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    points = out / "points"
+    end = time.monotonic() + 300
+    while time.monotonic() < end and proc.poll() is None:
+        if points.is_dir() and any(not p.name.startswith(".") for p in points.iterdir()):
+            break
+        time.sleep(0.05)
+    assert proc.poll() is None, "the quick Fig 6 ended before a point was stored"
+    os.killpg(proc.pid, signal.SIGINT)
+    stdout, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 130, stderr
+    assert "interrupted: no summary or figure written" in " ".join(stdout.split())
+    assert not (out / "summary.csv").exists()
+    assert any(not p.name.startswith(".") for p in points.iterdir())

@@ -488,7 +488,9 @@ def paper_fig6_command(
     done = run_fig6(preset, out, workers=workers, scheduler=scheduler, progress=progress)
     console.print(done.report.line())
     rows = read_rows(out / RUNS_CSV)
-    if rows:
+    if done.report.interrupted:  # ensembles short of members would read as complete
+        console.print(NOTHING_FINAL)
+    elif rows:
         summary = summarise(rows)
         write_summary(summary, out / "summary.csv")
         written = plot_fig6(summary, out)
@@ -497,6 +499,12 @@ def paper_fig6_command(
             f"{time.perf_counter() - start:.1f} s; wrote {', '.join(p.name for p in written)}"
         )
     exit_if_incomplete(done)
+
+
+NOTHING_FINAL = (
+    "interrupted: no summary or figure written (they would rest on some of the points);"
+    " the finished points are kept, re-run the same command to resume and write them"
+)
 
 
 def exit_if_incomplete(done) -> None:

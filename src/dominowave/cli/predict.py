@@ -6,6 +6,7 @@ Inputs in SI units (the gap in metres). Bad input raises ``ValueError`` (one lin
 from __future__ import annotations
 
 import math
+import sys
 import time
 from pathlib import Path
 from typing import Annotated
@@ -86,6 +87,13 @@ def predict_command(
         progress=progress,
     )
     console.print(pred.run.report.line())
+    if pred.n_missing:
+        console.print(
+            f"{pred.n_missing} of {pred.speed.size} points did not run: no prediction written"
+            f" (the finished points are kept in {out}; re-run the same command to resume)"
+        )
+        exit_if_incomplete(pred.run)
+        sys.exit(1)  # not interrupted, yet points missing: never report them as a result
     lo, mid, hi = pred.band
     console.print(
         f"predicted front speed ({preset} domino, gap {gap:g} m, {floor}, from domino"

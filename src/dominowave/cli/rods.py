@@ -182,7 +182,7 @@ def compare_rods_command(
     ] = None,
 ) -> None:
     """Rod model vs theory over a (d/l, k/k*) grid (a resumable sweep): table, CSV, figures."""
-    from dominowave.cli.chain import exit_if_incomplete
+    from dominowave.cli.chain import NOTHING_FINAL, exit_if_incomplete
     from dominowave.cli.workflow import check_cluster_options
     from dominowave.plots.compare_rods import plot_comparisons, plot_omega_profiles
     from dominowave.sweep import compare_rods as study
@@ -235,7 +235,9 @@ def compare_rods_command(
             "over the last 10 % of the chain"
         )
     typer.echo(done.run.report.line())
-    if done.comparisons:
+    if done.run.report.interrupted:  # a grid short of points would read as complete
+        typer.echo(NOTHING_FINAL)
+    elif done.comparisons:
         csv_path = study.write_csv(done.comparisons, out / "compare_rods.csv")
         pngs = plot_comparisons(done.comparisons, out)
         written = [str(csv_path)]

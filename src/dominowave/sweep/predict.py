@@ -127,8 +127,10 @@ class Prediction:
     values, ``speed`` (S,) [m/s] (NaN: the wave died, or the point is missing),
     ``band`` the speeds at the quantiles :data:`BAND` [m/s], ``mean`` [m/s],
     ``n_died`` waves that did not reach the end, ``n_failed`` runs that failed (their
-    ``failure.json`` in the sweep folder says why), ``sobol_first``/``sobol_total`` (D,)
-    indices with their 95 % confidence half-widths ``*_conf`` (NaN where undefined),
+    ``failure.json`` in the sweep folder says why), ``n_missing`` points not run (an
+    interrupted sweep: nothing is written then, and a re-run resumes),
+    ``sobol_first``/``sobol_total`` (D,) indices with their 95 % confidence half-widths
+    ``*_conf`` (NaN where undefined),
     ``effect`` (D,) [m/s] the change of the speed over each value's range (module
     docstring), ``fixed`` the values not varied, ``run`` what the sweep stored.
     ``leaning_speed`` (S,) [m/s] is the leaning train's steady speed
@@ -146,6 +148,7 @@ class Prediction:
     mean: float
     n_died: int
     n_failed: int
+    n_missing: int
     sobol_first: np.ndarray
     sobol_first_conf: np.ndarray
     sobol_total: np.ndarray
@@ -264,7 +267,8 @@ def predict(
     )
     speed = np.array([math.nan if s is None else float(s["speed"]) for s in done.summaries])
     prediction = _analyse(gap, floor, problem, x, speed, fixed, done)
-    write_prediction(prediction, out_dir)
+    if prediction.n_missing == 0:  # a point that did not run is never written as a result
+        write_prediction(prediction, out_dir)
     return prediction
 
 
@@ -275,6 +279,7 @@ def _analyse(gap, floor, problem, x, speed, fixed, done) -> Prediction:
     d = problem["num_vars"]
     finite = speed[np.isfinite(speed)]
     n_failed = len(done.failed) if done is not None else 0
+    n_missing = 0 if done is None else _count_missing(done)
     band = tuple(float(q) for q in np.quantile(finite, BAND)) if finite.size else (math.nan,) * 3
     nan = np.full(d, math.nan)
     first, first_conf, total, total_conf, effect = nan, nan, nan, nan, nan
@@ -297,8 +302,9 @@ def _analyse(gap, floor, problem, x, speed, fixed, done) -> Prediction:
         speed=speed,
         band=band,
         mean=float(finite.mean()) if finite.size else math.nan,
-        n_died=int(speed.size - finite.size) - n_failed,
+        n_died=int(speed.size - finite.size) - n_failed - n_missing,
         n_failed=n_failed,
+        n_missing=n_missing,
         sobol_first=first,
         sobol_first_conf=first_conf,
         sobol_total=total,
@@ -328,6 +334,12 @@ def _leaning_speeds(gap, problem, x, fixed) -> np.ndarray:
         ),
         dtype=float,
     ).reshape(-1)
+
+
+def _count_missing(done) -> int:
+    """Points the sweep did not run (interrupted): no summary and no recorded failure."""
+    failed = set(done.failed)
+    return sum(s is None and i not in failed for i, s in enumerate(done.summaries))
 
 
 def _effects(problem: dict, x: np.ndarray, y: np.ndarray) -> np.ndarray:
