@@ -37,6 +37,7 @@ __all__ = [
     "read_summary",
     "read_trajectory",
     "result_status",
+    "unreadable_file",
     "write_events_csv",
     "write_failure_folder",
     "write_result_folder",
@@ -131,6 +132,37 @@ def result_status(folder: Path) -> str | None:
     return None
 
 
+def unreadable_file(folder: Path) -> str | None:
+    """None if every file a result folder stores parses, else one line naming the first
+    that does not and why (a corrupt ``summary.json``, a truncated netCDF, ...).
+
+    Reads each file in full: config.toml, provenance.json, summary.json or failure.json,
+    events.csv, timeseries.nc and trajectory.nc where present.
+    """
+    import tomllib
+
+    import xarray as xr
+
+    folder = Path(folder)
+    checks = [
+        ("config.toml", lambda p: tomllib.loads(p.read_text(encoding="utf-8"))),
+        ("provenance.json", _read_json),
+        ("summary.json" if (folder / "summary.json").exists() else "failure.json", _read_json),
+    ]
+    if (folder / "summary.json").exists():
+        checks.append(("events.csv", lambda p: read_events(p.parent)))
+    for name in ("timeseries.nc", "trajectory.nc"):
+        if (folder / name).exists():
+            checks.append((name, lambda p: xr.load_dataset(p, engine=NETCDF_ENGINE)))
+    for name, read in checks:
+        try:
+            read(folder / name)
+        except Exception as exc:  # any parse failure: the file is not a stored result
+            first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            return f"{name}: {first}"
+    return None
+
+
 def _read_json(path: Path) -> dict:
     try:
         return json.loads(Path(path).read_text(encoding="utf-8"))
@@ -157,7 +189,10 @@ def read_events(folder: Path) -> dict[str, np.ndarray]:
     if not rows:
         return {}
     header, body = rows[0], rows[1:]
-    data = np.array(body, dtype=float).reshape(len(body), len(header))
+    try:
+        data = np.array(body, dtype=float).reshape(len(body), len(header))
+    except ValueError as exc:  # a cut or altered file: ragged rows, text for numbers
+        raise ValueError(f"{path}: unreadable ({exc})") from None
     return {name: data[:, i] for i, name in enumerate(header)}
 
 

@@ -17,7 +17,7 @@ import shutil
 import time
 import traceback
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from dominowave import signals
@@ -58,12 +58,17 @@ class SweepReport:
     failed: int = 0
     interrupted: int = 0
     """0, or the exit code of the signal that stopped the sweep (130 SIGINT, 143 SIGTERM)."""
+    set_aside: list[str] = field(default_factory=list)
+    """One line per stored point whose files did not parse (moved to unreadable/, run again)."""
 
     def line(self) -> str:
         state = "interrupted" if self.interrupted else "done"
-        return (
-            f"sweep {state}: {self.total} points, {self.skipped} already stored, "
-            f"{self.ran} run now ({self.failed} failed) -> {self.folder}"
+        return "\n".join(
+            [
+                *self.set_aside,
+                f"sweep {state}: {self.total} points, {self.skipped} already stored, "
+                f"{self.ran} run now ({self.failed} failed) -> {self.folder}",
+            ]
         )
 
 
@@ -267,13 +272,16 @@ def _run_points(
         key = point_key(config)
         configs.setdefault(key, config)
         swept.setdefault(key, override)
+    set_aside = store.set_aside_unreadable()  # a file that does not parse is no result
     stored = store.status()
     if retry_failed:
         for key in [k for k in configs if stored.get(k) == "failed"]:
             shutil.rmtree(store.folder(key))
             del stored[key]
     todo = [k for k in configs if k not in stored]
-    report = SweepReport(store.root, total=len(configs), skipped=len(configs) - len(todo))
+    report = SweepReport(
+        store.root, total=len(configs), skipped=len(configs) - len(todo), set_aside=set_aside
+    )
     store.write_index(swept)
     if not todo:
         return report

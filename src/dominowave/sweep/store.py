@@ -6,6 +6,7 @@ Layout::
       study.toml          the study that was run (resolved)
       index.json          every stored point: key, status, swept values, folder
       points/<key>/       one result folder per point (see dominowave.io.results)
+      unreadable/<key>/   a point folder with a file that did not parse, set aside
       .lock               held (flock) by the sweep writing the folder
 
 The point folders are the truth: each appears atomically and only once (the
@@ -25,7 +26,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from dominowave.io.atomic import TMP_PREFIX, ensure_writable_dir, write_json
-from dominowave.io.results import result_status
+from dominowave.io.results import result_status, unreadable_file
 
 __all__ = ["LOCK_NAME", "SweepStore"]
 
@@ -87,6 +88,10 @@ class SweepStore:
     def folder(self, key: str) -> Path:
         return self.points_dir / key
 
+    @property
+    def unreadable_dir(self) -> Path:
+        return self.root / "unreadable"
+
     def status(self) -> dict[str, str]:
         """key -> "ok" | "failed" for every complete point folder."""
         if not self.points_dir.is_dir():
@@ -99,6 +104,27 @@ class SweepStore:
             if status is not None:
                 out[folder.name] = status
         return out
+
+    def set_aside_unreadable(self) -> list[str]:
+        """Move every point folder with a file that does not parse to ``unreadable/``.
+
+        Such a point is not stored: the sweep runs it again. Its folder is kept (never
+        deleted) as ``unreadable/<key>`` (``<key>.2``, ... if that exists). Returns one
+        line per folder moved, naming it and the file that failed. Needs the write lock.
+        """
+        lines = []
+        for key in self.status():
+            why = unreadable_file(self.folder(key))
+            if why is None:
+                continue
+            ensure_writable_dir(self.unreadable_dir)
+            target, n = self.unreadable_dir / key, 1
+            while target.exists():
+                n += 1
+                target = self.unreadable_dir / f"{key}.{n}"
+            os.replace(self.folder(key), target)
+            lines.append(f"point {key}: {why}; set aside as {target}, it runs again")
+        return lines
 
     def write_index(self, overrides: dict[str, dict]) -> dict:
         """Rebuild index.json from the point folders; ``overrides`` maps key -> swept values.
