@@ -26,6 +26,7 @@ from __future__ import annotations
 import itertools
 import math
 import re
+import typing
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -221,6 +222,11 @@ def _describe(err: dict, model: type[BaseModel] | None, prefix: str) -> tuple[st
         else:
             why = f"is not {_type_name(info)}" + (f" (valid range {rng})" if rng else "")
         return key, f"{key} = {value!r} {why}"
+    if kind in {"literal_error", "enum"}:
+        choices = typing.get_args(info.annotation) if info is not None else ()
+        values = [c for a in choices for c in (typing.get_args(a) or (a,)) if a is not type(None)]
+        valid = ", ".join(repr(c) for c in values) or err["msg"]
+        return key, f"{key} = {value!r} is not one of {valid}"
     msg = err["msg"].removeprefix("Value error, ")
     if not loc:  # a model validator: its message starts with the field it is about
         field = re.match(r"(\w+) = ", msg)

@@ -221,6 +221,12 @@ class _ChainRun(ScenarioModel):
             raise ValueError(f"preset = {data['preset']!r} is not one of 'standard'")
         if data.get("gap") is None or data.get("floor") is None:
             raise ValueError("preset = 'standard' needs gap [m] and floor (felt, glass, ...)")
+        # read before the fields are validated: refuse a wrong type here, naming the key
+        gap, floor = data["gap"], data["floor"]
+        if isinstance(gap, bool) or not isinstance(gap, int | float):
+            raise ValueError(f"gap = {gap!r} is not a number: write the clear gap in m")
+        if not isinstance(floor, str):
+            raise ValueError(f"floor = {floor!r} is not text: write a floor's name, e.g. 'felt'")
         from dominowave.chain.presets import standard_domino
 
         extra = {"model": data["model"]} if "model" in data else {}
