@@ -74,8 +74,57 @@ def test_package_stamp_follows_every_source_file(tmp_path):
     assert kernel_cache.package_stamp(tmp_path) != first
 
 
-def test_the_package_kernels_carry_the_stamp():
+def test_the_package_kernels_carry_their_instruments_stamp():
     from dominowave.dem import engine
+    from dominowave.rods import kernel
 
     stamp = engine.run_loop._cache._impl.locator.get_source_stamp()
-    assert stamp[1:] == (kernel_cache.package_stamp(),)
+    assert stamp[1:] == (kernel_cache.kernel_stamp("dem"),)
+    rods = next(f for f in vars(kernel).values() if hasattr(f, "_cache") and f._cache)
+    assert rods._cache._impl.locator.get_source_stamp()[1:] == (kernel_cache.kernel_stamp("rods"),)
+
+
+def _instrument_package(root: Path) -> None:
+    """``mini`` with its kernel in an instrument folder ``inst/`` that calls a helper of
+    the same folder and a constant of the shared ``units.py``; ``cli.py`` beside them."""
+    pkg = root / "mini"
+    (pkg / "inst").mkdir(parents=True)
+    install = "from pathlib import Path\nfrom dominowave.kernel_cache import install\n"
+    (pkg / "__init__.py").write_text(install + "install(Path(__file__).parent)\n")
+    (pkg / "units.py").write_text("SCALE = 1.0\n")
+    (pkg / "cli.py").write_text("WORDS = 'help'\n")
+    (pkg / "inst" / "__init__.py").write_text("")
+    (pkg / "inst" / "law.py").write_text(
+        "from numba import njit\nfrom mini.units import SCALE\n\n"
+        "@njit(inline='always')\ndef force(x):\n    return SCALE * x\n"
+    )
+    (pkg / "inst" / "loop.py").write_text(
+        "from numba import njit\nfrom mini.inst.law import force\n\n"
+        "@njit(cache=True)\ndef run(x):\n    return force(x)\n"
+    )
+
+
+def _run_instrument(root: Path) -> tuple[float, bool]:
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(root), *sys.path])}
+    code = "from mini.inst.loop import run; print(run(2.0), sum(run.stats.cache_hits.values()))"
+    out = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+    )
+    value, hits = out.stdout.strip().splitlines()[-1].split()
+    return float(value), int(hits) > 0
+
+
+def test_only_an_edit_a_kernel_can_see_recompiles_it(tmp_path):
+    """An edit outside the kernel's instrument and the shared modules keeps the cached
+    kernel; an edit of its folder or of the shared modules compiles it anew and runs."""
+    _instrument_package(tmp_path)
+    pkg = tmp_path / "mini"
+    assert _run_instrument(tmp_path) == (2.0, False)
+    (pkg / "cli.py").write_text("WORDS = 'more help'\n")
+    assert _run_instrument(tmp_path) == (2.0, True)  # the command line is not in the kernel
+    (pkg / "units.py").write_text("SCALE = 3.0\n")
+    assert _run_instrument(tmp_path) == (6.0, False)  # a shared constant is
+    (pkg / "inst" / "law.py").write_text(
+        (pkg / "inst" / "law.py").read_text().replace("SCALE * x", "SCALE * x + 1.0")
+    )
+    assert _run_instrument(tmp_path) == (7.0, False)  # and its own folder

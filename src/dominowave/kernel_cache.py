@@ -1,15 +1,24 @@
-"""numba's on-disk cache of the package's kernels, made stale by any change of the package.
+"""numba's on-disk cache of the package's kernels, made stale by any change they can see.
 
 The kernels are compiled with ``cache=True``: numba keeps the machine code of each
 function on disk and loads it while the function's *own* source file is unchanged (its
 content hash, or its modification time in older numba).  A compiled kernel also holds
-the code of every function it calls, inlined or not, from other files: the DEM time loop
-(``dem/engine.py``) contains the contact geometry (``dem/shapes``), the contact law
-(``dem/point_law.py``) and the integrator.  With numba's own stamp an edit of the contact
-law in an editable install would leave the cached time loop running the old law, with no
-sign of it.  :func:`install` gives every cached function of the package a stamp that
-includes a hash of all the package's source files, so that an edit of any of them
-recompiles every kernel (once; ``dominowave`` says so before a run: cli/compiling.py).
+the code of every function it calls, inlined or not, and the values of the globals it
+reads, from other files: the DEM time loop (``dem/engine.py``) contains the contact
+geometry (``dem/shapes``), the contact law (``dem/point_law.py``) and the integrator.
+With numba's own stamp an edit of the contact law in an editable install would leave the
+cached time loop running the old law, with no sign of it.  :func:`install` gives every
+cached function of the package a stamp that includes a hash of every source file its
+kernel can reach (it recompiles once; ``dominowave`` says so before a run:
+cli/compiling.py).
+
+What a kernel can reach: the kernels live in the instruments ``dem/`` and ``rods/``,
+which import nothing of the package but their own folder and the shared modules
+``checks.py`` and ``units.py`` (tests/test_layers.py holds them to it).  So a kernel's
+stamp hashes its own top-level folder and :data:`SHARED`; an edit of the command line,
+the chain layer or the documentation recompiles nothing, an edit of ``dem/`` only the
+DEM.  A kernel in a module at the package's top level, or outside the package, gets the
+whole package's hash.
 
 It adds, before numba's own, a locator of each kind numba has (a user-given
 ``NUMBA_CACHE_DIR``, ``__pycache__`` beside the source, the user-wide cache directory)
@@ -26,23 +35,48 @@ import functools
 import hashlib
 from pathlib import Path
 
-__all__ = ["install", "package_stamp"]
+__all__ = ["SHARED", "install", "kernel_stamp", "package_stamp"]
 
 PACKAGE_DIR = Path(__file__).resolve().parent
 """The installed package: the folder of this module."""
+SHARED = ("checks.py", "units.py", "kernel_cache.py")
+"""Top-level modules an instrument may import (and this one, which makes the stamp)."""
 
 
-@functools.cache
-def package_stamp(package_dir: Path = PACKAGE_DIR) -> str:
-    """SHA-256 (hex) of the relative path and the content of every ``.py`` file below
-    ``package_dir``, in sorted order: changes with any edit, addition or removal."""
+def _digest(package_dir: Path, paths) -> str:
+    """SHA-256 (hex) of the relative path and the content of each file, in sorted order."""
     digest = hashlib.sha256()
-    for path in sorted(package_dir.rglob("*.py")):
+    for path in sorted(paths):
         digest.update(path.relative_to(package_dir).as_posix().encode())
         digest.update(b"\0")
         digest.update(path.read_bytes())
         digest.update(b"\0")
     return digest.hexdigest()
+
+
+@functools.cache
+def package_stamp(package_dir: Path = PACKAGE_DIR) -> str:
+    """Hash of every ``.py`` file below ``package_dir``: changes with any edit, addition or
+    removal."""
+    return _digest(package_dir, package_dir.rglob("*.py"))
+
+
+@functools.cache
+def kernel_stamp(top: str, package_dir: Path = PACKAGE_DIR) -> str:
+    """Hash of what a kernel in the top-level folder ``top`` of ``package_dir`` can reach:
+    every ``.py`` file of that folder and the :data:`SHARED` modules there are."""
+    shared = [package_dir / name for name in SHARED if (package_dir / name).is_file()]
+    return _digest(package_dir, [*(package_dir / top).rglob("*.py"), *shared])
+
+
+def _reach_stamp(py_file: str, package_dir: Path) -> str:
+    """The stamp of a kernel in ``py_file``: its instrument's, or the whole package's."""
+    path = Path(py_file).resolve()
+    if path.is_relative_to(package_dir):
+        parts = path.relative_to(package_dir).parts
+        if len(parts) > 1 and (package_dir / parts[0]).is_dir():
+            return kernel_stamp(parts[0], package_dir)
+    return package_stamp(package_dir)
 
 
 def _stamped(locator: type, package_dir: Path) -> type:
@@ -60,7 +94,8 @@ def _stamped(locator: type, package_dir: Path) -> type:
 
         def get_source_stamp(self):
             # (a folder of scripts calling the package's kernels: the package's stamp too)
-            stamps = {package_stamp(package_dir), package_stamp(PACKAGE_DIR)}
+            own = _reach_stamp(self._py_file, package_dir)
+            stamps = {own} if package_dir == PACKAGE_DIR else {own, package_stamp(PACKAGE_DIR)}
             return (super().get_source_stamp(), *sorted(stamps))
 
     PackageLocator.__name__ = PackageLocator.__qualname__ = f"Package{locator.__name__}"

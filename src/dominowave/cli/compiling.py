@@ -1,11 +1,12 @@
 """Say so when a command is about to compile the numba kernels, instead of a silent wait.
 
-The kernels are compiled on their first call after installing or changing the package
-(tens of seconds on 2 cores; ``cache=True`` keeps the machine code on disk), and loaded
-from that cache in a fraction of a second afterwards. Whether a kernel's cache is fresh
-is read from numba's own index of it: an index that is missing, of another numba
-version, or of another version of the package's source (any file of it:
-:mod:`dominowave.kernel_cache`) means a compilation.
+The kernels are compiled on their first call after installing the package or changing
+the code they run (minutes on 2 cores, :data:`FIRST_RUN`; ``cache=True`` keeps the
+machine code on disk), and loaded from that cache in a fraction of a second afterwards.
+Whether a kernel's cache is fresh is read from numba's own index of it: an index that is
+missing, of another numba version, or of another version of the source the kernel can
+reach (its instrument's folder and the shared modules: :mod:`dominowave.kernel_cache`)
+means a compilation.
 """
 
 from __future__ import annotations
