@@ -472,3 +472,54 @@ def test_chain_step_from_the_estimate_refuses_before_building():
     soft = ChainParams(shape="box", n_dominoes=4, young=100.0, normal_law="hertz")
     with pytest.raises(ValueError, match=r"young = 100 Pa \(Hertz law\) is too soft"):
         DominoChain(soft, safety=0.5)
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["predict", "--gap", "0.00938", "--floor", "carpet"],
+        ["chain", "--n", "4", "--fit-from", "9"],
+    ],
+    ids=lambda a: a[0],
+)
+def test_a_refused_command_leaves_no_empty_output_folder(tmp_path, args):
+    out = tmp_path / "new" / "out"
+    proc = subprocess.run(
+        [sys.executable, "-m", "dominowave", *args, "--out", str(out)],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 2, proc.stderr
+    assert not (tmp_path / "new").exists()
+
+
+def test_a_folder_with_files_is_never_removed(tmp_path):
+    from dominowave.io.atomic import ensure_writable_dir, remove_empty_created
+
+    kept, emptied = tmp_path / "a" / "kept", tmp_path / "b"
+    ensure_writable_dir(kept)
+    ensure_writable_dir(emptied)
+    (kept / "result.csv").write_text("1\n")
+    assert set(remove_empty_created()) == {emptied}
+    assert (kept / "result.csv").exists() and not emptied.exists()
+
+
+def test_an_interrupted_chain_leaves_no_empty_output_folder(tmp_path):
+    import signal
+    import time
+
+    out = tmp_path / "new" / "out"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "dominowave", "chain", "--n", "200", "--out", str(out)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    end = time.monotonic() + 60
+    while not out.exists() and time.monotonic() < end:  # the folder is made before the run
+        time.sleep(0.05)
+    assert out.is_dir()
+    proc.send_signal(signal.SIGINT)
+    _, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 130, stderr
+    assert not (tmp_path / "new").exists()

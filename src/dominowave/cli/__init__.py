@@ -14,7 +14,7 @@ import sys
 import typer
 
 from dominowave import signals
-from dominowave.io.atomic import os_error_line
+from dominowave.io.atomic import os_error_line, remove_empty_created
 
 app = typer.Typer(
     name="dominowave",
@@ -106,7 +106,21 @@ RENAMED_OPTIONS = {
 
 
 def main() -> None:
-    """Entry point of the ``dominowave`` console script.
+    """Entry point of the ``dominowave`` console script (see :func:`_main`); a command that
+    fails or is interrupted leaves no empty output folder behind."""
+    try:
+        _main()
+    except SystemExit as exc:
+        if exc.code not in (0, None):
+            remove_empty_created()
+        raise
+    except BaseException:
+        remove_empty_created()
+        raise
+
+
+def _main() -> None:
+    """The command line, every error one line.
 
     Every error a user can cause is one line on stderr with exit code 2: usage
     errors (unknown option, missing argument) and bad physical input, which raises

@@ -30,6 +30,7 @@ __all__ = [
     "disk_full_said",
     "ensure_writable_dir",
     "os_error_line",
+    "remove_empty_created",
     "write_json",
     "write_text",
 ]
@@ -160,19 +161,41 @@ def _disk_is_full(folder: Path) -> bool:
         return False
 
 
+_CREATED: list[Path] = []
+"""Folders :func:`ensure_writable_dir` created in this process (outermost first)."""
+
+
 def ensure_writable_dir(path: Path) -> Path:
     """Create folder ``path`` if needed and check we can write into it.
 
-    Raises ``ValueError`` naming the folder, instead of failing after a long run.
+    Raises ``ValueError`` naming the folder, instead of failing after a long run. The
+    folders it creates are remembered, so that a command that then fails or is
+    interrupted removes those it left empty (:func:`remove_empty_created`).
     """
     path = Path(path)
     if path.exists() and not path.is_dir():
         raise ValueError(f"output folder {path} exists and is not a folder")
+    missing = [p for p in (path, *path.parents) if not p.exists()]
     try:
         path.mkdir(parents=True, exist_ok=True)
+        _CREATED.extend(reversed(missing))
         fd, probe = tempfile.mkstemp(prefix=TMP_PREFIX + "probe.", dir=path)
         os.close(fd)
         os.unlink(probe)
     except OSError as exc:
         raise ValueError(f"output folder {path} is not writable ({exc.strerror or exc})") from None
     return path
+
+
+def remove_empty_created() -> list[Path]:
+    """Remove the folders this process created that are still empty, innermost first
+    (a refused or interrupted command leaves no empty output folder); returns them."""
+    removed = []
+    for folder in reversed(_CREATED):
+        try:
+            folder.rmdir()  # only an empty folder: nothing written is ever removed
+            removed.append(folder)
+        except OSError:
+            pass
+    _CREATED.clear()
+    return removed
