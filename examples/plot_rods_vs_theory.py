@@ -28,3 +28,20 @@ if c.speed == c.speed:  # not NaN: the wave settled within the chain
 else:
     print(f"rods: not settled within {c.n} dominoes; eq 20: {c.speed_theory:.4f}")
 print(f"status: {c.status}")
+
+# %%
+# The same four checks as ratios of simulation to theory: 1 where the theory's
+# assumptions hold (head-on contact, a single pair in contact at a time).
+import matplotlib.pyplot as plt  # noqa: E402
+
+ratios = {
+    "T_c / eq 31": c.tc_first / c.tc_theory,
+    "F_m / eq 37": c.f_first / c.fm_theory,
+    "transfer / f+": c.transfer_first / c.f_plus,
+    "v / eq 20": c.speed / c.speed_theory,
+}
+fig, ax = plt.subplots(figsize=(6.0, 3.2), layout="constrained")
+ax.bar(list(ratios), list(ratios.values()), color="tab:blue")
+ax.axhline(1.0, color="k", lw=0.8)
+ax.set(ylabel="rods / theory", ylim=(0.8, 1.2), title="d/l = 0.4, k/k* = 1e4, head-on")
+plt.show()

@@ -40,3 +40,31 @@ def test_no_notice_when_the_kernels_are_cached(monkeypatch):
     assert result.exit_code == 0, result.output
     assert "compiling" not in result.output
     assert not compiling.notice_if_compiling()  # the theory compiles nothing
+
+
+def test_the_notice_says_how_long_and_a_terminal_hears_it_is_still_working(monkeypatch, capsys):
+    """The notice gives the measured first-run time; on a terminal a line every
+    HEARTBEAT_S seconds follows until the kernel has a compiled signature."""
+    import sys
+    import time
+
+    class Kernel:  # a dispatcher whose compilation ends after 2.5 s
+        end = time.monotonic() + 2.5
+
+        @property
+        def signatures(self):
+            return ["f8()"] if time.monotonic() > self.end else []
+
+    monkeypatch.setattr(compiling, "kernels_cached", lambda dispatcher: False)
+    monkeypatch.setattr(compiling, "HEARTBEAT_S", 1.0)
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
+    monkeypatch.setattr(
+        compiling.importlib,
+        "import_module",
+        lambda name: type("M", (), {"run_loop": Kernel(), "advance": Kernel()}),
+    )
+    assert compiling.notice_if_compiling("dem")
+    time.sleep(4.0)
+    err = capsys.readouterr().err
+    assert "about 4 minutes for the DEM on 2 cores" in err
+    assert err.count("still compiling") == 2  # at 1 s and 2 s, not after the end

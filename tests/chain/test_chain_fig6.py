@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import re
 import subprocess
 import sys
 
@@ -90,6 +91,11 @@ def test_chain_command_reports_an_unsettled_wave_without_nan():
     assert res.returncode == 0, res.stderr
     assert "not settled" in res.stdout and "theory transient over the same dominoes" in res.stdout
     assert "nan ±" not in res.stdout
+    # the main job's summary: the difference in %, what the ± is, what the slip is
+    out = " ".join(res.stdout.split())
+    assert re.search(r"theory transient over the same dominoes: [0-9.]+ m/s \([+-][0-9.]+ % ", out)
+    assert "not the spread of the speed between runs" in out
+    assert "domino 0 has no neighbour behind it" in out
 
 
 def test_chain_command_names_units_and_which_speed_to_quote(cli):

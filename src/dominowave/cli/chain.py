@@ -72,6 +72,22 @@ def _speed_cell(speed: float) -> str:
     return f"v={_fmt(speed)} m/s" if math.isfinite(speed) else "v not settled"
 
 
+ONE_RUN_ERROR = (
+    "(± is the fit's standard error over this one run's dominoes, not the spread of the"
+    " speed between runs: a chain is chaotic, --members 8 gives an ensemble's)"
+)
+SLIP_NOTE = (
+    "slip: the base's displacement along the chain at the end of the run (negative:"
+    " backwards); domino 0 has no neighbour behind it, so the chain's rebounds push it"
+    " back the furthest"
+)
+
+
+def _percent(value: float, reference: float) -> str:
+    """``value`` against ``reference`` as a signed percentage, e.g. ``+6.6 %``."""
+    return f"{100.0 * (value / reference - 1.0):+.1f} %"
+
+
 def _print_unsettled(console: Console, run: ChainRun, scale: float) -> None:
     """Say that no steady speed exists in this chain, and what can be compared instead.
 
@@ -94,7 +110,9 @@ def _print_unsettled(console: Console, run: ChainRun, scale: float) -> None:
             f"mean speed over dominoes {first}..{last}: {_fmt(sim.speed)} ± "
             f"{_fmt(sim.speed_err, 2)} m/s (v/sqrt(gl) = {_fmt(sim.speed / scale)}); "
             f"theory transient over the same dominoes: {_fmt(th.speed)} m/s"
+            f" ({_percent(sim.speed, th.speed)} from it)"
         )
+        console.print(ONE_RUN_ERROR)
 
 
 def _cut_short_note(run: ChainRun, max_time: float, member: int | None) -> str:
@@ -343,7 +361,7 @@ def chain_command(
     table = Table(
         title=f"domino chain: N={n}, d/l={d_over_l:.4g}, k/k*={p.stiffness_over_kstar:.3g}",
         caption="-: not defined (domino 0 has no local speed, the last domino no rebound)"
-        " or not reached by the wave",
+        f" or not reached by the wave; {SLIP_NOTE}",
     )
     cols = {
         "domino": "n",
@@ -371,6 +389,8 @@ def chain_command(
             f"steady speed: {_fmt(w.speed)} ± {_fmt(w.speed_err, 2)} m/s "
             f"(v/sqrt(gl) = {_fmt(w.speed / scale)}; settled over dominoes {w.first}..{w.last})"
         )
+        if ens is None:
+            console.print(ONE_RUN_ERROR)
     else:
         _print_unsettled(console, run, scale)
     for i, r in enumerate([run] if ens is None else ens.runs):
@@ -393,6 +413,7 @@ def chain_command(
                 console.print(f"  member {i} not settled: {reason}")
     window = (
         f"; transient theory on the same dominoes: {_fmt(run.theory_window_speed)} m/s"
+        f" (the steady speed is {_percent(w.speed, run.theory_window_speed)} from it)"
         if w.settled
         else ""
     )

@@ -12,10 +12,19 @@ means a compilation.
 from __future__ import annotations
 
 import importlib
+import sys
+import threading
+import time
 
 import typer
 
-__all__ = ["KERNELS", "SCENARIO_KERNELS", "kernels_cached", "notice_if_compiling"]
+__all__ = [
+    "FIRST_RUN",
+    "KERNELS",
+    "SCENARIO_KERNELS",
+    "kernels_cached",
+    "notice_if_compiling",
+]
 
 KERNELS: dict[str, tuple[str, str]] = {
     "dem": ("dominowave.dem.engine", "run_loop"),  # the DEM engine's compiled time loop
@@ -26,6 +35,12 @@ compiles everything it calls."""
 
 SCENARIO_KERNELS: dict[str, tuple[str, ...]] = {"chain": ("dem",), "rods": ("rods",)}
 """The kernels a study of each scenario kind runs (the theory runs none)."""
+
+FIRST_RUN: dict[str, str] = {"dem": "about 4 minutes", "rods": "about 15 s"}
+"""How long compiling takes on a 2-core machine with an empty cache (benchmarks/README.md:
+the README's main job, 4 min 15 s of wall time; the rods example, 14 s)."""
+HEARTBEAT_S = 30.0
+"""Interval of the "still compiling" lines on a terminal [s]."""
 
 
 def kernels_cached(dispatcher) -> bool:
@@ -53,9 +68,28 @@ def notice_if_compiling(*instruments: str) -> bool:
             missing.append(name.upper() if name == "dem" else name)
     if not missing:
         return False
+    times = ", ".join(f"{FIRST_RUN[n.lower()]} for the {n}" for n in missing)
     typer.echo(
-        f"compiling the {' and '.join(missing)} kernels (first run after installing or "
-        "changing the package; tens of seconds, once: later runs load them from the cache)",
+        f"compiling the {' and '.join(missing)} kernels (first run after installing or"
+        f" changing them; {times} on 2 cores, once: later runs load them from the cache)",
         err=True,
     )
+    if sys.stderr.isatty():  # on a terminal, say that it is still working
+        dispatchers = [
+            getattr(importlib.import_module(KERNELS[n.lower()][0]), KERNELS[n.lower()][1])
+            for n in missing
+        ]
+        threading.Thread(target=_heartbeat, args=(dispatchers,), daemon=True).start()
     return True
+
+
+def _heartbeat(dispatchers) -> None:
+    """Every :data:`HEARTBEAT_S`, one line on stderr until the kernels are compiled."""
+    start = time.monotonic()
+    while True:
+        time.sleep(1.0)
+        if all(d.signatures for d in dispatchers):
+            return
+        elapsed = time.monotonic() - start
+        if elapsed // HEARTBEAT_S != (elapsed - 1.0) // HEARTBEAT_S:
+            print(f"  still compiling ({elapsed:.0f} s)", file=sys.stderr, flush=True)
