@@ -8,8 +8,10 @@ by a hash of its configuration: re-running the same study runs only the points n
 yet stored, so a crash or Ctrl-C loses nothing. ``collect`` gathers the stored points
 into one ``xarray.Dataset`` on the swept grid.
 
-The points here are the closed-form theory (milliseconds each) on a LocalCluster of
-one worker, so the example shows the machinery in a few seconds.
+The points here are the closed-form theory (milliseconds each) on a Dask cluster of
+one worker thread in this process, so the example shows the machinery in a few seconds
+(``dominowave sweep`` starts a LocalCluster of worker processes, or joins the cluster
+at ``--scheduler``).
 """
 
 # %%
@@ -18,10 +20,11 @@ import tempfile
 from pathlib import Path
 
 import matplotlib.pyplot as plt
+from distributed import Client
 
 from dominowave.io.config import parse_study
 from dominowave.sweep.collect import collect
-from dominowave.sweep.runner import dask_client, run_sweep
+from dominowave.sweep.runner import run_sweep
 
 study = parse_study(
     {
@@ -38,7 +41,9 @@ def counts(report) -> str:
     return f"{report.total} points: {report.skipped} already stored, {report.ran} run now"
 
 
-with dask_client(n_workers=1) as client:
+# (threads in this process: a script that starts worker processes must guard its code
+# with ``if __name__ == "__main__":``, which a gallery page would hide)
+with Client(processes=False, n_workers=1, threads_per_worker=1, dashboard_address=":0") as client:
     print(counts(run_sweep(study, out, client=client, quiet=True)))
     # a crash that lost one point: remove its folder, run the same study again
     lost = sorted((out / "points").iterdir())[0]
