@@ -52,3 +52,26 @@ def test_check_memory_accepts_what_fits():
     checks.check_memory(6 * GIB, "a test", "x = 1")
     with pytest.raises(ValueError, match=r"x = 2: the run needs about 7 GiB for a test"):
         checks.check_memory(7 * GIB, "a test", "x = 2")
+
+
+def test_a_prediction_design_larger_than_the_machine_is_refused_before_it_is_built():
+    from dominowave.sweep.predict import predict_points
+
+    # (building the design first would take hours and 195 GiB: the refusal comes first)
+    with pytest.raises(ValueError, match=r"samples = 1048576 \(8388608 chains\): the run needs"):
+        predict_points(0.00938, "felt", 2**20)
+    with pytest.raises(ValueError, match=r"samples = 1073741824 \(8589934592 chains\)"):
+        predict_points(0.00938, "felt", 2**30)
+
+
+def test_a_study_sweep_larger_than_the_machine_is_refused_before_it_is_built():
+    from dominowave.io.config import parse_study
+
+    grid = {
+        "d_over_l": [0.1 + 1e-6 * i for i in range(1000)],
+        "stiffness_ratio": [1.0 + i for i in range(1000)],
+        "height": [0.01 + 1e-5 * i for i in range(100)],
+    }
+    study = {"scenario": {"kind": "theory"}, "sweep": {"grid": grid}}
+    with pytest.raises(ValueError, match=r"sweep of 100000000 points: the run needs about"):
+        parse_study(study, "big.toml")

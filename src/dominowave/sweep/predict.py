@@ -45,6 +45,8 @@ from dominowave.chain.materials import load_materials
 from dominowave.chain.presets import SAMPLED, standard_domino, standard_entries
 from dominowave.chain.scenario import DominoChain
 from dominowave.chain.wave import check_fit_from, speed_from
+from dominowave.checks import check_memory
+from dominowave.io.config import BYTES_PER_POINT
 from dominowave.io.results import RunResult
 from dominowave.io.schema import ScenarioModel, quantity
 from dominowave.sweep.context import RunContext
@@ -198,6 +200,12 @@ def predict_points(
     check_fit_from(fit_from, n_dominoes)
     materials = load_materials()
     problem, fixed = _problem(floor, materials)
+    n_points = samples * (problem["num_vars"] + 2)  # Saltelli without second order
+    check_memory(
+        BYTES_PER_POINT * n_points,
+        f"the {n_points} chains of its design",
+        f"samples = {samples} ({n_points} chains)",
+    )
     standard_domino(gap=gap, floor=floor, n_dominoes=n_dominoes, model=model)  # bad input now
     x = sobol_sample.sample(problem, samples, calc_second_order=False, seed=seed)
     points = []
