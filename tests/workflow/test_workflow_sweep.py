@@ -118,6 +118,32 @@ def test_collect_puts_a_grid_on_its_axes(dask_client, tmp_path):
     nc = write_collected(ds, out / "collected.nc")
     with xr.open_dataset(nc) as back:
         np.testing.assert_array_equal(back.speed.values, ds.speed.values)
+    assert ds.attrs["points_missing"] == 0
+
+
+def test_collect_of_an_incomplete_sweep_says_it_is_partial(dask_client, tmp_path):
+    """A sweep that lost points (interrupted, or a crash) collects into a file named and
+    marked partial, with the count of the points missing and how to run them."""
+    path = write_study(
+        tmp_path,
+        '[scenario]\nkind = "theory"\nn_dominoes = 6\nn_frames = 10\n'
+        "[sweep.grid]\nd_over_l = [0.25, 0.5, 0.75]\n",
+    )
+    out = tmp_path / "sweep"
+    run_sweep(load_study(path), out, client=dask_client, quiet=True)
+    import shutil
+
+    from dominowave.sweep.store import SweepStore
+
+    shutil.rmtree(sorted((out / "points").iterdir())[0])  # a point the sweep never stored
+    SweepStore(out).write_index({})
+    proc = subprocess.run([*CLI, "collect", str(out)], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert "partial: 1 point(s) of the study are not stored" in proc.stdout
+    assert (out / "collected.partial.nc").is_file() and not (out / "collected.nc").exists()
+    partial = collect(out)
+    assert partial.attrs["points_missing"] == 1
+    assert dict(partial.sizes) == {"d_over_l": 2}  # one swept field: on its axis
 
 
 def _wait_for(predicate, timeout: float, what: str):

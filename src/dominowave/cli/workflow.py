@@ -247,9 +247,16 @@ def collect_cmd(
     from dominowave.sweep.collect import collect, write_collected
 
     ds = collect(folder)
-    path = write_collected(ds, out or Path(folder) / "collected.nc")
+    missing = ds.attrs["points_missing"]
+    name = "collected.partial.nc" if missing else "collected.nc"  # partial says so
+    path = write_collected(ds, out or Path(folder) / name)
     dims = ", ".join(f"{k}: {v}" for k, v in ds.sizes.items())
     typer.echo(f"collected {dims} -> {path}")
+    if missing:
+        typer.echo(
+            f"partial: {missing} point(s) of the study are not stored (attribute"
+            f" points_missing); `dominowave resume {folder}` runs them"
+        )
 
 
 def plot_cmd(

@@ -91,8 +91,20 @@ def collect(folder: str | Path):
     config_names = sorted({k for r in records for k in r["config"]})
     for name in config_names:
         data[f"config_{name}"] = ("point", _column([r["config"].get(name) for r in records]))
-    ds = xr.Dataset(data, coords=coords, attrs={"source": str(folder)})
+    attrs = {"source": str(folder), "points_missing": _count_missing(Path(folder), keys)}
+    ds = xr.Dataset(data, coords=coords, attrs=attrs)
     return _as_grid(ds, swept)
+
+
+def _count_missing(folder: Path, keys: list[str]) -> int:
+    """Points of the folder's study that are not stored (an interrupted sweep)."""
+    from dominowave.io.config import load_study
+    from dominowave.sweep.hashing import point_key
+
+    study = folder / "study.toml"
+    if not study.is_file():
+        return 0
+    return len({point_key(p) for p in load_study(study).points} - set(keys))
 
 
 def _as_grid(ds, swept: list[str]):
@@ -106,6 +118,8 @@ def _as_grid(ds, swept: list[str]):
     full = math.prod(len(np.unique(c)) for c in columns)
     if len(combos) != ds.sizes["point"] or len(combos) != full:
         return ds
+    if len(swept) == 1:  # one swept field: its values index the points (no multi-index)
+        return ds.swap_dims({"point": swept[0]}).drop_vars("point").sortby(swept[0])
     return ds.set_index(point=swept).unstack("point")
 
 
