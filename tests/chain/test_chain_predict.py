@@ -238,6 +238,7 @@ def test_chain_command_runs_the_standard_preset_and_shows_the_films():
     out = " ".join(proc.stdout.split())  # rich wraps long lines
     assert "front speed from domino 1 on (pitch-based)" in out
     assert "d/l=0.1954," in out  # the preset's d/l rounded in the title
+    assert "pair None" not in out
     assert "leaning train (rigid, inelastic; theory.leaning) at friction 0.525: 0.694 m/s" in out
     assert "measured (high-speed films, hardwood, gap 9.38 mm, 7 rows): 1.264 m/s" in out
     assert "inferred from the measurement (not a material value): leaning train 0.04;" in out
