@@ -38,11 +38,11 @@ def _package(root: Path, stamped: bool) -> None:
     )
 
 
-def _run(root: Path) -> tuple[float, bool]:
-    """``mini.loop.run(2.0)`` in a fresh process, and whether its kernel came from the
+def _run(root: Path, module: str = "mini.loop") -> tuple[float, bool]:
+    """``run(2.0)`` of ``module`` in a fresh process, and whether its kernel came from the
     disk cache (numba's count of cache hits)."""
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(root), *sys.path])}
-    code = "from mini.loop import run; print(run(2.0), sum(run.stats.cache_hits.values()))"
+    code = f"from {module} import run; print(run(2.0), sum(run.stats.cache_hits.values()))"
     out = subprocess.run(
         [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
     )
@@ -104,27 +104,17 @@ def _instrument_package(root: Path) -> None:
     )
 
 
-def _run_instrument(root: Path) -> tuple[float, bool]:
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(root), *sys.path])}
-    code = "from mini.inst.loop import run; print(run(2.0), sum(run.stats.cache_hits.values()))"
-    out = subprocess.run(
-        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
-    )
-    value, hits = out.stdout.strip().splitlines()[-1].split()
-    return float(value), int(hits) > 0
-
-
 def test_only_an_edit_a_kernel_can_see_recompiles_it(tmp_path):
     """An edit outside the kernel's instrument and the shared modules keeps the cached
     kernel; an edit of its folder or of the shared modules compiles it anew and runs."""
     _instrument_package(tmp_path)
     pkg = tmp_path / "mini"
-    assert _run_instrument(tmp_path) == (2.0, False)
+    assert _run(tmp_path, "mini.inst.loop") == (2.0, False)
     (pkg / "cli.py").write_text("WORDS = 'more help'\n")
-    assert _run_instrument(tmp_path) == (2.0, True)  # the command line is not in the kernel
+    assert _run(tmp_path, "mini.inst.loop") == (2.0, True)  # the command line is not in the kernel
     (pkg / "units.py").write_text("SCALE = 3.0\n")
-    assert _run_instrument(tmp_path) == (6.0, False)  # a shared constant is
+    assert _run(tmp_path, "mini.inst.loop") == (6.0, False)  # a shared constant is
     (pkg / "inst" / "law.py").write_text(
         (pkg / "inst" / "law.py").read_text().replace("SCALE * x", "SCALE * x + 1.0")
     )
-    assert _run_instrument(tmp_path) == (7.0, False)  # and its own folder
+    assert _run(tmp_path, "mini.inst.loop") == (7.0, False)  # and its own folder

@@ -19,10 +19,11 @@ friction at which the DEM matches a measurement).
 from __future__ import annotations
 
 import argparse
-import csv
 import math
 import time
 from pathlib import Path
+
+from rows_csv import write_rows  # this folder's CSV writer
 
 from dominowave.chain.build import chain_positions
 from dominowave.chain.presets import standard_domino
@@ -69,10 +70,7 @@ def main() -> None:
                     }
                 )
                 print(rows[-1], flush=True)
-    with args.out.open("w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    write_rows(args.out, rows)
 
 
 if __name__ == "__main__":

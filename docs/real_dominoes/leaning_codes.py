@@ -20,6 +20,7 @@ import csv
 from pathlib import Path
 
 import numpy as np
+from rows_csv import write_rows  # this folder's CSV writer
 
 from dominowave.chain.wave import speed_from
 from dominowave.theory import leaning
@@ -75,10 +76,7 @@ def main() -> None:
             row[f"{code}_vs_leaning_pct"] = round(100 * (row[f"{code}_m_s"] / fit - 1), 1)
         rows.append(row)
         print(row, flush=True)
-    with args.out.open("w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    write_rows(args.out, rows)
 
 
 if __name__ == "__main__":

@@ -49,12 +49,12 @@ Usage::
 from __future__ import annotations
 
 import argparse
-import csv
 import math
 import time
 from pathlib import Path
 
 import numpy as np
+from rows_csv import write_rows  # this folder's CSV writer
 
 from dominowave.chain.build import chain_positions
 from dominowave.chain.events import forward_tilt, rotate_vectors
@@ -144,10 +144,7 @@ def main() -> None:
             for friction in FRICTIONS:
                 rows.append(one_run(model, gap, friction, args.n, args.fit_from))
                 print(rows[-1], flush=True)
-    with args.out.open("w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    write_rows(args.out, rows)
 
 
 if __name__ == "__main__":
