@@ -1,0 +1,84 @@
+"""Time to solution on real dominoes: the standard 40-domino chain, dominowave beside MuJoCo.
+
+The chain: 40 standard dominoes (48 x 24 x 7.5 mm, 8 g), 3D, clear gap 9.38 mm, friction
+0.3 between the dominoes and with the floor, domino 0 pushed with ``sqrt(g/l)``, the
+front speed fitted from domino 10 on (pitch-based). Each configuration below is run in
+turn, ``--repeat`` rounds of interleaved runs (one of each per round, so that a load on
+the shared machine falls on all of them alike), and the median wall time of each is
+reported with its speed:
+
+* dominowave with the package's defaults (the plastic's stiffness, every box free);
+* dominowave with the stiffness set by ``stiffness_ratio`` (``--ratios``), boxes free;
+* MuJoCo (``benchmarks/mujoco_chain.py``: exact boxes, elliptic cones, implicitfast), with
+  its default contacts at dt 1e-3 s and with the 2 ms contacts of the cross-check at
+  dt 2e-4 s.
+
+Wall time of dominowave: the whole ``DominoChain(p).run(push)`` with warm kernels (one
+warm-up run first); of MuJoCo: its stepping loop (model build and settling excluded).
+
+Usage::
+
+    python benchmarks/standard_chain_vs_mujoco.py [--repeat 3] [--ratios 1e4,1e5]
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import time
+
+from mujoco_chain import run_chain  # the MuJoCo chain of this folder
+
+from dominowave.chain import DominoChain, Push
+from dominowave.chain.build import chain_positions
+from dominowave.chain.presets import standard_domino
+from dominowave.chain.wave import speed_from
+
+GAP, FRICTION, N, FIT_FROM = 0.00938, 0.3, 40, 10
+
+
+def dominowave_run(stiffness_ratio: float | None) -> tuple[float, float]:
+    """(front speed [m/s], wall time [s]) of the standard chain in dominowave."""
+    extra = {} if stiffness_ratio is None else {"stiffness_ratio": stiffness_ratio}
+    p = standard_domino(
+        gap=GAP, floor="felt", n_dominoes=N, friction_dominoes=FRICTION, friction_floor=FRICTION,
+        **extra,
+    )  # fmt: skip
+    start = time.perf_counter()
+    run = DominoChain(p).run(Push(omega=math.sqrt(p.g / p.height)))
+    wall = time.perf_counter() - start
+    return speed_from(run.arrival, chain_positions(p), FIT_FROM).speed, wall
+
+
+def mujoco_run(dt: float, solref_tc: float) -> tuple[float, float]:
+    """(front speed [m/s], wall time of the stepping loop [s]) of the chain in MuJoCo."""
+    run = run_chain(N, GAP, FRICTION, FRICTION, dt, fit_from=FIT_FROM, solref_tc=solref_tc)
+    return run.speed, run.wall_s
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--repeat", type=int, default=3, help="interleaved rounds")
+    parser.add_argument("--ratios", default="1e4,1e5", help="stiffness ratios k/k* to add")
+    args = parser.parse_args()
+    configs = {"dominowave, defaults": lambda: dominowave_run(None)}
+    for ratio in (float(r) for r in args.ratios.split(",") if r):
+        configs[f"dominowave, k/k* = {ratio:g}"] = lambda r=ratio: dominowave_run(r)
+    configs["MuJoCo, default contacts, dt 1e-3 s"] = lambda: mujoco_run(1e-3, 0.02)
+    configs["MuJoCo, 2 ms contacts, dt 2e-4 s"] = lambda: mujoco_run(2e-4, 0.002)
+    dominowave_run(1e4)  # warm the kernels: compiling is not time to solution
+    results = {name: [] for name in configs}
+    for _ in range(args.repeat):
+        for name, run in configs.items():
+            results[name].append(run())
+    print(f"| code | speed [m/s] | wall [s], median of {args.repeat} |")
+    print("| --- | --- | --- |")
+    for name, runs in results.items():
+        speeds = {round(v, 4) for v, _ in runs}
+        wall = statistics.median(w for _, w in runs)
+        print(f"| {name} | {', '.join(f'{v:.4f}' for v in sorted(speeds))} | {wall:.3g} |")
+
+
+if __name__ == "__main__":
+    main()
