@@ -1,4 +1,5 @@
-"""The layering of DESIGN.md, checked on the source: no import circles, and the three
+"""The layering of the package (docs/architecture.md), checked on the source: no import
+circles, and the three
 instruments (theory, rods, dem) import neither each other nor anything above them.
 
 Every import counts, also those inside functions (a lazy import that closes a circle is

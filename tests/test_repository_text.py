@@ -1,4 +1,5 @@
-"""What users read speaks of the package: no issue numbers, no dated notes in the prose.
+"""What users read speaks of the package: no issue numbers, no document outside the
+repository, no dated notes in the prose.
 
 The provenance of a number is kept in one table per documentation page (number,
 command, commit, date); the text refers to its row.
@@ -20,10 +21,14 @@ USER_FILES = sorted(
         *ROOT.glob("benchmarks/**/*.py"),
         *ROOT.glob("benchmarks/*.md"),
         *ROOT.glob("examples/*.py"),
+        *(p for p in ROOT.glob("tests/**/*.py") if p.name != Path(__file__).name),
         ROOT / "README.md",
     ]
 )
-ISSUE = re.compile(r"\bissues? ?#?\d+\b|\(issue\b|\bsession \d+\b", re.IGNORECASE)
+# a development diary, or a document outside the repository
+ISSUE = re.compile(
+    r"\bissues? ?#?\d+\b|\(issue\b|\bsession \d+\b|DESIGN\.md|\.\./shared", re.IGNORECASE
+)
 # the package's own runs (a cited source's date is no diary)
 DATE = re.compile(r"\b2026-\d\d-\d\d\b|\b\d{1,2} (Nov|Dec)\w* 2026\b")
 

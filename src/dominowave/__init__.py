@@ -1,6 +1,7 @@
 """dominowave: how fast are elastic domino waves?
 
-Three independent instruments answer the question (see ``DESIGN.md``):
+Three independent instruments answer the question (the map of the package:
+``docs/architecture.md``):
 
 * :mod:`dominowave.theory` -- the closed-form results of the paper
   "How Fast are Elastic Domino Waves?" (Efthimiou-Johnson rigid limit, finite
