@@ -1,4 +1,4 @@
-"""A command that is about to compile the numba kernels says so (issue 16)."""
+"""A command that is about to compile the numba kernels says so."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Why a wave did not settle: the phrase beside every "not settled" (issue 16)."""
+"""Why a wave did not settle: the phrase beside every "not settled"."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """Fig 6's speed panels draw every ensemble: none settled -> an open marker at its d/l,
-some settled -> the count beside the point (issue 16)."""
+some settled -> the count beside the point."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """Rounded-cuboid bodies in the engine (dem/boxes.py): validations against independent
-calculations (issue 13: incline, resting corners, tipping vs an ODE, elastic and
-eccentric collisions, planar vs general path)."""
+calculations (an incline, resting corners, tipping against an ODE, elastic and
+eccentric collisions, the planar against the general path)."""
 
 import math
 

@@ -1,6 +1,6 @@
-"""Rounded-cuboid contacts in the engine (dem/boxes.py), validations 5-7 of issue 13:
-a contact whose touching feature pair changes (an edge or corner sliding over a corner),
-stacks and rows of boxes at rest, and the limit of sharp edges r -> 0."""
+"""Rounded-cuboid contacts in the engine (dem/boxes.py), validated against independent
+calculations: a contact whose touching feature pair changes (an edge or corner sliding
+over a corner), stacks and rows of boxes at rest, and the limit of sharp edges r -> 0."""
 
 import math
 
@@ -16,7 +16,7 @@ from reference.sliding_contact import sliding_contact
 G = 9.81
 RHO = 1000.0
 
-# ----------------------------------------------------------------- 5. feature changes
+# -------------------------------------------------------------------- feature changes
 
 KN, KT_RATIO, MU = 1e4, 0.8, 0.3
 HALF_B, R_B = np.array([0.02, 0.01, 0.01]), 0.001  # the fixed box
@@ -113,7 +113,7 @@ def test_validate_corner_sliding_over_a_corner_keeps_force_and_energy_smooth(pla
           f"{jump / scale:.2e} of the force (reference {ref_jump / scale:.2e})")  # fmt: skip
 
 
-# ------------------------------------------------- 5b. each contact location once
+# ---------------------------------------------------- each contact location once
 
 
 def _manifold(xi, Ri, hi, ri, xj, Rj, hj, rj):
@@ -220,7 +220,7 @@ def test_validate_no_two_manifold_points_coincide(tilt, axis, exponent, sign, wi
     assert len(set(key)) == len(key)
 
 
-# ----------------------------------------------------------------- 6. at rest
+# -------------------------------------------------------------------------- at rest
 
 DOMINO = np.array([0.00375, 0.012, 0.024])  # a 7.5 x 24 x 48 mm domino (half-extents) [m]
 KN_REST = 1e4
@@ -351,7 +351,7 @@ def test_validate_row_of_thirty_standing_dominoes_stays_at_rest():
           f"rad/s; omega {measured:.2f} against {yaw:.2f} rad/s")  # fmt: skip
 
 
-# ----------------------------------------------------------------- 7. r -> 0
+# ---------------------------------------------------------------------------- r -> 0
 
 PAPER = (0.05, 0.005, 0.025)  # the paper's domino: height l, thickness s, width w [m]
 KN_TIP = 1e5
@@ -462,7 +462,7 @@ def test_validate_sharp_edge_limit_of_the_first_touch():
     assert abs(diff_sim - diff_ref) < 10 * delta / rho * times[200][1]
 
 
-# ----------------------------------------------------------------- 4. eccentric restitution
+# ------------------------------------------------------------ eccentric restitution
 
 
 def _eccentric_hertz_impact(v, restitution):
@@ -513,7 +513,7 @@ def test_validate_eccentric_restitution_converges_to_the_set_value_as_the_turn_v
     assert excess_slow > 0.0
     # (the second-order part, ~ turn^2, is below 1e-2 of the first at 0.5 m/s)
     assert (excess_fast / turn_fast) / (excess_slow / turn_slow) == pytest.approx(1.0, rel=1e-2)
-    assert abs(excess_slow) < 1e-2  # (within validation 4's 1 % at 0.05 m/s)
+    assert abs(excess_slow) < 1e-2  # (within the eccentric restitution test's 1 % at 0.05 m/s)
     per_slow, per_fast = excess_slow / turn_slow, excess_fast / turn_fast
     print(f"excess {excess_slow:.2e} at 0.05 m/s (turn {turn_slow:.2e} rad), {excess_fast:.2e} "
           f"at 0.5 m/s (turn {turn_fast:.2e} rad); turn ratio {turn_fast / turn_slow:.3f}, "

@@ -59,61 +59,60 @@ block_statics (a block pushed on its back face, section 2.4, eqs 38-42)
       of signed moments -- cross products + brentq xtol 1e-14 -- theory/test_theory_bounds
 cuboid (uniform and rounded cuboids: mass properties)
   box_mass_properties, box_edge_inertia, parallel_axis: mass, principal moments, moment
-      about an edge -- closed form (Steiner) -- dem/test_dem_box_validate (box body)
+      about an edge -- closed form (Steiner) -- dem/test_dem_box_validate (the box's mass)
   rounded_box_mass_properties, rounded_rectangle_mass_properties: box or rectangle swept
       by a sphere (disc), exact -- closed form piece by piece (core, slabs, quarter
-      cylinders, octants), checked by 2D quadrature to 4e-16 --
-      dem/test_dem_box_validate (validation 7)
+      cylinders, octants), checked by 2D quadrature to 4e-16 -- test_cuboid_references
 incline (a block on an incline with Coulomb friction)
   incline_regime, incline_acceleration, incline_motion, incline_corner_forces: rest,
       slide a = g (sin t - mu cos t), tip at tan t > s / 2h; stopping; two-point statics
-      -- closed form -- dem/test_dem_box_validate (validation 1)
+      -- closed form -- test_cuboid_references
 edge_tipping (a cuboid tipping over its bottom front edge, hinge fixed)
   edge_fall_time: theta0 -> theta1 from (theta0, omega0) -- quad of the energy integral
-      after theta = theta0 + x^2, epsrel 1e-13 -- dem/test_dem_box_validate (validation 2),
-      dem/test_dem_box_validate (validation 7: the r = 0 end of the trend)
+      after theta = theta0 + x^2, epsrel 1e-13 -- dem/test_dem_box_validate (the r = 0
+      end of the sharp-edge trend)
   edge_fall_by_newton: the same, Newton's law -- solve_ivp DOP853 rtol 1e-12, atol
-      1e-14, event -- dem/test_dem_box_validate (validation 2)
+      1e-14, event -- test_cuboid_references (checks edge_fall_time)
   edge_reaction, edge_slip_tilt: floor force on the edge per unit mass; the first tilt
       needing more friction than mu -- closed form, scan + brentq xtol 1e-14 (from rest
       every box slips near theta = alpha + acos(1/3), before it lands)
   first_contact_time: Push(omega) of domino 0 to its first touch of domino 1 at
       sin(theta) = d / l (top front edge on the back face) -- edge_fall_time --
-      dem/test_dem_box_validate (validation 2)
+      test_cuboid_references
 rigid_impact (two rigid bodies colliding at a point, no friction)
   effective_mass, impulse_collision, energy_loss: 1/m_eff with both lever arms and
       inertias, Newton's restitution law, loss (1 - e^2) m_eff u^2 / 2 -- closed form --
-      dem/test_dem_box_validate (validation 4, restitution of eccentric impacts)
+      test_cuboid_references
   dashpot_for_restitution, compliant_impact: the same impact through a spring-dashpot at
       frozen geometry -- solve_ivp DOP853 rtol 1e-12, event -- checks the two above
 resting_box (a box resting flat on n corner springs)
   resting_corner_load, resting_box_modes: m g / n per corner, overlap m g / (n k);
       bounce, rocking (with sliding for k_t > 0, gravity's -m g h), yaw -- closed form,
-      checked against the exact potential's Hessian -- dem/test_dem_box_validate (validations 3, 6)
+      checked against the exact potential's Hessian -- dem/test_dem_box_validate (at rest)
   stack_loads, stack_bounce_frequencies: a stack of N boxes, loads (N - i) m g / n and
       the fixed-free chain's vertical modes -- closed form, checked against the spring
-      chain's static solution and eigenvalues -- dem/test_dem_box_validate (validation 6,
-      stack at rest)
+      chain's static solution and eigenvalues -- dem/test_dem_box_validate (a stack at
+      rest)
 rounded_tipping (a rounded cuboid rolling over its rounded front bottom edge, no slip)
   rounded_fall_time: theta0 -> theta1 -- quad of the energy integral with the rolling
-      inertia j(theta), epsrel 1e-13 -- dem/test_dem_box_validate (validations 2 and 7,
+      inertia j(theta), epsrel 1e-13 -- dem/test_dem_box_validate (sharp-edge limit,
       r = s/20 and s/200)
   rounded_fall_by_lagrange: the same, Lagrange's equation -- solve_ivp DOP853 rtol
       1e-12, atol 1e-14, event
   rounded_first_contact_time: (l - 2r) sin(theta) + r theta = d -- brentq xtol 1e-15 and
-      rounded_fall_time; checked against a polygon-distance event -- dem/test_dem_box_validate
-      (validation 2), dem/test_dem_box_validate (validation 7, two-box first touch)
+      rounded_fall_time; checked against a polygon-distance event --
+      dem/test_dem_box_validate (two-box first touch), chain/test_chain_box
 box_distance (distances of cuboid cores: the overlap of rounded cuboids)
   box_box_distance: closest points of two boxes -- bounded least squares (lsq_linear,
-      BVLS), checked by closed forms and a separating-plane certificate -- dem/test_dem_box_geometry
-      (box-box contact geometry)
+      BVLS), checked by closed forms and a separating-plane certificate --
+      test_cuboid_references
   box_point_distance, box_wall_distance: box-sphere and box-wall -- closed form (clamp,
-      lowest corner) -- dem/test_dem_box_sphere (box-sphere, box-wall contacts)
+      lowest corner) -- test_cuboid_references
 sliding_contact (a rounded box driven at constant velocity over a fixed one, full slip)
   sliding_contact: force k_n delta n - mu k_n delta t and stored energy along the path --
       box_box_distance (exact core distance, any feature pair) + closed form; checked
       against a vertex over a face and over an edge -- dem/test_dem_box_validate
-      (validation 5, feature changes)
+      (feature changes)
 leaning_frictionless (the leaning train without friction: geometry + conservation laws)
   train_tilts: the train's tilts -- brentq (xtol 1e-15) on the corner's distance from the
       next back face -- used by frictionless_steady_speed

@@ -1,4 +1,4 @@
-"""`animate` on a sweep folder without --point asks for the point (issue 16)."""
+"""`animate` on a sweep folder without --point asks for the point."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """`dominowave plot`'s speed figure hides nothing: every point inside the axes, runs
-that did not settle drawn as open markers (issue 16)."""
+that did not settle drawn as open markers."""
 
 from __future__ import annotations
 

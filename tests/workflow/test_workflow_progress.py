@@ -1,5 +1,5 @@
 """The run progress bar: its end and ETA come from the wave's progress and the
-measured rate, not from the run's time cap (issue 16)."""
+measured rate, not from the run's time cap."""
 
 from __future__ import annotations
 

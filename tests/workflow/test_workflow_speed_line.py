@@ -1,4 +1,4 @@
-"""`dominowave run` ends with the wave speed, or "not settled" and the reason (issue 16)."""
+"""`dominowave run` ends with the wave speed, or "not settled" and the reason."""
 
 from __future__ import annotations
 
