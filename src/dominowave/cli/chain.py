@@ -152,13 +152,12 @@ def _what_to_quote(run: ChainRun, ens: ChainEnsemble | None) -> str:
     )
 
 
-def _quoted_speed(run: ChainRun, chain: DominoChain, fit_from: int | None) -> float:
-    """The speed to compare with a measurement [m/s]: the fit from ``fit_from`` on where
-    given (as the films are fitted), else the steady speed; NaN if the wave did not settle."""
-    if fit_from is not None:
-        fit = chain.speed_from(run, fit_from)
-        return fit.speed if fit.settled else math.nan
-    return run.wave.speed if run.wave.settled else math.nan
+def _quoted_speed(run: ChainRun, fit) -> float:
+    """The speed to compare with a measurement [m/s]: ``fit``, the fit from ``--fit-from``
+    on, where given (as the films are fitted), else the steady speed; NaN if the wave did
+    not settle."""
+    chosen = run.wave if fit is None else fit
+    return chosen.speed if chosen.settled else math.nan
 
 
 def _preset_params(preset, gap, floor, n, physical, others) -> ChainParams:
@@ -396,8 +395,8 @@ def chain_command(
     for i, r in enumerate([run] if ens is None else ens.runs):
         if r.cut_short:
             console.print(_cut_short_note(r, chain.max_time, None if ens is None else i))
-    if fit_from is not None:
-        fit = chain.speed_from(run, fit_from)
+    fit = None if fit_from is None else chain.speed_from(run, fit_from)
+    if fit is not None:
         console.print(
             f"front speed from domino {fit_from} on (pitch-based): {_fmt(fit.speed)} ± "
             f"{_fmt(fit.speed_err, 2)} m/s over dominoes {fit.first}..{fit.last}"
@@ -427,7 +426,7 @@ def chain_command(
         console.print(f"secondary wave catching up; {where}")
     console.print(_what_to_quote(run, ens))
     if preset is not None:
-        quoted = ens.speed.mean if ens is not None else _quoted_speed(run, chain, fit_from)
+        quoted = ens.speed.mean if ens is not None else _quoted_speed(run, fit)
         lines = reconcile_lines(
             quoted, gap=gap, floor=floor, model=p.model, friction=p.friction_dominoes
         )

@@ -61,11 +61,13 @@ def kernels_cached(dispatcher) -> bool:
 def notice_if_compiling(*instruments: str) -> bool:
     """Print one line on stderr if the kernels of ``instruments`` ("dem", "rods") will
     be compiled by this command; return whether it did."""
-    missing = []
+    missing, dispatchers = [], []
     for name in instruments:
         module, function = KERNELS[name]
-        if not kernels_cached(getattr(importlib.import_module(module), function)):
+        dispatcher = getattr(importlib.import_module(module), function)
+        if not kernels_cached(dispatcher):
             missing.append(name.upper() if name == "dem" else name)
+            dispatchers.append(dispatcher)
     if not missing:
         return False
     times = ", ".join(f"{FIRST_RUN[n.lower()]} for the {n}" for n in missing)
@@ -75,10 +77,6 @@ def notice_if_compiling(*instruments: str) -> bool:
         err=True,
     )
     if sys.stderr.isatty():  # on a terminal, say that it is still working
-        dispatchers = [
-            getattr(importlib.import_module(KERNELS[n.lower()][0]), KERNELS[n.lower()][1])
-            for n in missing
-        ]
         threading.Thread(target=_heartbeat, args=(dispatchers,), daemon=True).start()
     return True
 
