@@ -7,9 +7,6 @@ the energy budget of one domino. Where no steady train runs the row says why.
 
 from __future__ import annotations
 
-import csv
-import io
-import json
 import math
 from typing import Annotated
 
@@ -17,6 +14,7 @@ import numpy as np
 import typer
 
 from dominowave.checks import check_memory
+from dominowave.cli import tables
 from dominowave.cli.theory import parse_values
 from dominowave.theory import leaning
 from dominowave.units import G_STANDARD
@@ -67,38 +65,11 @@ def leaning_table(height, thickness, mass, gaps, frictions, g=G_STANDARD) -> lis
     return rows
 
 
-def _fmt(value) -> str:
-    return f"{value:.6g}" if isinstance(value, float) else str(value)
-
-
-def _as_table(rows: list[dict], header_note: str) -> str:
-    header = [title for _, title in COLUMNS]
-    body = [[_fmt(row[key]) for key, _ in COLUMNS] for row in rows]
-    widths = [max(len(r[i]) for r in [header, *body]) for i in range(len(header) - 1)]
-    lines = [
-        "  ".join([*(c.rjust(w) for c, w in zip(r[:-1], widths, strict=True)), r[-1]])
-        for r in [header, *body]
-    ]
-    return "\n".join([header_note, *lines])
-
-
-def _as_csv(rows: list[dict], _note: str) -> str:
-    buffer = io.StringIO()
-    fields = [title for _, title in COLUMNS]
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(fields)
-    writer.writerows([[row[key] for key, _ in COLUMNS] for row in rows])
-    return buffer.getvalue().rstrip("\n")
-
-
-def _as_json(rows: list[dict], _note: str) -> str:
-    def value(v):  # JSON has no NaN: "nan" where no steady train runs
-        return str(v) if isinstance(v, float) and not math.isfinite(v) else v
-
-    return json.dumps([{k: value(v) for k, v in row.items()} for row in rows], indent=1)
-
-
-FORMATTERS = {"table": _as_table, "csv": _as_csv, "json": _as_json}
+FORMATTERS = {
+    "table": lambda rows, note: tables.as_table(rows, COLUMNS, note, free_last=True),
+    "csv": lambda rows, _note: tables.as_csv(rows, COLUMNS, header="title"),
+    "json": lambda rows, _note: tables.as_json(rows),
+}
 
 
 def leaning_cmd(

@@ -7,10 +7,6 @@ times in ``sqrt(l/g)``, speeds in ``sqrt(g l)``, the stiffness as ``k / k*`` wit
 
 from __future__ import annotations
 
-import csv
-import io
-import json
-import math
 from pathlib import Path
 from typing import Annotated
 
@@ -19,6 +15,7 @@ import typer
 
 from dominowave import theory as th
 from dominowave.checks import check_in_range, check_memory, check_nonnegative, check_positive
+from dominowave.cli import tables
 from dominowave.io.atomic import ensure_writable_dir
 from dominowave.units import beta_from_spacing
 
@@ -111,46 +108,15 @@ def theory_table(d_over_l, k_ratio, s_over_l, mu, convention="paper") -> list[di
     return rows
 
 
-def _fmt(value) -> str:
-    if isinstance(value, bool):
-        return "yes" if value else "NO"
-    if isinstance(value, float):
-        return f"{value:.6g}"
-    return str(value)
-
-
-def _as_table(rows: list[dict]) -> str:
-    header = [title for _, title in COLUMNS]
-    body = [[_fmt(row[key]) for key, _ in COLUMNS] for row in rows]
-    widths = [max(len(r[i]) for r in [header, *body]) for i in range(len(header))]
-    lines = ["  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)) for r in [header, *body]]
-    note = (
-        "# dimensionless (l = g = m = 1): Omega in sqrt(g/l); T, T_c in sqrt(l/g); speeds in "
-        "sqrt(g l); k per particle (k_r = k/2) unless --convention contact"
-    )
-    return "\n".join([note, *lines])
-
-
-def _as_csv(rows: list[dict]) -> str:
-    buffer = io.StringIO()
-    writer = csv.DictWriter(buffer, fieldnames=[key for key, _ in COLUMNS], lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(rows)
-    return buffer.getvalue().rstrip("\n")
-
-
-def _json_value(value):
-    # JSON has no infinity: non-finite numbers become the strings "inf" / "nan"
-    if isinstance(value, float) and not math.isfinite(value):
-        return str(value)
-    return value
-
-
-def _as_json(rows: list[dict]) -> str:
-    return json.dumps([{k: _json_value(v) for k, v in row.items()} for row in rows], indent=1)
-
-
-FORMATTERS = {"table": _as_table, "csv": _as_csv, "json": _as_json}
+NOTE = (
+    "# dimensionless (l = g = m = 1): Omega in sqrt(g/l); T, T_c in sqrt(l/g); speeds in "
+    "sqrt(g l); k per particle (k_r = k/2) unless --convention contact"
+)
+FORMATTERS = {
+    "table": lambda rows: tables.as_table(rows, COLUMNS, NOTE),
+    "csv": lambda rows: tables.as_csv(rows, COLUMNS),
+    "json": tables.as_json,
+}
 
 
 def theory_cmd(
