@@ -287,24 +287,43 @@ class _Fall:
 
     u: np.ndarray  # theta_0'^2 at the nodes [1/s^2], shape (*front, m)
     u_end: np.ndarray  # theta_0'^2 at beta, shape front
-    gain: np.ndarray  # alpha of u_end = alpha u0 + offset
-    offset: np.ndarray  # [1/s^2]
     duration: np.ndarray  # time from 0 to beta [s] (nan where the front stops)
     friction_loss: np.ndarray  # work of friction over the phase [J/kg]
     min_force: np.ndarray  # smallest contact force over train and phase [N/kg]
 
 
-def _fall(ph: _Phase, u0) -> _Fall:
-    """Solve ``du/dtheta = 2 (P + Q u)`` exactly on the nodes (integrating factor)."""
+@dataclass(frozen=True)
+class _Affine:
+    """The leaning phase as a map of ``u0``: ``u = growth (u0 + pushed)`` at the nodes and
+    ``u(beta) = gain u0 + offset`` (the integrating factor of ``du/dtheta = 2 (P + Q u)``)."""
+
+    growth: np.ndarray  # exp(int_0^theta 2 Q), shape (*front, m)
+    pushed: np.ndarray  # int_0^theta 2 P / growth, shape (*front, m)
+    gain: np.ndarray  # shape front
+    offset: np.ndarray  # [1/s^2], shape front
+
+
+def _affine(ph: _Phase) -> _Affine:
+    """The integrating factor of the phase ``ph`` on the Chebyshev nodes (independent of
+    the front's angular velocity)."""
     _, cum, total, _ = _chebyshev(NODES)
     half = 0.5 * ph.beta[..., None]  # d theta / d x
     qx, px = 2.0 * half * ph.q, 2.0 * half * ph.p
     growth = np.exp(qx @ cum)
     gain = np.exp(qx @ total)
     drive = px / growth
+    return _Affine(growth, drive @ cum, gain, gain * (drive @ total))
+
+
+def _fall(ph: _Phase, u0, affine: _Affine | None = None) -> _Fall:
+    """Solve ``du/dtheta = 2 (P + Q u)`` exactly on the nodes from ``u(0) = u0``
+    (``affine``: :func:`_affine` of ``ph``, if already at hand)."""
+    _, _, total, _ = _chebyshev(NODES)
+    half = 0.5 * ph.beta[..., None]  # d theta / d x
+    aff = _affine(ph) if affine is None else affine
+    gain, offset = aff.gain, aff.offset
     u0 = np.asarray(u0, float)[..., None]
-    u = growth * (u0 + drive @ cum)
-    offset = gain * (drive @ total)
+    u = aff.growth * (u0 + aff.pushed)
     accel = ph.p + ph.q * u
     basis = np.stack([np.ones_like(u), accel, u])  # (1, theta'', u) at the nodes
     n = ph.forces.shape[0] - 1
@@ -316,8 +335,6 @@ def _fall(ph: _Phase, u0) -> _Fall:
     return _Fall(
         u=u,
         u_end=gain * u0[..., 0] + offset,
-        gain=gain,
-        offset=offset,
         duration=np.where(np.all(u > 0.0, axis=-1), duration, np.nan),
         friction_loss=half[..., 0] * (friction_power @ total),
         min_force=np.min(forces, axis=(0, -1)) if n > 1 else np.full(u.shape[:-1], np.inf),
@@ -430,14 +447,14 @@ def _steady(l, s, d, mu, g) -> dict[str, np.ndarray]:
     ph = _phase(l, s, lam, mu, g, n, infinite=True)
     col = _collision(l, s, lam, mu, n + 1)
     c2 = col.ratio**2
-    probe = _fall(ph, np.zeros_like(l))  # gain and offset do not depend on u0
+    aff = _affine(ph)
     with np.errstate(divide="ignore", invalid="ignore"):
-        u_after = c2 * probe.offset / (1.0 - c2 * probe.gain)
-    fall = _fall(ph, np.where(u_after > 0.0, u_after, 0.0))
-    released = g * (_centre_height(0.0, l, s) - _centre_height(np.arccos(s / lam), l, s))
+        u_after = c2 * aff.offset / (1.0 - c2 * aff.gain)
+    fall = _fall(ph, np.where(u_after > 0.0, u_after, 0.0), aff)
     rest = np.arccos(s / lam)
+    released = g * (_centre_height(0.0, l, s) - _centre_height(rest, l, s))
     lowest = np.minimum(ph.min_height_on_face, l - lam * np.sin(rest))  # the endless tail's
-    reason = _why_not(released, u_after, c2 * probe.gain, fall, lowest, col)
+    reason = _why_not(released, u_after, c2 * aff.gain, fall, lowest, col)
     ok = reason == ""
     nan = np.where(ok, 1.0, np.nan)
     omega_before = np.sqrt(np.abs(fall.u_end)) * nan
