@@ -21,7 +21,6 @@ from rich.markup import escape
 from rich.table import Table
 
 from dominowave.chain.build import ChainParams
-from dominowave.chain.reconcile import reconcile_lines
 from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push
 from dominowave.chain.wave import check_fit_from, fit_speed, local_speeds, unsettled_reason
 from dominowave.checks import check_in_range
@@ -426,6 +425,8 @@ def chain_command(
         console.print(f"secondary wave catching up; {where}")
     console.print(_what_to_quote(run, ens))
     if preset is not None:
+        from dominowave.chain.reconcile import reconcile_lines  # (the leaning train: scipy)
+
         quoted = ens.speed.mean if ens is not None else _quoted_speed(run, fit)
         lines = reconcile_lines(
             quoted, gap=gap, floor=floor, model=p.model, friction=p.friction_dominoes

@@ -16,7 +16,6 @@ import typer
 from dominowave.checks import check_memory
 from dominowave.cli import tables
 from dominowave.cli.theory import parse_values
-from dominowave.theory import leaning
 from dominowave.units import G_STANDARD
 
 __all__ = ["leaning_table", "register"]
@@ -41,6 +40,8 @@ BYTES_PER_ROW = 2000
 
 def leaning_table(height, thickness, mass, gaps, frictions, g=G_STANDARD) -> list[dict]:
     """Rows over ``gaps`` [m] first, then ``frictions``; energies per domino [mJ]."""
+    from dominowave.theory import leaning  # (scipy.fft: not at every command's start)
+
     gaps, frictions = np.atleast_1d(gaps), np.atleast_1d(frictions)
     st = leaning.steady_state(height, thickness, gaps[:, None], frictions[None, :], g)
     rows = []
