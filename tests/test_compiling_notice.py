@@ -5,9 +5,11 @@ from __future__ import annotations
 import importlib
 import sys
 
+import pytest
 from typer.testing import CliRunner
 
 from dominowave.cli import app, compiling
+from dominowave.dem import SceneKind
 
 
 def test_kernels_cached_reads_numbas_own_index(tmp_path, monkeypatch):
@@ -24,6 +26,23 @@ def test_kernels_cached_reads_numbas_own_index(tmp_path, monkeypatch):
     del sys.modules["fresh_kernel"]
     again = importlib.import_module("fresh_kernel")
     assert not again.twice.signatures and compiling.kernels_cached(again.twice)
+
+
+def test_kernels_cached_tells_the_kinds_of_one_compiled_loop_apart(tmp_path, monkeypatch):
+    """A loop compiled for each value it closes over (as dem.engine.time_loop) shares one
+    index with its siblings: the kind compiled is cached, the other is not."""
+    (tmp_path / "kinds_kernel.py").write_text(
+        "import functools\nfrom numba import njit\n\n@functools.cache\ndef loop(FLAG):\n"
+        "    @njit(cache=True)\n    def run(x):\n        if FLAG:\n            return 2 * x\n"
+        "        return 3 * x\n    return run\n"
+    )
+    monkeypatch.syspath_prepend(str(tmp_path))
+    module = importlib.import_module("kinds_kernel")
+    assert module.loop(True)(2) == 4
+    del sys.modules["kinds_kernel"]
+    again = importlib.import_module("kinds_kernel")
+    assert compiling.kernels_cached(again.loop(True))
+    assert not compiling.kernels_cached(again.loop(False))
 
 
 def test_chain_says_it_is_compiling_when_the_cache_is_missing(monkeypatch):
@@ -58,13 +77,23 @@ def test_the_notice_says_how_long_and_a_terminal_hears_it_is_still_working(monke
     monkeypatch.setattr(compiling, "kernels_cached", lambda dispatcher: False)
     monkeypatch.setattr(compiling, "HEARTBEAT_S", 1.0)
     monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
-    monkeypatch.setattr(
-        compiling.importlib,
-        "import_module",
-        lambda name: type("M", (), {"run_loop": Kernel(), "advance": Kernel()}),
-    )
-    assert compiling.notice_if_compiling("dem")
+    monkeypatch.setattr(compiling, "_kernel", lambda need: ("DEM clumps", Kernel()))
+    assert compiling.notice_if_compiling(SceneKind(planar=True, spheres=True, boxes=False))
     time.sleep(4.0)
     err = capsys.readouterr().err
-    assert "about 4 minutes for the DEM on 2 cores" in err
+    assert f"{compiling.FIRST_RUN['DEM clumps']} for the DEM clumps on 2 cores" in err
     assert err.count("still compiling") == 2  # at 1 s and 2 s, not after the end
+
+
+@pytest.mark.parametrize("shape", ["clump", "box"])
+@pytest.mark.parametrize("model", ["2d", "3d"])
+def test_the_notice_checks_the_loop_the_chain_runs(shape, model):
+    """The kernels the chain command checks before it runs (chain.scenario.scene_kind,
+    from the parameters) are those the built scene runs (Simulation.kind)."""
+    from dominowave.chain import ChainParams, DominoChain, Push
+    from dominowave.chain.scenario import scene_kind
+
+    params = ChainParams(n_dominoes=3, shape=shape, model=model)
+    sim, _ = DominoChain(params).build(Push(omega=12.0))
+    sim.run(n_steps=1)
+    assert sim.kind == scene_kind(params)

@@ -21,7 +21,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from dominowave.chain.build import ChainParams
-from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push
+from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push, scene_kind
 from dominowave.chain.wave import check_fit_from, fit_speed, local_speeds, unsettled_reason
 from dominowave.checks import check_in_range
 from dominowave.cli.compiling import notice_if_compiling
@@ -340,7 +340,7 @@ def chain_command(
     else:
         push = Push(omega=push_omega * math.sqrt(p.g / p.height))
     chain = DominoChain(p)
-    compiling = notice_if_compiling("dem")
+    compiling = notice_if_compiling(scene_kind(p))
     start = time.perf_counter()
     ens = None
     if members > 1:
@@ -473,6 +473,7 @@ def paper_fig6_command(
 
     ``--shape box`` runs every configuration with rounded-cuboid dominoes (docs/shape.md).
     """
+    from dominowave.chain.paper_fig6 import CONFIGS
     from dominowave.cli.workflow import check_cluster_options
     from dominowave.plots.fig6 import plot_fig6
     from dominowave.sweep.fig6 import (
@@ -491,7 +492,8 @@ def paper_fig6_command(
         raise ValueError(f"shape = {shape!r} is not one of 'clump', 'box'")
     ensure_writable_dir(out)
     check_cluster_options(workers, scheduler)
-    notice_if_compiling("dem")  # each worker process loads (or compiles) them
+    # each worker process loads (or compiles) them: the kernels of every configuration
+    notice_if_compiling(*{scene_kind(ChainParams(shape=shape, **c)) for c in CONFIGS.values()})
 
     if shape == "box":
         preset = QUICK_BOX if quick else FULL_BOX

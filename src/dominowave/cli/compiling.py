@@ -20,32 +20,41 @@ import typer
 
 __all__ = [
     "FIRST_RUN",
-    "KERNELS",
-    "SCENARIO_KERNELS",
     "kernels_cached",
     "notice_if_compiling",
+    "study_kernels",
 ]
 
-KERNELS: dict[str, tuple[str, str]] = {
-    "dem": ("dominowave.dem.engine", "run_loop"),  # the DEM engine's compiled time loop
-    "rods": ("dominowave.rods.kernel", "advance"),  # the rod model's time loop
+FIRST_RUN: dict[str, str] = {
+    "DEM clumps": "about 40 s",
+    "DEM boxes": "about 2 minutes",
+    "rods": "about 15 s",
 }
-"""The compiled entry point of each instrument (module, function): compiling it
-compiles everything it calls."""
-
-SCENARIO_KERNELS: dict[str, tuple[str, ...]] = {"chain": ("dem",), "rods": ("rods",)}
-"""The kernels a study of each scenario kind runs (the theory runs none)."""
-
-FIRST_RUN: dict[str, str] = {"dem": "about 4 minutes", "rods": "about 15 s"}
-"""How long compiling takes on a 2-core machine with an empty cache (benchmarks/README.md:
-the README's main job, 4 min 15 s of wall time; the rods example, 14 s)."""
+"""How long compiling takes on a 2-core machine with an empty cache, by kernel
+(benchmarks/README.md, "First run"): the DEM time loop of a scene of clumps or of boxes
+(each compiles only its own kernels, dem.engine.time_loop), the rod model's."""
 HEARTBEAT_S = 30.0
 """Interval of the "still compiling" lines on a terminal [s]."""
 
 
+def _kernel(need):
+    """``(name, dispatcher)`` of a kernel a command needs: ``"rods"`` (the rod model's
+    time loop) or the :class:`~dominowave.dem.SceneKind` of a DEM scene (its time loop;
+    compiling it compiles everything it calls)."""
+    if need == "rods":
+        return "rods", importlib.import_module("dominowave.rods.kernel").advance
+    engine = importlib.import_module("dominowave.dem.engine")
+    return ("DEM boxes" if need.boxes else "DEM clumps"), engine.time_loop(need)
+
+
 def kernels_cached(dispatcher) -> bool:
     """Whether ``dispatcher`` (a ``numba.njit(cache=True)`` function) has a fresh
-    on-disk cache, so its first call loads machine code instead of compiling."""
+    on-disk cache, so its first call loads machine code instead of compiling.
+
+    A function that numba builds anew for each value it closes over (the DEM time loop
+    of each kind of scene) shares one index with its siblings: its own entries are those
+    whose key ends with the hashes of its code and of its closure values (numba's
+    ``Cache._index_key``)."""
     if dispatcher.signatures:  # compiled (or loaded) in this process already
         return True
     cache = getattr(dispatcher, "_cache", None)
@@ -53,32 +62,48 @@ def kernels_cached(dispatcher) -> bool:
     if index is None:  # not a cached dispatcher, or another numba's internals
         return False
     try:
-        return bool(index())
-    except Exception:  # an unreadable index: numba recompiles and rewrites it
-        return False
+        own = cache._index_key(None, dispatcher.targetctx.codegen())[-1]
+        return any(key[-1] == own for key in index())
+    except Exception:  # an unreadable index (numba recompiles and rewrites it), or
+        return False  # another numba's internals
 
 
-def notice_if_compiling(*instruments: str) -> bool:
-    """Print one line on stderr if the kernels of ``instruments`` ("dem", "rods") will
-    be compiled by this command; return whether it did."""
-    missing, dispatchers = [], []
-    for name in instruments:
-        module, function = KERNELS[name]
-        dispatcher = getattr(importlib.import_module(module), function)
+def notice_if_compiling(*needs) -> bool:
+    """Print one line on stderr if the kernels of ``needs`` (``"rods"``, or the
+    :class:`~dominowave.dem.SceneKind` of a DEM scene) will be compiled by this command;
+    return whether it did."""
+    missing: dict[str, list] = {}
+    for need in needs:
+        name, dispatcher = _kernel(need)
         if not kernels_cached(dispatcher):
-            missing.append(name.upper() if name == "dem" else name)
-            dispatchers.append(dispatcher)
+            missing.setdefault(name, []).append(dispatcher)
     if not missing:
         return False
-    times = ", ".join(f"{FIRST_RUN[n.lower()]} for the {n}" for n in missing)
+    times = ", ".join(f"{FIRST_RUN[name]} for the {name}" for name in missing)
+    instruments = dict.fromkeys(name.split()[0] for name in missing)
     typer.echo(
-        f"compiling the {' and '.join(missing)} kernels (first run after installing or"
+        f"compiling the {' and '.join(instruments)} kernels (first run after installing or"
         f" changing them; {times} on 2 cores, once: later runs load them from the cache)",
         err=True,
     )
     if sys.stderr.isatty():  # on a terminal, say that it is still working
+        dispatchers = [d for group in missing.values() for d in group]
         threading.Thread(target=_heartbeat, args=(dispatchers,), daemon=True).start()
     return True
+
+
+def study_kernels(kind: str, points) -> list:
+    """The kernels that the points of a study of scenario ``kind`` run (the needs of
+    :func:`notice_if_compiling`): the rods' time loop, or the DEM time loop of each kind
+    of scene among the points (whose ``params()`` give a chain's ``ChainParams``); the
+    theory runs none."""
+    if kind == "rods":
+        return ["rods"]
+    from dominowave.chain.build import ChainParams
+    from dominowave.chain.scenario import scene_kind
+
+    params = [p.params() for p in points if hasattr(p, "params")]
+    return list(dict.fromkeys(scene_kind(p) for p in params if isinstance(p, ChainParams)))
 
 
 def _heartbeat(dispatchers) -> None:

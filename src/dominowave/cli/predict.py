@@ -65,7 +65,10 @@ def predict_command(
     # bad input (samples, fit_from, gap, floor) fails here, before the compile notice
     predict_points(gap, floor, samples, n_dominoes=n, fit_from=fit_from, seed=seed, model=model)
     if scheduler is None:
-        notice_if_compiling("dem")
+        from dominowave.chain.build import ChainParams
+        from dominowave.chain.scenario import scene_kind
+
+        notice_if_compiling(scene_kind(ChainParams(shape="box", model=model)))
 
     def progress(row):
         console.print(

@@ -18,7 +18,7 @@ from typing import Annotated
 import typer
 
 from dominowave import signals
-from dominowave.cli.compiling import SCENARIO_KERNELS, notice_if_compiling
+from dominowave.cli.compiling import notice_if_compiling, study_kernels
 from dominowave.io.atomic import os_error_line
 
 __all__ = ["register"]
@@ -134,7 +134,7 @@ def _run(loaded, folder: Path, force: bool, policy: dict | None, vtk_every: int,
 
     if vtk_every and not getattr(type(loaded.scenario), "RECORDS_FRAMES", False):
         raise ValueError(f"--vtk: scenario {loaded.scenario.kind!r} records no frames to draw")
-    notice_if_compiling(*SCENARIO_KERNELS.get(loaded.scenario.kind, ()))
+    notice_if_compiling(*study_kernels(loaded.scenario.kind, loaded.points))
     with RunProgress(quiet) as progress:
         ctx = RunContext(progress=progress if progress.enabled else None, vtk_every=vtk_every)
         if policy is not None:
@@ -219,7 +219,7 @@ def _sweep(loaded, folder, scheduler, workers, retry_failed, quiet, force=False)
 
     check_cluster_options(workers, scheduler)
     if scheduler is None:  # the local workers share this machine's kernel cache
-        notice_if_compiling(*SCENARIO_KERNELS.get(loaded.scenario.kind, ()))
+        notice_if_compiling(*study_kernels(loaded.scenario.kind, loaded.points))
     report = run_sweep(
         loaded,
         folder,

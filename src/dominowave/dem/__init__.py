@@ -1,12 +1,14 @@
-"""A general discrete-element engine: spheres, rigid clumps of spheres, plane walls,
-linear contacts with Cundall-Strack friction, YADE-style local damping, blocked DOFs,
-and a numba-compiled time loop with recorders.  Knows nothing about dominoes.
+"""A general discrete-element engine: spheres, rigid clumps of spheres, rounded cuboids,
+plane walls, linear and Hertz contacts with Cundall-Strack friction, YADE-style local
+damping, blocked DOFs, and a numba-compiled time loop with recorders, compiled for each
+kind of scene (:class:`SceneKind`).  Knows nothing about dominoes.
 
 See docs/dem.md for the equations and the validation.
 """
 
 from dominowave.dem.contact import END, ONSET
 from dominowave.dem.energy import ENERGY_NAMES
+from dominowave.dem.engine import SceneKind
 from dominowave.dem.scene import Scene
 from dominowave.dem.simulation import (
     ContactEvents,
@@ -29,6 +31,7 @@ __all__ = [
     "PairStats",
     "RunResult",
     "Scene",
+    "SceneKind",
     "Simulation",
     "StopCondition",
     "clump_mass_properties",

@@ -1,6 +1,7 @@
 """The compiled time loop, its recorders and stop conditions.
 
-:func:`run_loop` advances the scene step by step entirely in numba-compiled code.  It
+:func:`time_loop` gives the compiled loop ``run_loop`` of a kind of scene; it advances the
+scene step by step entirely in numba-compiled code.  It
 returns to Python only when it is done, when a stop condition fires, when a recorder
 buffer or the Verlet list needs more room (Python grows it and calls again, the state
 being untouched by the interrupted step), or when the run must be aborted.
@@ -21,6 +22,7 @@ costs one test per frame.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections import namedtuple
 
@@ -52,6 +54,7 @@ from dominowave.dem.contact import (
     contact_power,
     moved_beyond,
     needs_rebuild,
+    store_build_pose,
 )
 from dominowave.dem.energy import (
     E_DISSIPATED_DAMPING,
@@ -77,16 +80,18 @@ from dominowave.dem.energy import (
 )
 from dominowave.dem.integrate import (
     advance_body_planar,
-    drift,
     drift_body,
-    kick,
+    drift_general,
+    drift_planar,
     kick_body,
+    kick_general,
+    kick_planar,
     update_listed_sphere_positions,
     update_sphere_positions,
 )
 from dominowave.dem.planar import compute_forces_planar, contact_power_planar
 
-__all__ = ["Recorder", "Settings", "quiet_reached", "run_loop", "steps_until_quiet"]
+__all__ = ["Recorder", "SceneKind", "Settings", "quiet_reached", "steps_until_quiet", "time_loop"]
 
 # return codes of run_loop
 DONE_STEPS = 0
@@ -366,9 +371,9 @@ def _record_frame(bodies, rec, t):
 
 
 @njit(cache=True, error_model="numpy")
-def _record_contact_forces(spheres, walls, contacts, rec, boxes):
-    """Append the active contacts of this step as the rows of trajectory frame traj_n
-    (the spheres', then the boxes' rows: box_sphere.box_rows_contact_forces)."""
+def _record_contact_forces(spheres, walls, contacts, rec):
+    """Append the active sphere contacts of this step as the rows of trajectory frame
+    traj_n."""
     k0 = rec.cf_n[0]
     rec.cf_start[rec.traj_n[0]] = k0
     rec.cf_n[0] = k0 + active_contact_forces(
@@ -380,16 +385,21 @@ def _record_contact_forces(spheres, walls, contacts, rec, boxes):
         rec.cf_point[k0:],
         rec.cf_force[k0:],
     )
-    if boxes.body.shape[0] > 0:
-        k0 = rec.cf_n[0]
-        rec.cf_n[0] = k0 + box_rows_contact_forces(
-            boxes,
-            spheres.body.shape[0],
-            rec.cf_first[k0:],
-            rec.cf_second[k0:],
-            rec.cf_point[k0:],
-            rec.cf_force[k0:],
-        )
+
+
+@njit(cache=True, error_model="numpy")
+def _record_box_contact_forces(spheres, rec, boxes):
+    """Append the active box contact points of this step to trajectory frame traj_n, after
+    its sphere contacts (box_sphere.box_rows_contact_forces)."""
+    k0 = rec.cf_n[0]
+    rec.cf_n[0] = k0 + box_rows_contact_forces(
+        boxes,
+        spheres.body.shape[0],
+        rec.cf_first[k0:],
+        rec.cf_second[k0:],
+        rec.cf_point[k0:],
+        rec.cf_force[k0:],
+    )
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -494,7 +504,7 @@ def _moving_range(bodies):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _advance_bodies(bodies, settings, first, stop):
+def _advance_general(bodies, settings, first, stop):
     """Kick and drift in one pass over the bodies, for the steps in which nothing reads the
     state between the two (the same arithmetic as :func:`kick` then :func:`drift`: each
     body's update is independent of the others, and its data stays in registers); the
@@ -508,18 +518,8 @@ def _advance_bodies(bodies, settings, first, stop):
     damping, damp_gravity = settings.damping, settings.damp_gravity
     rebuild = False
     held = bodies.held
-    if settings.planar:
-        # the same results with fewer operations, and without the full-step quantities
-        # that nothing reads in these steps (integrate.advance_body_planar)
-        for b in range(first, stop):
-            if held[b]:  # (a held body does not move: nothing to advance or test)
-                continue
-            advance_body_planar(bodies, b, g, dt, damping, damp_gravity)
-            if not rebuild:
-                rebuild = moved_beyond(bodies, b, half_skin)
-        return rebuild
     for b in range(first, stop):
-        if held[b]:
+        if held[b]:  # (a held body does not move: nothing to advance or test)
             continue
         kick_body(bodies, b, g, dt, damping, damp_gravity)
         drift_body(bodies, b, dt)
@@ -529,197 +529,288 @@ def _advance_bodies(bodies, settings, first, stop):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def run_loop(
-    bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_end, stop, work, boxes
-):
-    """Advance up to ``n_steps`` steps or until ``time >= t_end`` or a stop condition.
+def _advance_planar(bodies, settings, first, stop):
+    """:func:`_advance_general` for a planar scene: the same results with fewer
+    operations, and without the full-step quantities that nothing reads in these steps
+    (integrate.advance_body_planar)."""
+    half_skin = 0.5 * settings.skin
+    g, dt = settings.gravity, settings.dt
+    damping, damp_gravity = settings.damping, settings.damp_gravity
+    rebuild = False
+    held = bodies.held
+    for b in range(first, stop):
+        if held[b]:
+            continue
+        advance_body_planar(bodies, b, g, dt, damping, damp_gravity)
+        if not rebuild:
+            rebuild = moved_beyond(bodies, b, half_skin)
+    return rebuild
 
-    ``stop`` = (no_onset_for [s] or inf, touched_body or -1, kinetic_below [J] or -1,
-    start time of the run [s]; entries STOP_ARG_*).  ``work``: (2, 3) scratch array
-    (rows WORK_*).  ``boxes``: the
-    rounded-cuboid bodies and their contacts (boxes.py; zero-length without).  Returns
-    ``(code, steps_done)``; see the module constants.  ``rec.energy_now`` holds the
-    energies of the last step done (time ``clock[CLOCK_TIME] - dt``).
 
-    Compiled without numba's reference counting, as the kernels it calls every step
-    (contact.py): it allocates nothing itself, and every pass through the loop would
-    otherwise pay atomic reference-count updates of the ~100 state arrays.
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _advance_bodies(bodies, settings, first, stop):
+    """The fused kick and drift of the scene's kind (``settings.planar``):
+    :func:`_advance_planar` or :func:`_advance_general`."""
+    if settings.planar:
+        return _advance_planar(bodies, settings, first, stop)
+    return _advance_general(bodies, settings, first, stop)
+
+
+SceneKind = namedtuple("SceneKind", ["planar", "spheres", "boxes"])
+"""What a scene holds, which decides the kernels its time loop calls: ``planar`` (the
+planar kernels, dem/planar.py), ``spheres`` (sphere contacts: the Verlet list,
+contact.py) and ``boxes`` (rounded-cuboid contacts: boxes.py, and box_sphere.py with
+spheres).  Each is a bool."""
+
+
+@functools.cache
+def time_loop(kind: SceneKind):
+    """The compiled time loop of a scene of ``kind`` (:class:`SceneKind`): :func:`run_loop`
+    with the kernels of what the scene holds, and without the others.
+
+    numba compiles a function with every function it calls, and in a loop that branches
+    on the scene at run time that is every kernel of the engine (4 min 15 s for a clump
+    chain on a 2-core machine, benchmarks/README.md).  Here the kind is a constant of the
+    compiled function (a closure variable): numba removes the branches of the other
+    kinds before it types the loop, so a clump chain compiles no box kernel and a planar
+    scene no general one.  Each kind has its own entry in the disk cache (numba keys a
+    closure's cache entry by the values it closes over).  The steps are the same
+    arithmetic in every kind: a kind drops only calls that would have done nothing.
     """
-    dt = settings.dt
-    kin = work[WORK_KINETIC]
-    p_contacts = work[WORK_POWER]
-    touched_body = int(stop[STOP_ARG_TOUCHED_BODY])
-    planar = settings.planar
-    shear_kinematics = mats.shear_kinematics[0]
-    has_boxes = boxes.body.shape[0] > 0
-    if has_boxes:
-        # the caller may have changed the held flags: the visited pairs are built anew
-        # (boxes._visit_pairs), and the list too if it leaves out pairs of a box released
-        # since (boxes.build_box_candidates)
-        boxes.n_groups[0] = -1
-        if released_since_build(bodies, boxes):
-            boxes.n_cand[0] = -1
-    rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
-    # (in here only a release changes the held flags)
-    first_moving, stop_moving = _moving_range(bodies)
-    for done in range(n_steps):
-        t = rec.clock[CLOCK_TIME]
-        if t >= t_end - 0.5 * dt:
-            return DONE_TIME, done
-        last = done == n_steps - 1 or t + dt >= t_end - 0.5 * dt
-        # room for this step's records, otherwise hand back to Python before changing state
-        room = contacts.i.shape[0] + (boxes.changes.shape[0] if has_boxes else 0)
-        if settings.record_pairs and rec.ev_time.shape[0] - rec.ev_n[0] < room:
-            return GROW_EVENTS, done
-        step = rec.step[0]
-        traj_due = rec.traj_every[0] > 0 and step % rec.traj_every[0] == 0
-        energy_due = rec.energy_every[0] > 0 and step % rec.energy_every[0] == 0
-        if traj_due and rec.traj_n[0] == rec.traj_t.shape[0]:
-            return GROW_TRAJECTORY, done
-        if energy_due and rec.energy_n[0] == rec.energy_t.shape[0]:
-            return GROW_ENERGY, done
-        forces_due = traj_due and rec.cf_on[0] == 1
-        cf_room = contacts.i.shape[0]
-        if has_boxes:
-            cf_room += boxes.rows.i.shape[0] + boxes.sphere_rows.i.shape[0]
-        if forces_due and rec.cf_first.shape[0] - rec.cf_n[0] < cf_room:
-            return GROW_CONTACT_FORCES, done
-        if rebuild_due or (has_boxes and min(boxes.n_cand[0], boxes.n_sphere_cand[0]) < 0):
-            if not _finite(bodies):
-                return ABORT_NAN, done
-            update_sphere_positions(bodies, spheres, planar)  # the search sees every sphere
-            if build_verlet_list(spheres, walls, bodies, mats, contacts, settings.skin) < 0:
-                return GROW_CONTACTS, done
-            rec.n_rebuilds[0] += 1
-            # (the box list with the spheres': both rely on the same displacement test)
-            if has_boxes and build_box_candidates(bodies, boxes, walls, settings.skin) < 0:
-                return GROW_BOX_CANDIDATES, done
-            if has_boxes and (
-                build_box_sphere_candidates(bodies, spheres, boxes, walls, settings.skin) < 0
-            ):
-                return GROW_BOX_CANDIDATES, done
-        if contacts.n[0] == 0:  # (no sphere pairs listed, as in a scene of boxes only)
-            _zero_forces(bodies)  # (compute_forces' first act: a call costs more)
-            n_changes = 0
-        elif planar:
-            n_changes = compute_forces_planar(
-                bodies,
-                spheres,
-                walls,
-                contacts,
-                dt,
-                rec.ledger,
-                rec.changes,
-                step == 0,
-                shear_kinematics,
-            )
-        else:
-            n_changes = compute_forces(
-                bodies,
-                spheres,
-                walls,
-                contacts,
-                dt,
-                rec.ledger,
-                rec.changes,
-                step == 0,
-                shear_kinematics,
-            )
-        released = False
-        if has_boxes:
-            box_forces(bodies, boxes, walls, mats, dt, rec.ledger, step == 0, planar)
-            if spheres.body.shape[0] > 0:  # (the call alone costs ~0.5 us: _zero_forces)
-                box_sphere_forces(bodies, spheres, boxes, mats, dt, rec.ledger, step == 0, planar)
-            if boxes.n_changes[0] > 0:
-                released = _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t)
-        if n_changes > 0:
-            released |= _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t,
-                                  step == 0)  # fmt: skip
-        if released:  # (the held flags changed)
-            first_moving, stop_moving = _moving_range(bodies)
-            if has_boxes:
-                boxes.n_groups[0] = -1  # (boxes._visit_pairs)
-                if released_since_build(bodies, boxes):
-                    boxes.n_cand[0] = -1  # (the list is built at the next step)
-        if settings.record_peak_force:
-            _record_peak_force(spheres, contacts, rec)
-            if has_boxes:
-                box_peak_force(boxes, spheres, rec.peak_force)
-        # stop conditions, decided at t_n
-        code = -1
-        if touched_body >= 0 and rec.touched[touched_body]:
-            code = STOP_TOUCHED
-        elif quiet_reached(
-            t, dt, max(rec.last_onset[0], stop[STOP_ARG_RUN_START]), stop[STOP_ARG_QUIET]
-        ):
-            code = STOP_NO_ONSET
-        check_due = (step + 1) % settings.check_every == 0 or last or code >= 0
-        if not (traj_due or energy_due or check_due or settings.track_energy):
-            # nothing reads the state between kick and drift: one pass over the bodies
-            rebuild_due = _advance_bodies(bodies, settings, first_moving, stop_moving)
-        else:
-            p_damping = kick(
-                bodies, settings.gravity, dt, settings.damping, settings.damp_gravity, planar
-            )
-            if settings.track_energy:
-                if planar:
-                    contact_power_planar(bodies, spheres, walls, contacts, p_contacts)
-                else:
-                    contact_power(bodies, spheres, walls, contacts, p_contacts)
-                if has_boxes:
-                    box_power(bodies, boxes, p_contacts)
-                    box_sphere_power(bodies, spheres, boxes, p_contacts)
-                # trapezoidal rule for the work of the non-conservative forces since t_{n-1}
-                if step > 0:
-                    viscous = rec.power[LAST_POWER_VISCOUS] + p_contacts[POWER_VISCOUS]
-                    damping = rec.power[LAST_POWER_DAMPING] + p_damping
-                    friction = rec.power[LAST_POWER_FRICTION] + p_contacts[POWER_FRICTION]
-                    rec.ledger[LEDGER_VISCOUS] -= 0.5 * dt * viscous
-                    rec.ledger[LEDGER_DAMPING] -= 0.5 * dt * damping
-                    rec.ledger[LEDGER_FRICTION] -= 0.5 * dt * friction
-                rec.power[LAST_POWER_VISCOUS] = p_contacts[POWER_VISCOUS]
-                rec.power[LAST_POWER_DAMPING] = p_damping
-                rec.power[LAST_POWER_FRICTION] = p_contacts[POWER_FRICTION]
-            if forces_due:  # (before _record_frame: the frame index is traj_n)
-                _record_contact_forces(spheres, walls, contacts, rec, boxes)
-            if traj_due:
-                _record_frame(bodies, rec, t)
-            if energy_due:
-                g = rec.energy_n[0]
-                rec.energy_t[g] = t
-                energies(bodies, contacts, settings.gravity, rec.ledger, rec.energy_val[g])
-                if has_boxes:
-                    box_energies(boxes, rec.energy_val[g])
-                    box_sphere_energies(boxes, rec.energy_val[g])
-                rec.energy_n[0] = g + 1
-            # sanity checks at t_n, before the drift
-            if check_due:
-                energies(bodies, contacts, settings.gravity, rec.ledger, rec.energy_now)
-                if has_boxes:
-                    box_energies(boxes, rec.energy_now)
-                    box_sphere_energies(boxes, rec.energy_now)
+    kind = SceneKind(*(bool(flag) for flag in kind))
+    return _compile_run_loop(*kind)
+
+
+def _compile_run_loop(PLANAR, SPHERES, BOXES):  # (capitals: constants of the compiled loop)
+    """:func:`run_loop` for the kind ``(PLANAR, SPHERES, BOXES)`` (:func:`time_loop`).
+
+    The flags are tested by name in every ``if`` (numba prunes a branch whose condition
+    is a constant; it does not follow a constant through a variable or a ``not``)."""
+
+    @njit(cache=True, error_model="numpy", _nrt=False)
+    def run_loop(
+        bodies, spheres, walls, mats, contacts, settings, rec, n_steps, t_end, stop, work, boxes
+    ):
+        """Advance up to ``n_steps`` steps or until ``time >= t_end`` or a stop condition.
+
+        ``stop`` = (no_onset_for [s] or inf, touched_body or -1, kinetic_below [J] or -1,
+        start time of the run [s]; entries STOP_ARG_*).  ``work``: (2, 3) scratch array
+        (rows WORK_*).  ``boxes``: the rounded-cuboid bodies and their contacts (boxes.py;
+        zero-length without).  Returns ``(code, steps_done)``; see the module constants.
+        ``rec.energy_now`` holds the energies of the last step done (time
+        ``clock[CLOCK_TIME] - dt``).
+
+        Compiled without numba's reference counting, as the kernels it calls every step
+        (contact.py): it allocates nothing itself, and every pass through the loop would
+        otherwise pay atomic reference-count updates of the ~100 state arrays.
+        """
+        dt = settings.dt
+        kin = work[WORK_KINETIC]
+        p_contacts = work[WORK_POWER]
+        touched_body = int(stop[STOP_ARG_TOUCHED_BODY])
+        shear_kinematics = mats.shear_kinematics[0]
+        if BOXES:
+            # the caller may have changed the held flags: the visited pairs are built anew
+            # (boxes._visit_pairs), and the list too if it leaves out pairs of a box
+            # released since (boxes.build_box_candidates)
+            boxes.n_groups[0] = -1
+            if released_since_build(bodies, boxes):
+                boxes.n_cand[0] = -1
+        rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
+        # (in here only a release changes the held flags)
+        first_moving, stop_moving = _moving_range(bodies)
+        for done in range(n_steps):
+            t = rec.clock[CLOCK_TIME]
+            if t >= t_end - 0.5 * dt:
+                return DONE_TIME, done
+            last = done == n_steps - 1 or t + dt >= t_end - 0.5 * dt
+            # room for this step's records, otherwise hand back to Python before changing
+            # state
+            room = contacts.i.shape[0]
+            cf_room = contacts.i.shape[0]
+            if BOXES:
+                room += boxes.changes.shape[0]
+                cf_room += boxes.rows.i.shape[0] + boxes.sphere_rows.i.shape[0]
+            if settings.record_pairs and rec.ev_time.shape[0] - rec.ev_n[0] < room:
+                return GROW_EVENTS, done
+            step = rec.step[0]
+            traj_due = rec.traj_every[0] > 0 and step % rec.traj_every[0] == 0
+            energy_due = rec.energy_every[0] > 0 and step % rec.energy_every[0] == 0
+            if traj_due and rec.traj_n[0] == rec.traj_t.shape[0]:
+                return GROW_TRAJECTORY, done
+            if energy_due and rec.energy_n[0] == rec.energy_t.shape[0]:
+                return GROW_ENERGY, done
+            forces_due = traj_due and rec.cf_on[0] == 1
+            if forces_due and rec.cf_first.shape[0] - rec.cf_n[0] < cf_room:
+                return GROW_CONTACT_FORCES, done
+            build_due = rebuild_due
+            if BOXES:
+                build_due = build_due or min(boxes.n_cand[0], boxes.n_sphere_cand[0]) < 0
+            if build_due:
                 if not _finite(bodies):
                     return ABORT_NAN, done
-                rec.clock[CLOCK_ENERGY_SCALE] = max(
-                    rec.clock[CLOCK_ENERGY_SCALE],
-                    active_energy(rec.energy_now, settings.track_energy),
-                )
-                slack = 0.5 * rec.clock[CLOCK_ENERGY_SCALE]
-                slack += 1e-9 * abs(rec.energy_ref[E_GRAVITATIONAL])
-                excess = energy_excess(rec.energy_now, rec.energy_ref, settings.track_energy)
-                # (not `excess > slack`: an overflowing energy reads NaN, and NaN > x is False)
-                if not excess <= slack:
-                    return ABORT_RUNAWAY, done
-                if code < 0 and stop[STOP_ARG_KINETIC_BELOW] >= 0.0:
-                    kinetic_energy(bodies, kin)
-                    kinetic = kin[E_KINETIC_TRANSLATIONAL] + kin[E_KINETIC_ROTATIONAL]
-                    if kinetic < stop[STOP_ARG_KINETIC_BELOW]:
-                        code = STOP_KINETIC
-            drift(bodies, dt, planar)
-            rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
-        update_listed_sphere_positions(bodies, spheres, planar)
-        rec.clock[CLOCK_TIME] = t + dt
-        rec.step[0] = step + 1
-        if code >= 0:
-            return code, done + 1
-    return DONE_STEPS, n_steps
+                if SPHERES:
+                    update_sphere_positions(bodies, spheres, PLANAR)  # the search sees all
+                    if build_verlet_list(spheres, walls, bodies, mats, contacts, settings.skin) < 0:
+                        return GROW_CONTACTS, done
+                else:  # (what the build of an empty list does)
+                    contacts.n[0] = 0
+                    store_build_pose(bodies)
+                rec.n_rebuilds[0] += 1
+                # (the box list with the spheres': both rely on the same displacement test)
+                if BOXES:
+                    if build_box_candidates(bodies, boxes, walls, settings.skin) < 0:
+                        return GROW_BOX_CANDIDATES, done
+                    skin = settings.skin
+                    if build_box_sphere_candidates(bodies, spheres, boxes, walls, skin) < 0:
+                        return GROW_BOX_CANDIDATES, done
+            n_changes = 0
+            if SPHERES:
+                if contacts.n[0] == 0:  # (no sphere pairs listed)
+                    _zero_forces(bodies)  # (compute_forces' first act: a call costs more)
+                elif PLANAR:
+                    n_changes = compute_forces_planar(
+                        bodies,
+                        spheres,
+                        walls,
+                        contacts,
+                        dt,
+                        rec.ledger,
+                        rec.changes,
+                        step == 0,
+                        shear_kinematics,
+                    )
+                else:
+                    n_changes = compute_forces(
+                        bodies,
+                        spheres,
+                        walls,
+                        contacts,
+                        dt,
+                        rec.ledger,
+                        rec.changes,
+                        step == 0,
+                        shear_kinematics,
+                    )
+            else:
+                _zero_forces(bodies)
+            released = False
+            if BOXES:
+                box_forces(bodies, boxes, walls, mats, dt, rec.ledger, step == 0, PLANAR)
+                if SPHERES:
+                    box_sphere_forces(
+                        bodies, spheres, boxes, mats, dt, rec.ledger, step == 0, PLANAR
+                    )
+                if boxes.n_changes[0] > 0:
+                    released = _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t)
+            if SPHERES and n_changes > 0:
+                released |= _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t,
+                                      step == 0)  # fmt: skip
+            if released:  # (the held flags changed)
+                first_moving, stop_moving = _moving_range(bodies)
+                if BOXES:
+                    boxes.n_groups[0] = -1  # (boxes._visit_pairs)
+                    if released_since_build(bodies, boxes):
+                        boxes.n_cand[0] = -1  # (the list is built at the next step)
+            if settings.record_peak_force:
+                if SPHERES:
+                    _record_peak_force(spheres, contacts, rec)
+                if BOXES:
+                    box_peak_force(boxes, spheres, rec.peak_force)
+            # stop conditions, decided at t_n
+            code = -1
+            if touched_body >= 0 and rec.touched[touched_body]:
+                code = STOP_TOUCHED
+            elif quiet_reached(
+                t, dt, max(rec.last_onset[0], stop[STOP_ARG_RUN_START]), stop[STOP_ARG_QUIET]
+            ):
+                code = STOP_NO_ONSET
+            check_due = (step + 1) % settings.check_every == 0 or last or code >= 0
+            if not (traj_due or energy_due or check_due or settings.track_energy):
+                # nothing reads the state between kick and drift: one pass over the bodies
+                if PLANAR:
+                    rebuild_due = _advance_planar(bodies, settings, first_moving, stop_moving)
+                else:
+                    rebuild_due = _advance_general(bodies, settings, first_moving, stop_moving)
+            else:
+                g, damp_gravity = settings.gravity, settings.damp_gravity
+                if PLANAR:
+                    p_damping = kick_planar(bodies, g, dt, settings.damping, damp_gravity)
+                else:
+                    p_damping = kick_general(bodies, g, dt, settings.damping, damp_gravity)
+                if settings.track_energy:
+                    if SPHERES:
+                        if PLANAR:
+                            contact_power_planar(bodies, spheres, walls, contacts, p_contacts)
+                        else:
+                            contact_power(bodies, spheres, walls, contacts, p_contacts)
+                    else:  # (contact_power's sums over no contacts)
+                        p_contacts[POWER_VISCOUS] = p_contacts[POWER_FRICTION] = 0.0
+                    if BOXES:
+                        box_power(bodies, boxes, p_contacts)
+                        if SPHERES:
+                            box_sphere_power(bodies, spheres, boxes, p_contacts)
+                    # trapezoidal rule for the work of the non-conservative forces since
+                    # t_{n-1}
+                    if step > 0:
+                        viscous = rec.power[LAST_POWER_VISCOUS] + p_contacts[POWER_VISCOUS]
+                        damping = rec.power[LAST_POWER_DAMPING] + p_damping
+                        friction = rec.power[LAST_POWER_FRICTION] + p_contacts[POWER_FRICTION]
+                        rec.ledger[LEDGER_VISCOUS] -= 0.5 * dt * viscous
+                        rec.ledger[LEDGER_DAMPING] -= 0.5 * dt * damping
+                        rec.ledger[LEDGER_FRICTION] -= 0.5 * dt * friction
+                    rec.power[LAST_POWER_VISCOUS] = p_contacts[POWER_VISCOUS]
+                    rec.power[LAST_POWER_DAMPING] = p_damping
+                    rec.power[LAST_POWER_FRICTION] = p_contacts[POWER_FRICTION]
+                if forces_due:  # (before _record_frame: the frame index is traj_n)
+                    _record_contact_forces(spheres, walls, contacts, rec)
+                    if BOXES:
+                        _record_box_contact_forces(spheres, rec, boxes)
+                if traj_due:
+                    _record_frame(bodies, rec, t)
+                if energy_due:
+                    k = rec.energy_n[0]
+                    rec.energy_t[k] = t
+                    energies(bodies, contacts, settings.gravity, rec.ledger, rec.energy_val[k])
+                    if BOXES:
+                        box_energies(boxes, rec.energy_val[k])
+                        box_sphere_energies(boxes, rec.energy_val[k])
+                    rec.energy_n[0] = k + 1
+                # sanity checks at t_n, before the drift
+                if check_due:
+                    energies(bodies, contacts, settings.gravity, rec.ledger, rec.energy_now)
+                    if BOXES:
+                        box_energies(boxes, rec.energy_now)
+                        box_sphere_energies(boxes, rec.energy_now)
+                    if not _finite(bodies):
+                        return ABORT_NAN, done
+                    rec.clock[CLOCK_ENERGY_SCALE] = max(
+                        rec.clock[CLOCK_ENERGY_SCALE],
+                        active_energy(rec.energy_now, settings.track_energy),
+                    )
+                    slack = 0.5 * rec.clock[CLOCK_ENERGY_SCALE]
+                    slack += 1e-9 * abs(rec.energy_ref[E_GRAVITATIONAL])
+                    excess = energy_excess(rec.energy_now, rec.energy_ref, settings.track_energy)
+                    # (not `excess > slack`: an overflowing energy reads NaN, and NaN > x is
+                    # False)
+                    if not excess <= slack:
+                        return ABORT_RUNAWAY, done
+                    if code < 0 and stop[STOP_ARG_KINETIC_BELOW] >= 0.0:
+                        kinetic_energy(bodies, kin)
+                        kinetic = kin[E_KINETIC_TRANSLATIONAL] + kin[E_KINETIC_ROTATIONAL]
+                        if kinetic < stop[STOP_ARG_KINETIC_BELOW]:
+                            code = STOP_KINETIC
+                if PLANAR:
+                    drift_planar(bodies, dt)
+                else:
+                    drift_general(bodies, dt)
+                rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
+            if SPHERES:
+                update_listed_sphere_positions(bodies, spheres, PLANAR)
+            rec.clock[CLOCK_TIME] = t + dt
+            rec.step[0] = step + 1
+            if code >= 0:
+                return code, done + 1
+        return DONE_STEPS, n_steps
+
+    return run_loop

@@ -382,7 +382,7 @@ def kick_body_planar(bodies, b, gravity, dt, damping, damp_gravity):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def kick(bodies, gravity, dt, damping, damp_gravity, planar=False):
+def kick_general(bodies, gravity, dt, damping, damp_gravity):
     """Half-step velocities v_{n-1/2} -> v_{n+1/2} from the current forces (module doc).
 
     A body flagged ``fresh`` (new, released, or given a velocity) holds the full-step
@@ -391,13 +391,27 @@ def kick(bodies, gravity, dt, damping, damp_gravity, planar=False):
     (negative), booked by the caller with the trapezoidal rule.
     """
     power = 0.0
-    if planar:  # (a planar scene, dem/planar.py: the same results, fewer operations)
-        for b in range(bodies.mass.shape[0]):
-            power += kick_body_planar(bodies, b, gravity, dt, damping, damp_gravity)
-        return power
     for b in range(bodies.mass.shape[0]):
         power += kick_body(bodies, b, gravity, dt, damping, damp_gravity)
     return power
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def kick_planar(bodies, gravity, dt, damping, damp_gravity):
+    """:func:`kick_general` for a planar scene (dem/planar.py): the same results, fewer
+    operations (:func:`kick_body_planar`)."""
+    power = 0.0
+    for b in range(bodies.mass.shape[0]):
+        power += kick_body_planar(bodies, b, gravity, dt, damping, damp_gravity)
+    return power
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def kick(bodies, gravity, dt, damping, damp_gravity, planar=False):
+    """:func:`kick_planar` if ``planar``, else :func:`kick_general`."""
+    if planar:
+        return kick_planar(bodies, gravity, dt, damping, damp_gravity)
+    return kick_general(bodies, gravity, dt, damping, damp_gravity)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -502,15 +516,26 @@ def advance_body_planar(bodies, b, gravity, dt, damping, damp_gravity):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def drift(bodies, dt, planar=False):
-    """Positions and orientations n -> n+1 from the half-step velocities (``planar``: a
-    planar scene, :func:`drift_body_planar`)."""
-    if planar:
-        for b in range(bodies.mass.shape[0]):
-            drift_body_planar(bodies, b, dt)
-        return
+def drift_general(bodies, dt):
+    """Positions and orientations n -> n+1 from the half-step velocities."""
     for b in range(bodies.mass.shape[0]):
         drift_body(bodies, b, dt)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def drift_planar(bodies, dt):
+    """:func:`drift_general` for a planar scene (:func:`drift_body_planar`)."""
+    for b in range(bodies.mass.shape[0]):
+        drift_body_planar(bodies, b, dt)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def drift(bodies, dt, planar=False):
+    """:func:`drift_planar` if ``planar``, else :func:`drift_general`."""
+    if planar:
+        drift_planar(bodies, dt)
+    else:
+        drift_general(bodies, dt)
 
 
 @njit(cache=True, error_model="numpy", inline="always")

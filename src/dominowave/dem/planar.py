@@ -9,11 +9,10 @@ This is YADE's and the paper's 2D model (DOFs "y rx rz" blocked), e.g. the 2D do
 
 Then every contact normal, contact point, relative velocity, shear displacement and force
 lies in the xz plane, and each body turns about the world y axis only.  The engine
-(engine.run_loop, ``settings.planar``) then places the spheres at their body's ``y``
-exactly
-(integrate._place_spheres), moves the bodies with integrate.kick_body_planar /
-drift_body_planar / advance_body_planar, and maps :func:`compute_forces_planar` over the
-Verlet list instead of contact.compute_forces.
+(``settings.planar``: the time loop of a planar kind, engine.time_loop) then places the
+spheres at their body's ``y`` exactly (integrate._place_spheres), moves the bodies with
+integrate.kick_body_planar / drift_body_planar / advance_body_planar, and maps
+:func:`compute_forces_planar` over the Verlet list instead of contact.compute_forces.
 
 :func:`compute_forces_planar` is the general contact law (the same per-pair geometry
 and laws of contact.py, rotate_shear without spin, in the same order) with the y

@@ -26,9 +26,9 @@ from dominowave.dem.contact import (
     compute_forces,
 )
 from dominowave.dem.energy import E_TOTAL, ENERGY_NAMES, N_ENERGIES, N_MECHANICAL, energies
-from dominowave.dem.engine import Recorder, Settings, run_loop
+from dominowave.dem.engine import Recorder, SceneKind, Settings, time_loop
 from dominowave.dem.integrate import update_sphere_positions
-from dominowave.dem.planar import planar_violation
+from dominowave.dem.planar import compute_forces_planar, planar_violation
 from dominowave.dem.state import Bodies, Contacts, Material, MaterialTable, Spheres, Walls
 
 __all__ = [
@@ -322,7 +322,7 @@ class Simulation:
         afterwards the contact state of the last step is used.
         """
         contacts = self.contacts
-        if self.rec.step[0] == 0:
+        if self.rec.step[0] == 0 and self.spheres.body.size:  # (no spheres: no list)
             while (
                 build_verlet_list(
                     self.spheres, self.walls, self.bodies, self.mats, contacts, self.settings.skin
@@ -334,7 +334,9 @@ class Simulation:
             self.rec = self.rec._replace(changes=np.zeros((contacts.i.shape[0], 2), np.int64))
             contacts = copy.deepcopy(contacts)
             bodies = copy.deepcopy(self.bodies)
-            compute_forces(
+            # (the kernel the first step will use: only it needs compiling)
+            planar = self.planar_kernels and self.planar
+            (compute_forces_planar if planar else compute_forces)(
                 bodies,
                 self.spheres,
                 self.walls,
@@ -356,8 +358,9 @@ class Simulation:
             box_sphere_forces(
                 bodies, self.spheres, boxes, self.mats, self.dt, np.zeros(3), True, planar
             )
-        box_energies(boxes, self.rec.energy_now)
-        box_sphere_energies(boxes, self.rec.energy_now)
+        if boxes.body.size:
+            box_energies(boxes, self.rec.energy_now)
+            box_sphere_energies(boxes, self.rec.energy_now)
 
     # ------------------------------------------------------------------ running
     def run(
@@ -421,6 +424,7 @@ class Simulation:
         t_end = np.inf if until is None else float(until)
         self._start_run(trajectory_every, energy_every, record_contact_forces)
         planar = self.settings.planar
+        run_loop = time_loop(self.kind)
         done_total = 0
         while True:
             code, done = run_loop(
@@ -450,6 +454,17 @@ class Simulation:
                 self._abort(code)
             self._grow(code)
         return self._result(STOP_REASONS[code], done_total)
+
+    @property
+    def kind(self) -> SceneKind:
+        """What the scene holds, which decides the kernels of its time loop
+        (engine.time_loop): planar kernels (as decided at the start of the last run), sphere
+        contacts, box contacts."""
+        return SceneKind(
+            planar=self.settings.planar,
+            spheres=self.spheres.body.size > 0,
+            boxes=self.boxes.body.size > 0,
+        )
 
     @property
     def planar(self) -> bool:

@@ -1,0 +1,97 @@
+"""The time loop is compiled for each kind of scene (engine.time_loop, SceneKind).
+
+numba compiles a function with everything it calls; the loop of a kind must call only
+the kernels of what that kind of scene holds (numba drops the branches of the other
+kinds before typing, which these tests read from the loop's pruned IR, without compiling
+it), and a kind may leave out only calls that would have done nothing: a scene run with
+the loop of every kind at once (all flags on) follows the same trajectory to the bit.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from numba.core import analysis, compiler, ir
+
+from dominowave.chain import ChainParams, DominoChain, Push
+from dominowave.dem import SceneKind, Simulation
+from dominowave.dem.engine import time_loop
+
+SPHERE_KERNELS = {"compute_forces", "compute_forces_planar", "build_verlet_list", "_bookkeep"}
+BOX_KERNELS = {"box_forces", "build_box_candidates", "_bookkeep_boxes", "box_power"}
+BOX_SPHERE_KERNELS = {"box_sphere_forces", "box_sphere_power"}
+GENERAL_KERNELS = {"compute_forces", "contact_power", "kick_general", "drift_general"}
+PLANAR_KERNELS = {"compute_forces_planar", "contact_power_planar", "kick_planar", "drift_planar"}
+
+
+def _called_kernels(kind: SceneKind) -> set[str]:
+    """Names of the compiled functions the loop of ``kind`` calls once numba has pruned
+    the branches of its constants (the untyped IR that numba types next)."""
+    func_ir = compiler.run_frontend(time_loop(kind).py_func)
+    analysis.dead_branch_prune(func_ir, ())
+    names = set()
+    for block in func_ir.blocks.values():
+        for stmt in block.body:
+            if isinstance(stmt, ir.Assign) and isinstance(stmt.value, (ir.Global, ir.FreeVar)):
+                if hasattr(stmt.value.value, "py_func"):
+                    names.add(stmt.value.value.py_func.__name__)
+    return names
+
+
+@pytest.mark.parametrize("planar", [True, False])
+@pytest.mark.parametrize("spheres, boxes", [(True, False), (False, True), (True, True)])
+def test_a_kind_calls_only_its_own_kernels(planar, spheres, boxes):
+    called = _called_kernels(SceneKind(planar, spheres, boxes))
+    assert "needs_rebuild" in called and "energies" in called  # (the IR was read)
+    own = PLANAR_KERNELS if planar else GENERAL_KERNELS
+    other = GENERAL_KERNELS if planar else PLANAR_KERNELS
+    assert not called & (other - own)
+    assert {"kick_planar" if planar else "kick_general"} <= called
+    sphere_law = "compute_forces_planar" if planar else "compute_forces"
+    if spheres:
+        assert {"build_verlet_list", "_bookkeep", sphere_law} <= called
+    else:
+        assert not called & SPHERE_KERNELS
+    assert BOX_KERNELS <= called if boxes else not called & BOX_KERNELS
+    if spheres and boxes:
+        assert BOX_SPHERE_KERNELS <= called
+    else:
+        assert not called & BOX_SPHERE_KERNELS
+
+
+@pytest.mark.parametrize(
+    "fields",
+    [
+        dict(n_dominoes=6),  # 2D clumps
+        dict(n_dominoes=4, model="3d"),  # 3D clumps
+        dict(n_dominoes=6, shape="box", held=True),  # 2D boxes
+        dict(n_dominoes=6, shape="box", model="3d", lateral_asymmetry=0.01),  # 3D boxes
+    ],
+)
+def test_validate_the_loop_of_every_kind_gives_the_same_trajectory(fields, monkeypatch):
+    """A chain run with the loop of its own kind and with the loop that holds every
+    kernel (all flags on, the planar flag as the scene's) end in the same state to the
+    bit: what a kind leaves out does nothing in a scene of that kind."""
+    p = ChainParams(friction_dominoes=0.3, friction_floor=0.5, **fields)
+    push = Push(omega=1.2 * math.sqrt(p.g / p.height))
+    own_kind = Simulation.kind.fget
+    every_kind = property(lambda sim: SceneKind(own_kind(sim).planar, True, True))
+    states = []
+    for everything in (False, True):
+        if everything:
+            monkeypatch.setattr(Simulation, "kind", every_kind)
+        sim, _ = DominoChain(p).build(push, record=True, track_energy=True)
+        if everything and not sim.boxes.body.size:
+            # the box lists of a scene without boxes are complete and empty; left at
+            # "never built" (-1), the loop with box kernels would build them at its first
+            # step, and a list build places every sphere anew (round-off of the centres)
+            sim.boxes.n_cand[0] = sim.boxes.n_sphere_cand[0] = 0
+        sim.run(n_steps=1500, trajectory_every=97, energy_every=89, record_contact_forces=True)
+        sim.run(n_steps=1500)
+        states.append(sim.get_state())
+    mine, every = states
+    assert mine.keys() == every.keys()
+    for key in mine:
+        np.testing.assert_array_equal(mine[key], every[key], err_msg=key)
