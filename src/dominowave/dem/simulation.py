@@ -48,20 +48,38 @@ STOP_REASONS = {
     engine.STOP_KINETIC: "kinetic",
 }
 
-# the material-pair tables (state.MaterialTable); files written before they existed lack them
-_PAIR_TABLES = ("mats.pair_friction", "mats.pair_restitution")
+STATE_FORMAT = 2
+"""Version of the layout of :meth:`Simulation.get_state` (key ``state_format``).
+1 (files without the key): no ``settings.planar``, ``planar_kernels``,
+``mats.shear_kinematics``, material-pair tables or Hertz tables, and the stiffness rule
+of materials giving k_n as the flag ``mats.given_kn``; :func:`_upgraded` reads it."""
 
-# the Hertz law's material data, with the value older files (linear contacts only) get
-_HERTZ_TABLES = {"mats.poisson": Material.poisson, "mats.hertz_damping": 0.0}
 
-
-def _upgraded(state):
-    """A state of an older file in today's layout: its per-material flag
-    ``mats.given_kn`` (materials giving k_n) is the stiffness rule RULE_GIVEN now."""
-    if "mats.given_kn" not in state:
+def _upgraded(state: dict, n_materials: int) -> dict:
+    """``state`` in the layout of :data:`STATE_FORMAT`: a format-1 state with the values its
+    scene had implicitly (planar kernels allowed, the contact-point shear kinematics, the
+    min rule of the pair tables, linear contacts); a state of a newer format is refused."""
+    version = int(np.asarray(state.get("state_format", 1)))
+    if version == STATE_FORMAT:
         return state
-    state = dict(state)
-    given = np.asarray(state.pop("mats.given_kn")).reshape(-1)
+    if not 1 <= version < STATE_FORMAT:
+        raise ValueError(
+            f"state_format = {version}: this version of dominowave reads formats 1 to "
+            f"{STATE_FORMAT} (a newer dominowave wrote it)"
+        )
+    nm = n_materials
+    state = {
+        "settings.planar": np.array(False),  # (decided at each run)
+        "planar_kernels": np.array(True),
+        "mats.shear_kinematics": np.array([SHEAR_CONTACT_POINT], np.int64),
+        "mats.pair_friction": np.full((nm, nm), np.nan),
+        "mats.pair_restitution": np.full((nm, nm), np.nan),
+        "mats.poisson": np.full(nm, Material.poisson),
+        "mats.hertz_damping": np.zeros((nm, nm)),
+        **state,
+        "state_format": np.array(STATE_FORMAT),
+    }
+    given = np.asarray(state.pop("mats.given_kn", [0])).reshape(-1)
     if given.size and given[0] == 1:
         state["mats.rule"] = np.array([RULE_GIVEN], np.int64)
     return state
@@ -646,6 +664,7 @@ class Simulation:
     def get_state(self) -> dict:
         """All state needed to resume bit-identically, as a flat dict of NumPy arrays."""
         out = {
+            "state_format": np.array(STATE_FORMAT),
             "critical_dt": np.array(self.critical_dt),
             "planar_kernels": np.array(self.planar_kernels),
         }
@@ -654,13 +673,13 @@ class Simulation:
                 if prefix == "rec" and name in self._PER_RUN:
                     continue
                 out[f"{prefix}.{name}"] = np.array(value, copy=True)
-        if self.boxes.body.size:  # (a scene without boxes keeps the layout of older files)
+        if self.boxes.body.size:  # (a scene without boxes has no box arrays)
             out.update({f"boxes.{k}": v for k, v in box_state(self.boxes).items()})
         return out
 
     def set_state(self, state: dict):
         """Restore a state from :meth:`get_state` (the scene layout must match)."""
-        state = _upgraded(state)
+        state = _upgraded(state, self.mats.friction.shape[0])
         groups = self._groups()
         new = {}
         for prefix, tup in groups.items():
@@ -679,14 +698,6 @@ class Simulation:
                     else:  # a scalar setting (float, bool, int)
                         arr = type(value)(arr)
                     fields[name] = arr
-                elif key == "settings.planar":  # (decided at each run; older files lack it)
-                    fields[name] = False
-                elif key == "mats.shear_kinematics":  # (older files lack it: the default)
-                    fields[name] = np.array([SHEAR_CONTACT_POINT], np.int64)
-                elif key in _PAIR_TABLES:  # (older files lack them: the min rule)
-                    fields[name] = np.full_like(value, np.nan)
-                elif key in _HERTZ_TABLES:  # (older files lack them: linear contacts only)
-                    fields[name] = np.full_like(value, _HERTZ_TABLES[key])
                 elif not (prefix == "rec" and name in self._PER_RUN):
                     raise ValueError(f"state is missing {key!r}")
             new[prefix] = tup._replace(**fields)
@@ -697,7 +708,7 @@ class Simulation:
         self.rec = new["rec"]
         self.boxes = _restored_boxes(self.boxes, state, self.spheres.radius.size)
         self.critical_dt = float(state["critical_dt"])
-        self.planar_kernels = bool(state.get("planar_kernels", True))  # (older files lack it)
+        self.planar_kernels = bool(state["planar_kernels"])
 
     def save(self, path):
         """Write :meth:`get_state` to an ``.npz`` file."""
@@ -713,7 +724,7 @@ class Simulation:
     @classmethod
     def from_state(cls, state: dict) -> Simulation:
         """A Simulation restored from a :meth:`get_state` dict."""
-        state = _upgraded(state)
+        state = _upgraded(state, np.shape(state.get("mats.friction", ()))[0])
 
         def group(prefix, kind):
             missing = [n for n in kind._fields if f"{prefix}.{n}" not in state]
@@ -721,15 +732,6 @@ class Simulation:
                 raise ValueError(f"state is missing {prefix}.{missing[0]}")
             return kind(**{n: np.array(state[f"{prefix}.{n}"]) for n in kind._fields})
 
-        nm = np.shape(state.get("mats.friction", ()))[0]
-        state = {  # (older files lack them)
-            "settings.planar": np.array(False),
-            "mats.shear_kinematics": np.array([SHEAR_CONTACT_POINT], np.int64),
-            **{key: np.full((nm, nm), np.nan) for key in _PAIR_TABLES},
-            "mats.poisson": np.full(nm, _HERTZ_TABLES["mats.poisson"]),
-            "mats.hertz_damping": np.zeros((nm, nm)),
-            **state,
-        }
         s = group("settings", Settings)
         settings = {k: (v.item() if np.ndim(v) == 0 else v) for k, v in s._asdict().items()}
         del settings["planar"]  # (decided at each run)
