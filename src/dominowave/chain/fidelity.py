@@ -159,8 +159,13 @@ class ContactFidelity:
         """``"exact"`` or the tolerance in per cent, e.g. ``"1 %"``."""
         return EXACT if self.tolerance is None else f"{100 * self.tolerance:g} %"
 
-    def describe(self, speed: float = math.nan) -> str:
-        """One line for a command's output: the fidelity, the spring and the estimate."""
+    def describe(self, error: float | None = None) -> str:
+        """One line for a command's output: the fidelity, the spring and the estimated
+        error ``error`` [1] (not given: the a-priori :attr:`error`)."""
+        error = self.error if error is None else error
+        above = ""
+        if self.tolerance is not None and error > self.tolerance * (1.0 + 1e-9):
+            above = ", above the tolerance: the wave ran faster than the a-priori speed"
         if not self.softened:
             return (
                 f"contact: the material's, k_n = {self.kn:.4g} N/m (k/k* ="
@@ -170,7 +175,7 @@ class ContactFidelity:
             f"contact softened for speed (fidelity {self.label}): k_n = {self.kn:.4g} N/m"
             f" (k/k* = {self.stiffness_over_kstar:.3g}) instead of the material's"
             f" {self.material_kn:.4g} N/m; estimated speed error"
-            f" {100 * self.error_at(speed):.2g} % (--fidelity exact: the material's)"
+            f" {100 * error:.2g} %{above} (fidelity exact: the material's)"
         )
 
 
