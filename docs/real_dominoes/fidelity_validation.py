@@ -14,7 +14,7 @@ fitted from domino 10 (as the films), 3D; the tests run the same chains
 
 Usage::
 
-    python docs/real_dominoes/fidelity_validation.py --out docs/real_dominoes/fidelity_validation.csv
+    cd docs/real_dominoes && python fidelity_validation.py --out fidelity_validation.csv
 """
 
 from __future__ import annotations

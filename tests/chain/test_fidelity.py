@@ -140,9 +140,7 @@ def _front_speeds(gap, friction, restitution, tolerances, n=12, fit_from=3, mode
 
 
 @pytest.mark.parametrize(("gap", "friction", "restitution"), CHAINS)
-def test_validate_the_estimate_bounds_the_error_of_the_softened_contact(
-    gap, friction, restitution
-):
+def test_validate_the_estimate_bounds_the_error_of_the_softened_contact(gap, friction, restitution):
     """Each chain (12 standard dominoes, 3D, fitted from domino 3 as predict does) at the
     default tolerance and at 5 %, against the same chain at the plastic's stiffness: the
     measured change of the front speed never exceeds the estimate."""
