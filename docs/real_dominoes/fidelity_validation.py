@@ -30,18 +30,20 @@ from dominowave.chain.presets import standard_domino
 from dominowave.chain.wave import speed_from
 
 CHAINS = [
-    (0.00938, 0.3, 0.5),
-    (0.00938, 0.0, 0.9),
-    (0.01509, 0.525, 0.1),
-    (0.005, 0.3, 0.5),
+    (0.00938, 0.3, 0.5, 0.5),
+    (0.00938, 0.0, 0.5, 0.5),
+    (0.01509, 0.525, 0.1, 0.5),
+    (0.005, 0.3, 0.5, 0.5),
+    (0.00938, 0.2, 0.5, 0.9),
 ]
-"""(gap [m], friction between dominoes, restitution between dominoes) of each chain."""
+"""(gap [m], friction between dominoes, restitution between dominoes, with the floor) of
+each chain."""
 TOLERANCES = ("exact", 0.01, 0.05)
 LENGTHS = ((12, 3), (30, 10))
 """(dominoes, fitted from domino) of the chains."""
 
 
-def rows_of(gap: float, friction: float, restitution: float, n: int, fit_from: int) -> list[dict]:
+def rows_of(gap, friction, restitution, floor_restitution, n, fit_from) -> list[dict]:
     """One row per tolerance of the chain (3D, hardwood)."""
     p = standard_domino(
         gap=gap,
@@ -49,6 +51,7 @@ def rows_of(gap: float, friction: float, restitution: float, n: int, fit_from: i
         n_dominoes=n,
         friction_dominoes=friction,
         restitution_dominoes=restitution,
+        restitution_floor=floor_restitution,
     )
     rows, exact = [], None
     for tolerance in TOLERANCES:
@@ -63,6 +66,7 @@ def rows_of(gap: float, friction: float, restitution: float, n: int, fit_from: i
                 "gap_m": gap,
                 "friction_dominoes": friction,
                 "restitution_dominoes": restitution,
+                "restitution_floor": floor_restitution,
                 "n_dominoes": n,
                 "fit_from": fit_from,
                 "fidelity": tolerance,
@@ -85,8 +89,8 @@ def main() -> None:
     DominoChain(standard_domino(gap=0.00938, floor="hardwood", n_dominoes=4)).run()  # warm
     rows = []
     for n, fit_from in LENGTHS:
-        for gap, friction, restitution in CHAINS:
-            rows += rows_of(gap, friction, restitution, n, fit_from)
+        for values in CHAINS:
+            rows += rows_of(*values, n, fit_from)
     write_rows(args.out, rows)
 
 

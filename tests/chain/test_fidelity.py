@@ -13,9 +13,11 @@ from dominowave.chain.build import ChainParams
 from dominowave.chain.compare import theory_collision_time
 from dominowave.chain.fidelity import (
     DEFAULT_TOLERANCE,
+    MAX_RESTITUTION,
     applies,
     check_fidelity,
     choose_contact,
+    given_materials,
     parse_fidelity,
 )
 from dominowave.chain.presets import standard_domino
@@ -103,48 +105,69 @@ def test_the_command_line_reads_exact_or_a_tolerance():
         parse_fidelity("tight")
 
 
+def test_nearly_elastic_chains_keep_the_material():
+    """Restitution between dominoes above MAX_RESTITUTION: the default is the material's
+    spring, and a tolerance is refused in one line naming the restitution."""
+    p = standard_domino(**STANDARD, restitution_dominoes=0.9)
+    assert given_materials(p) and not applies(p)
+    contact = choose_contact(p)
+    assert contact.tolerance is None and not contact.softened and contact.error == 0.0
+    assert "restitution between dominoes above 0.5" in contact.describe()
+    assert DominoChain(p).params == p
+    message = r"fidelity = 0\.01 softens chains whose restitution between dominoes is at most 0\.5"
+    with pytest.raises(ValueError, match=message):
+        choose_contact(p, 0.01)
+    assert applies(standard_domino(**STANDARD, restitution_dominoes=MAX_RESTITUTION))
+
+
 # --------------------------------------------------------------------------- validation
 
-# (gap [m], friction between dominoes, restitution between dominoes): the nominal
-# friction at three gaps, the frictionless chain and nearly elastic and nearly plastic
-# collisions, which the collision delay e T_c / (1 + e) separates
+# (gap [m], friction between dominoes, restitution between dominoes, with the floor): the
+# nominal values at three gaps, the frictionless chain, nearly plastic collisions
+# between dominoes and nearly elastic ones with the floor
 CHAINS = [
-    (0.00938, 0.3, 0.5),
-    (0.00938, 0.0, 0.9),
-    (0.01509, 0.525, 0.1),
-    (0.005, 0.3, 0.5),
+    (0.00938, 0.3, 0.5, 0.5),
+    (0.00938, 0.0, 0.5, 0.5),
+    (0.01509, 0.525, 0.1, 0.5),
+    (0.005, 0.3, 0.5, 0.5),
+    (0.00938, 0.2, 0.5, 0.9),
 ]
 
 
-def _front_speeds(gap, friction, restitution, tolerances, n=12, fit_from=3, model="3d"):
-    """Front speed [m/s] fitted from ``fit_from`` on at the material's stiffness, and
-    (speed, estimated error) at each tolerance."""
-    p = standard_domino(
+def _chain(gap, friction, restitution, floor_restitution, n, model="3d", **overrides):
+    return standard_domino(
         gap=gap,
         floor="hardwood",
         n_dominoes=n,
         model=model,
         friction_dominoes=friction,
         restitution_dominoes=restitution,
+        restitution_floor=floor_restitution,
+        **overrides,
     )
+
+
+def _front_speeds(chain, tolerances, fit_from):
+    """Front speed [m/s] fitted from ``fit_from`` on at the material's stiffness, and
+    (speed, estimated error) at each tolerance."""
 
     def speed(run):
         return speed_from(run.arrival, run.positions, fit_from).speed
 
-    exact = speed(DominoChain(p, fidelity="exact").run())
+    exact = speed(DominoChain(chain, fidelity="exact").run())
     soft = {}
     for tol in tolerances:
-        run = DominoChain(p, fidelity=tol).run()
+        run = DominoChain(chain, fidelity=tol).run()
         soft[tol] = (speed(run), run.fidelity.error_at(speed(run)))
     return exact, soft
 
 
-@pytest.mark.parametrize(("gap", "friction", "restitution"), CHAINS)
-def test_validate_the_estimate_bounds_the_error_of_the_softened_contact(gap, friction, restitution):
+@pytest.mark.parametrize("values", CHAINS)
+def test_validate_the_estimate_bounds_the_error_of_the_softened_contact(values):
     """Each chain (12 standard dominoes, 3D, fitted from domino 3 as predict does) at the
     default tolerance and at 5 %, against the same chain at the plastic's stiffness: the
     measured change of the front speed never exceeds the estimate."""
-    exact, soft = _front_speeds(gap, friction, restitution, (DEFAULT_TOLERANCE, 0.05))
+    exact, soft = _front_speeds(_chain(*values, n=12), (DEFAULT_TOLERANCE, 0.05), fit_from=3)
     for tol, (speed, estimate) in soft.items():
         error = abs(speed / exact - 1.0)
         assert error <= estimate, (tol, speed, exact, error, estimate)
@@ -153,12 +176,28 @@ def test_validate_the_estimate_bounds_the_error_of_the_softened_contact(gap, fri
 
 @pytest.mark.slow
 @pytest.mark.parametrize("model", ["2d", "3d"])
-@pytest.mark.parametrize(("gap", "friction", "restitution"), CHAINS)
-def test_validate_the_estimate_on_long_chains(gap, friction, restitution, model):
+@pytest.mark.parametrize("values", CHAINS)
+def test_validate_the_estimate_on_long_chains(values, model):
     """The same on 30-domino chains fitted from domino 10, as the films are."""
-    exact, soft = _front_speeds(
-        gap, friction, restitution, (DEFAULT_TOLERANCE, 0.05), n=30, fit_from=10, model=model
-    )
+    chain = _chain(*values, n=30, model=model)
+    exact, soft = _front_speeds(chain, (DEFAULT_TOLERANCE, 0.05), fit_from=10)
     for tol, (speed, estimate) in soft.items():
         error = abs(speed / exact - 1.0)
         assert error <= estimate, (tol, speed, exact, error, estimate)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="nearly elastic contacts rattle: not softened")
+def test_validate_why_nearly_elastic_chains_are_not_softened():
+    """Restitution 0.9 between dominoes, friction 0.2, 30 dominoes fitted from domino 10:
+    the spring the default tolerance would choose (that of the same chain at restitution
+    0.5, whose estimate does not depend on the restitution) changes the speed by more
+    than the estimate: 3 % slower than the plastic's, against an estimate of 1 %. So the
+    estimate does not hold there, and such chains keep the material's spring."""
+    elastic = _chain(0.00938, 0.2, 0.9, 0.5, n=30)
+    contact = choose_contact(_chain(0.00938, 0.2, 0.5, 0.5, n=30))
+    exact, _ = _front_speeds(elastic, (), fit_from=10)
+    soft_chain = DominoChain(_chain(0.00938, 0.2, 0.9, 0.5, n=30, kn=contact.kn))
+    run = soft_chain.run()
+    speed = speed_from(run.arrival, run.positions, 10).speed
+    assert abs(speed / exact - 1.0) <= contact.error_at(speed)

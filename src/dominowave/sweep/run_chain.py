@@ -225,6 +225,7 @@ def chain_result(
             "speed_theory_window",
             "speed_fit_from",
             "speed_fit_from_err",
+            "material_kn",
         ),
         spheres=sphere_trajectory(chain, record, run.push, contacts) if spheres else None,
     )
