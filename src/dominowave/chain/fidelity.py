@@ -37,12 +37,14 @@ and of the filmed rows. After the run, :meth:`ContactFidelity.error_at` gives th
 estimate at the larger of that speed and the run's own.
 
 **Where it applies.** Box chains given a Young's modulus with the linear law (the
-presets, :func:`dominowave.chain.presets.standard_domino`), whose restitution between
-dominoes is at most :data:`MAX_RESTITUTION` (the nominal 0.5 of the material data). The
-estimate counts one collision per domino. Nearly elastic contacts rattle: at restitution
-0.9 a 30-domino chain at friction 0.2 runs 3 % slower at ``k/k*`` = 1e5 to 1e6 than at
-the plastic's 3.4e6, and the change comes between 1e6 and 3.4e6, where the estimate is a
-fraction of a per cent; such a chain keeps the material's spring (``"exact"``). The
+presets, :func:`dominowave.chain.presets.standard_domino`), whose restitutions between
+dominoes and with the floor are at most :data:`MAX_RESTITUTION` (the nominal 0.5 of the
+material data). The estimate counts one collision per domino. Nearly elastic contacts
+rattle: at restitution 0.9 between dominoes a 30-domino chain at friction 0.2 runs 3 %
+slower at ``k/k*`` = 1e5 to 1e6 than at the plastic's 3.4e6 (the change comes between
+1e6 and 3.4e6, where the estimate is a fraction of a per cent), and at restitution 0.9
+with the floor 1.5 % slower at the spring of a 1 % tolerance; such a chain keeps the
+material's spring at any tolerance. The
 paper's elastic chains, given ``stiffness_ratio`` or ``kn``, keep their stiffness: their
 speed depends on it (Fig 6C), the stiffness *is* their parameter. A Hertz chain keeps the
 modulus too (its law is what it studies). The estimate is validated against runs at the material
@@ -80,9 +82,10 @@ DEFAULT_TOLERANCE = 0.01
 MAX_TOLERANCE = 0.1
 """Largest tolerance accepted: the estimate is of first order in ``T_c / T_d``."""
 MAX_RESTITUTION = 0.5
-"""Largest restitution between dominoes at which a chain is softened: the estimate is
-validated up to it (0.1 and 0.5); nearly elastic contacts rattle, and the speed of such a
-chain still changes between ``k/k*`` = 1e6 and the plastic's 3.4e6 (module docstring)."""
+"""Largest restitution (between dominoes and with the floor) at which a chain is
+softened: the estimate is validated up to it (0.1 and 0.5); nearly elastic contacts
+rattle, and the speed of such a chain still changes between ``k/k*`` = 1e6 and the
+plastic's 3.4e6 (module docstring)."""
 
 Fidelity = float | Literal["exact"] | None
 """``"exact"`` (the material's spring), a tolerance in ``(0, MAX_TOLERANCE]``, or None
@@ -96,11 +99,11 @@ def given_materials(params: ChainParams) -> bool:
 
 
 def applies(params: ChainParams) -> bool:
-    """Whether ``params`` may be softened: a chain of given materials whose collisions
-    between dominoes are inelastic enough, restitution at most :data:`MAX_RESTITUTION`."""
-    restitution = params.restitution_pairs[0]
-    elastic = restitution is None or restitution > MAX_RESTITUTION
-    return given_materials(params) and not elastic
+    """Whether ``params`` may be softened: a chain of given materials whose collisions,
+    between dominoes and with the floor, are inelastic enough (restitution at most
+    :data:`MAX_RESTITUTION`; not set is elastic)."""
+    elastic = [e is None or e > MAX_RESTITUTION for e in params.restitution_pairs]
+    return given_materials(params) and not any(elastic)
 
 
 def check_fidelity(fidelity: Fidelity) -> Fidelity:
@@ -188,9 +191,7 @@ class ContactFidelity:
         if self.tolerance is not None and error > self.tolerance * (1.0 + 1e-9):
             above = ", above the tolerance: the wave ran faster than the a-priori speed"
         if not self.softened:
-            why = (
-                "" if self.softenable else f", restitution between dominoes above {MAX_RESTITUTION}"
-            )
+            why = "" if self.softenable else f", a restitution above {MAX_RESTITUTION}"
             return (
                 f"contact: the material's, k_n = {self.kn:.4g} N/m (k/k* ="
                 f" {self.stiffness_over_kstar:.3g}; fidelity {self.label}{why})"
@@ -225,10 +226,10 @@ def choose_contact(params: ChainParams, fidelity: Fidelity = None) -> ContactFid
 
     None for a chain not of given materials (:func:`given_materials`) when ``fidelity`` is
     not set or ``"exact"``; a tolerance given for such a chain is a ValueError (its
-    stiffness is a parameter of the model, not a material's), and so is one for a chain
-    of given materials with too elastic collisions (:func:`applies`), whose default is
-    the material's spring. Otherwise the softest spring ``k`` with ``eps(k) = tolerance``,
-    never stiffer than the material's.
+    stiffness is a parameter of the model, not a material's). A chain of given materials
+    with too elastic collisions (:func:`applies`) keeps the material's spring at any
+    tolerance. Otherwise the softest spring ``k`` with ``eps(k) = tolerance``, never
+    stiffer than the material's.
     """
     fidelity = check_fidelity(fidelity)
     if not given_materials(params):
@@ -240,14 +241,8 @@ def choose_contact(params: ChainParams, fidelity: Fidelity = None) -> ContactFid
             f" of the model (shape = {params.shape!r}, young = {params.young!r}, normal_law ="
             f" {params.normal_law!r}): leave fidelity unset or 'exact'"
         )
-    if not applies(params) and fidelity not in (None, EXACT):
-        raise ValueError(
-            f"fidelity = {fidelity!r} softens chains whose restitution between dominoes is at"
-            f" most {MAX_RESTITUTION} (got {params.restitution_pairs[0]!r}: nearly elastic"
-            " contacts rattle, and the estimate does not hold); leave fidelity unset or 'exact'"
-        )
-    tolerance = DEFAULT_TOLERANCE if fidelity is None and applies(params) else fidelity
-    tolerance = None if tolerance in (None, EXACT) else tolerance
+    tolerance = DEFAULT_TOLERANCE if fidelity is None else fidelity
+    tolerance = None if tolerance == EXACT else tolerance
     k_m = params.contact_stiffness
     t_m = theory_collision_time(params)
     v = _reference_speed(params)
@@ -257,7 +252,7 @@ def choose_contact(params: ChainParams, fidelity: Fidelity = None) -> ContactFid
     a = t_m * math.sqrt(k_m) * v / (2.0 * params.pitch)
     b = params.mass * params.g / (per_point * params.spacing)
     u_m = 1.0 / math.sqrt(k_m)
-    if tolerance is None:
+    if tolerance is None or not applies(params):  # nearly elastic: the material's spring
         u = u_m
     else:
         c = tolerance + a * u_m + b * u_m**2
