@@ -67,7 +67,10 @@ def rows_of(gap, friction, restitution, floor_restitution, n, fit_from) -> list[
     rows, exact = [], None
     for tolerance in TOLERANCES:
         contact = choose_contact(twin, tolerance)
-        chain = DominoChain(p if not contact.softened else p.with_(kn=contact.kn))
+        if contact.softened:
+            chain = DominoChain(p.with_(kn=contact.kn))
+        else:
+            chain = DominoChain(p, fidelity="exact")
         start = time.perf_counter()
         run = chain.run()
         wall = time.perf_counter() - start
