@@ -32,17 +32,20 @@ def _fmt(x: float, digits: int = 3) -> str:
 
 def _contact_line(pred) -> str:
     """The contact springs the chains ran with and the largest estimated speed error."""
-    from dominowave.chain.fidelity import DEFAULT_TOLERANCE, EXACT
+    from dominowave.chain.fidelity import DEFAULT_TOLERANCE, EXACT, MAX_RESTITUTION
 
     kn = pred.contact_kn[np.isfinite(pred.contact_kn)]
     springs = f"k_n {_fmt(kn.min())}-{_fmt(kn.max())} N/m" if kn.size else "no chain ran"
     if pred.fidelity == EXACT:
         return f"contacts: the plastic's (fidelity exact), {springs}"
     tolerance = DEFAULT_TOLERANCE if pred.fidelity is None else pred.fidelity
+    softened = int(np.count_nonzero(pred.stiffness_error > 0))
     return (
-        f"contacts softened for speed (fidelity {tolerance:g}): {springs}; estimated speed"
-        f" error of the softening at most {_fmt(100 * pred.stiffness_error_max, 2)} %"
-        " (--fidelity exact: the plastic's)"
+        f"contacts softened for speed (fidelity {tolerance:g}) in {softened} of"
+        f" {pred.speed.size} chains (the others, with a restitution above"
+        f" {MAX_RESTITUTION}, keep the plastic's): {springs}; estimated speed error of the"
+        f" softening at most {_fmt(100 * pred.stiffness_error_max, 2)} % (--fidelity exact:"
+        " the plastic's everywhere)"
     )
 
 
