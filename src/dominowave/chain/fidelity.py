@@ -44,11 +44,11 @@ rattle: at restitution 0.9 between dominoes a 30-domino chain at friction 0.2 ru
 slower at ``k/k*`` = 1e5 to 1e6 than at the plastic's 3.4e6 (the change comes between
 1e6 and 3.4e6, where the estimate is a fraction of a per cent), and at restitution 0.9
 with the floor 1.5 % slower at the spring of a 1 % tolerance; such a chain keeps the
-material's spring at any tolerance. The
-paper's elastic chains, given ``stiffness_ratio`` or ``kn``, keep their stiffness: their
-speed depends on it (Fig 6C), the stiffness *is* their parameter. A Hertz chain keeps the
-modulus too (its law is what it studies). The estimate is validated against runs at the material
-stiffness in ``tests/chain/test_fidelity.py`` (docs/real_dominoes.md section 11).
+material's spring at any tolerance. The paper's elastic chains, given ``stiffness_ratio``
+or ``kn``, keep their stiffness: their speed depends on it (Fig 6C), the stiffness *is*
+their parameter. A Hertz chain keeps the modulus too (its law is what it studies). The
+estimate is validated against runs at the material stiffness in
+``tests/chain/test_fidelity.py`` (docs/real_dominoes.md section 11).
 """
 
 from __future__ import annotations
