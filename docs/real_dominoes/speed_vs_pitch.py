@@ -21,6 +21,8 @@ positions ``x_n = n (d + s)`` (pitch-based, as a camera study reports it;
 * ``transient``: the theory's transient for the same push (eqs 8, 12, 19; box mapping of
   ``dominowave.chain.compare``, with the box's collision time) fitted over the same
   dominoes;
+* every DEM chain at the plastic's contact stiffness (``fidelity = "exact"``,
+  ``chain.fidelity``), as section 8 was measured, unless ``--stiffness-ratio`` replaces it;
 * ``eq34_rigid``, ``eq34_tc``: the limit speed eq 34 (box mapping) in the rigid limit and
   with the box's collision time, at the gaps and on a fine grid (``*_theory.csv``).
 
@@ -174,6 +176,12 @@ def rod_row(gap, floor, n, fit_from, stiffness_ratio=None, ideal=False) -> dict:
     }
 
 
+def _fidelity(stiffness_ratio):
+    """The plastic's own contact (``fidelity = "exact"``, as section 8 was measured),
+    unless a stiffness ratio replaces the modulus."""
+    return "exact" if stiffness_ratio is None else None
+
+
 def nominal_points(gaps, floor, n, fit_from, models, stiffness_ratio=None):
     """``PredictSample`` points at the nominal material values, one per (model, gap)."""
     from dominowave.chain.presets import standard_entries
@@ -192,6 +200,7 @@ def nominal_points(gaps, floor, n, fit_from, models, stiffness_ratio=None):
                     fit_from=fit_from,
                     model=model,
                     stiffness_ratio=stiffness_ratio,
+                    fidelity=_fidelity(stiffness_ratio),
                     **nominal,
                 )
             )
@@ -316,7 +325,7 @@ def run_study(args) -> None:
         print(f"long nominal 3D chains ({args.long_n} dominoes) done", flush=True)
     if "band" in args.parts:
         for g in gaps:
-            options = {"model": args.band_model, "stiffness_ratio": sr}
+            options = {"model": args.band_model, "stiffness_ratio": sr, "fidelity": _fidelity(sr)}
             row = band_row(g, args.floor, args.n, args.fit_from, args.samples, runs, **options)
             rows = _merge(band_csv, BAND_COLUMNS, [row], lambda r: round(float(r["gap_m"]), 9))
             write_csv(band_csv, BAND_COLUMNS, rows)

@@ -136,6 +136,22 @@ def test_a_sample_runs_the_preset_chain_and_measures_from_fit_from():
     assert summary["dominoes_toppled"] == 6
 
 
+def test_a_sample_runs_at_the_fidelity_and_reports_its_contact():
+    """Without a stiffness override a sample runs at the default fidelity: the softest
+    contact within 1 % of the plastic's speed, its spring and estimated error in the
+    summary; ``fidelity = "exact"`` runs the plastic's spring with no error; a tolerance
+    for a chain whose modulus a stiffness ratio replaced is refused before any run."""
+    base = dict(gap=0.012, floor="hardwood", n_dominoes=5, fit_from=2, model="2d")
+    soft = run_predict_sample(PredictSample(**base)).summary
+    exact = run_predict_sample(PredictSample(**base, fidelity="exact")).summary
+    material = standard_domino(gap=0.012, floor="hardwood").contact_stiffness
+    assert exact["contact_kn"] == material and exact["stiffness_error"] == 0.0
+    assert soft["contact_kn"] < material / 10 and 0.0 < soft["stiffness_error"] <= 0.015
+    assert abs(soft["speed"] / exact["speed"] - 1.0) <= soft["stiffness_error"]
+    with pytest.raises(ValueError, match=r"fidelity = 0\.02 softens a chain of given materials"):
+        predict_points(0.012, "felt", 1, fidelity=0.02, **CHEAP)
+
+
 def test_predict_runs_on_the_sweep_engine_writes_and_resumes(tmp_path):
     seen = []
     pred = predict(0.012, "felt", tmp_path, 1, workers=1, progress=seen.append, **CHEAP)
@@ -145,14 +161,19 @@ def test_predict_runs_on_the_sweep_engine_writes_and_resumes(tmp_path):
     with (tmp_path / "samples.csv").open() as fh:
         rows = list(csv.DictReader(fh))
     assert [float(r["speed"]) for r in rows] == list(pred.speed)
+    # a stiffness ratio replaces the plastic's modulus: nothing is softened
+    assert all(float(r["stiffness_error"]) == 0.0 for r in rows)
+    assert [float(r["contact_kn"]) for r in rows] == list(pred.contact_kn)
     import xarray as xr
 
     with xr.open_dataset(tmp_path / "samples.nc") as ds:
         np.testing.assert_array_equal(ds["speed"].values, pred.speed)
+        np.testing.assert_array_equal(ds["stiffness_error"].values, pred.stiffness_error)
+        assert ds.attrs["fidelity"] == "0.01"
         assert ds["young"].attrs["units"] == "Pa"
     with (tmp_path / "prediction.csv").open() as fh:
         names = {r["quantity"] for r in csv.DictReader(fh)}
-    assert {"speed_q05", "speed_q50", "speed_q95"} <= names
+    assert {"speed_q05", "speed_q50", "speed_q95", "stiffness_error_max"} <= names
     assert {f"ST_{n}" for n in pred.names} | {f"effect_{n}" for n in pred.names} <= names
     assert np.all(np.isfinite(pred.effect)) and np.all(np.isnan(pred.sobol_first))
     again = []
@@ -170,6 +191,8 @@ def test_predict_runs_on_the_sweep_engine_writes_and_resumes(tmp_path):
         (["--gap", "-0.01"], "gap = -0.01 is outside"),
         (["--preset", "tiny"], "--preset 'tiny' is not one of standard"),
         (["--workers", "0"], "--workers = 0"),
+        (["--fidelity", "0.5"], "fidelity = 0.5 is outside the valid range (0, 0.1]"),
+        (["--fidelity", "loose"], "--fidelity 'loose' is not 'exact' or a tolerance"),
     ],
 )
 def test_predict_command_bad_input_is_one_line(args, fragment, tmp_path):
@@ -214,6 +237,11 @@ def test_predict_command_bad_input_is_one_line(args, fragment, tmp_path):
             ["--preset", "standard", "--gap", "0.01", "--floor", "felt", "--density", "1000"],
             "--density: set by --preset standard",
         ),
+        (
+            ["--preset", "standard", "--gap", "0.01", "--floor", "felt", "--fidelity", "0"],
+            "fidelity = 0 is outside the valid range (0, 0.1]",
+        ),
+        (["--fidelity", "0.01"], "fidelity = 0.01 softens a chain of given materials only"),
     ],
 )
 def test_chain_command_preset_bad_input_is_one_line(args, fragment):
@@ -267,6 +295,10 @@ def test_a_study_file_names_the_preset(tmp_path):
     ]
     again = scenario_from_dict(config_dict(loaded.scenario))
     assert again == loaded.scenario
+    assert loaded.scenario.fidelity is None  # not set: the default tolerance
+    exact = tmp_path / "exact.toml"
+    exact.write_text(study.read_text().replace("fit_from = 3", 'fit_from = 3\nfidelity = "exact"'))
+    assert load_study(exact).scenario.fidelity == "exact"
 
 
 @pytest.mark.parametrize(
@@ -277,6 +309,7 @@ def test_a_study_file_names_the_preset(tmp_path):
         ('preset = "standard"\ngap = 0.01\nfloor = "felt"\nstiffness_ratio = 1e4', "sets young"),
         ('preset = "standard"\ngap = 0.01\nfloor = "carpet"', "floor = 'carpet' is not a known"),
         ('gap = 0.01\nfloor = "felt"', "give preset too"),
+        ('preset = "standard"\ngap = 0.01\nfloor = "felt"\nfidelity = 0.3', "fidelity = 0.3 is"),
     ],
 )
 def test_a_study_file_with_a_bad_preset_is_refused(table, message, tmp_path):

@@ -40,6 +40,7 @@ from dominowave.chain.events import (
     critical_tilt,
     merge_contacts,
 )
+from dominowave.chain.fidelity import ContactFidelity, Fidelity, choose_contact
 from dominowave.chain.stepper import ChainStepper
 from dominowave.chain.wave import (
     EnsembleStats,
@@ -140,7 +141,10 @@ class ChainRun:
     ``theory_window_speed`` the same least-squares fit applied to the theory's
     transient over the dominoes of ``wave`` (NaN if not settled): the like-for-like
     comparison for a finite chain, where the limit may be far;
-    ``dt``, ``n_steps``, ``wall_time`` [s], ``stop_reason`` of the engine.
+    ``dt``, ``n_steps``, ``wall_time`` [s], ``stop_reason`` of the engine;
+    ``fidelity`` the contact spring of a chain of given materials and its estimated
+    error (:mod:`dominowave.chain.fidelity`; None for a chain whose stiffness is a
+    parameter of the model).
     """
 
     params: ChainParams
@@ -159,6 +163,17 @@ class ChainRun:
     wall_time: float
     stop_reason: str
     record: ChainRecord | None = field(default=None, repr=False)
+    fidelity: ContactFidelity | None = None
+
+    @property
+    def stiffness_error(self) -> float:
+        """The estimated relative speed error [1] of a softened contact at this run's
+        steady speed (:meth:`ContactFidelity.error_at`); 0 at the material's spring or
+        for a chain without a material."""
+        if self.fidelity is None:
+            return 0.0
+        speed = self.wave.speed if self.wave.settled else math.nan
+        return self.fidelity.error_at(speed)
 
     @property
     def reached_all(self) -> bool:
@@ -248,6 +263,13 @@ class DominoChain:
     that fraction of the engine's critical estimate for the built scene
     (``dem.Scene.build``, timestep.py), e.g. for a Hertz chain (``normal_law =
     "hertz"``), whose collisions the linear theory's ``T_c`` does not describe.
+
+    ``fidelity`` (a numerical setting too): a chain of given materials (a box chain given
+    ``young``, e.g. the presets) runs with the softest contact spring whose estimated
+    speed error stays within the tolerance (default 1 %), ``"exact"`` with the material's
+    own (:mod:`dominowave.chain.fidelity`). ``material_params`` are the parameters given,
+    ``params`` those simulated (``kn`` in place of ``young`` when softened), and
+    ``contact`` the choice with its estimate (None where the setting does not apply).
     """
 
     def __init__(
@@ -261,11 +283,17 @@ class DominoChain:
         max_time: float | None = None,
         tail_time: float | None = None,
         safety: float | None = None,
+        fidelity: Fidelity = None,
     ):
+        self.material_params = params
+        self.contact = choose_contact(params, fidelity)
+        if self.contact is not None and self.contact.softened:
+            params = params.with_(kn=self.contact.kn)
         self.params = params
         self._options = {
             "dt": dt,
             "safety": safety,
+            "fidelity": fidelity,
             "steps_per_collision": steps_per_collision,
             "frame_interval": frame_interval,
             "quiet_time": quiet_time,
@@ -571,6 +599,7 @@ class DominoChain:
             wall_time=wall_time,
             stop_reason=stop_reason,
             record=record if keep_record else None,
+            fidelity=self.contact,
         )
 
     def ensemble(
@@ -605,7 +634,9 @@ class DominoChain:
             factor = member_push_factor(seed, i, jitter)
             chain = self
             if vary_placement:
-                member_params = self.params.with_(asymmetry_seed=member_placement_seed(seed, i))
+                member_params = self.material_params.with_(
+                    asymmetry_seed=member_placement_seed(seed, i)
+                )
                 chain = DominoChain(member_params, **self._options)
             runs.append(chain.run(push.scaled(factor), keep_record=keep_records))
         arrivals = np.array([r.arrival for r in runs])

@@ -21,6 +21,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from dominowave.chain.build import ChainParams
+from dominowave.chain.fidelity import parse_fidelity
 from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push, scene_kind
 from dominowave.chain.wave import check_fit_from, fit_speed, local_speeds, unsettled_reason
 from dominowave.checks import check_in_range
@@ -44,6 +45,17 @@ def _domino_rows(run: ChainRun) -> list[dict]:
         row.update({name: col[k] for name, col in ev.items()})
         rows.append(row)
     return rows
+
+
+def _contact_columns(run: ChainRun) -> dict:
+    """The contact spring a run used [N/m], the material's (NaN: the chain has none),
+    and the estimated relative speed error of a softened one (``chain.fidelity``)."""
+    contact = run.fidelity
+    return {
+        "contact_kn": run.params.contact_stiffness,
+        "material_kn": math.nan if contact is None else contact.material_kn,
+        "stiffness_error": run.stiffness_error,
+    }
 
 
 def _write_csv(path: Path, rows: list[dict]) -> None:
@@ -280,12 +292,20 @@ def chain_command(
     floor: Annotated[
         str | None, typer.Option(help="with --preset: felt, glass, hardwood, laminate")
     ] = None,
+    fidelity: Annotated[
+        str | None,
+        typer.Option(
+            help="box chain given --young (a --preset): exact (the material's contact) or a"
+            " tolerance of the speed, softest contact within it [default 0.01]"
+        ),
+    ] = None,
     out: Annotated[Path | None, typer.Option(help="directory for CSV + PNG")] = None,
 ) -> None:
     """Run one DEM domino chain (or an ensemble): per-domino table, speed vs theory, plot."""
     # checked here too: a single run (members = 1) never reaches DominoChain.ensemble
     check_in_range("members", members, 1, math.inf, lo_inclusive=True)
     check_in_range("seed", seed, 0, math.inf, lo_inclusive=True)
+    tolerance = parse_fidelity(fidelity)
     if out is not None:
         ensure_writable_dir(out)  # before the run, not after it
     physical = {
@@ -339,7 +359,7 @@ def chain_command(
         push = Push(impulse=impulse, height=impulse_height)
     else:
         push = Push(omega=push_omega * math.sqrt(p.g / p.height))
-    chain = DominoChain(p)
+    chain = DominoChain(p, fidelity=tolerance)
     compiling = notice_if_compiling(scene_kind(p))
     start = time.perf_counter()
     ens = None
@@ -376,7 +396,8 @@ def chain_command(
     for header in cols.values():  # escaped: rich would read "[s]" as strike-through markup
         table.add_column(escape(header), justify="right")
     rows = _domino_rows(run)
-    for r in rows:
+    for r in rows:  # (the contact and its error estimate are the run's, on every row)
+        r.update(_contact_columns(run))
         cells = [_cell(r[c]) for c in cols]
         cells[-1] = REGIME_SHORT[int(r["mechanism"])]
         table.add_row(*cells)
@@ -433,6 +454,8 @@ def chain_command(
         )
         for line in lines:
             console.print(escape(line))
+    if run.fidelity is not None:
+        console.print(run.fidelity.describe(run.stiffness_error))
     note = " (including compiling the kernels)" if compiling else ""
     console.print(f"dt = {run.dt:.3g} s, {run.n_steps} steps, wall {wall:.2f} s{note}")
     if out is not None:
@@ -448,6 +471,7 @@ def chain_command(
                         "speed": f.speed,
                         "speed_err": f.speed_err,
                         "settled": f.settled,
+                        **_contact_columns(r),
                     }
                     for i, (r, f) in enumerate(zip(ens.runs, ens.fits, strict=True))
                 ],

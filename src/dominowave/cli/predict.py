@@ -11,6 +11,7 @@ import time
 from pathlib import Path
 from typing import Annotated
 
+import numpy as np
 import typer
 from rich.console import Console
 from rich.markup import escape
@@ -29,6 +30,25 @@ def _fmt(x: float, digits: int = 3) -> str:
     return "-" if not math.isfinite(x) else f"{x:.{digits}g}"
 
 
+def _contact_line(pred) -> str:
+    """The contact springs the chains ran with and the largest estimated speed error."""
+    from dominowave.chain.fidelity import DEFAULT_TOLERANCE, EXACT, MAX_RESTITUTION
+
+    kn = pred.contact_kn[np.isfinite(pred.contact_kn)]
+    springs = f"k_n {_fmt(kn.min())}-{_fmt(kn.max())} N/m" if kn.size else "no chain ran"
+    if pred.fidelity == EXACT:
+        return f"contacts: the plastic's (fidelity exact), {springs}"
+    tolerance = DEFAULT_TOLERANCE if pred.fidelity is None else pred.fidelity
+    softened = int(np.count_nonzero(pred.stiffness_error > 0))
+    return (
+        f"contacts softened for speed (fidelity {tolerance:g}) in {softened} of"
+        f" {pred.speed.size} chains (the others, with a restitution above"
+        f" {MAX_RESTITUTION}, keep the plastic's): {springs}; estimated speed error of the"
+        f" softening at most {_fmt(100 * pred.stiffness_error_max, 2)} % (--fidelity exact:"
+        " the plastic's everywhere)"
+    )
+
+
 def predict_command(
     gap: Annotated[float, typer.Option(help="clear gap d between neighbours [m]")],
     floor: Annotated[str, typer.Option(help="named floor: felt, glass, hardwood, laminate")],
@@ -42,6 +62,13 @@ def predict_command(
     fit_from: Annotated[int, typer.Option(help="front speed fitted from domino K on")] = 3,
     seed: Annotated[int, typer.Option(help="scramble seed of the Sobol' sequence")] = 0,
     model: Annotated[str, typer.Option(help="3d | 2d")] = "3d",
+    fidelity: Annotated[
+        str | None,
+        typer.Option(
+            help="exact (the plastic's contact) or a tolerance of the speed: each chain runs"
+            " with the softest contact within it [default 0.01]"
+        ),
+    ] = None,
     out: Annotated[Path, typer.Option(help="sweep folder (re-run to resume)")] = Path("predict"),
     workers: Annotated[int | None, typer.Option(help="processes (default min(2, cores))")] = None,
     scheduler: Annotated[
@@ -49,6 +76,7 @@ def predict_command(
     ] = None,
 ) -> None:
     """Predict the front speed of a real chain with the band of its material data."""
+    from dominowave.chain.fidelity import parse_fidelity
     from dominowave.chain.reconcile import reconcile_lines
     from dominowave.cli.chain import exit_if_incomplete
     from dominowave.cli.workflow import check_cluster_options
@@ -59,11 +87,21 @@ def predict_command(
     if model not in ("2d", "3d"):
         raise ValueError(f"--model {model!r} is not one of '2d', '3d'")
     check_cluster_options(workers, scheduler)
+    tolerance = parse_fidelity(fidelity)
     ensure_writable_dir(out)
     console = Console(width=120)
     start = time.perf_counter()
     # bad input (samples, fit_from, gap, floor) fails here, before the compile notice
-    predict_points(gap, floor, samples, n_dominoes=n, fit_from=fit_from, seed=seed, model=model)
+    predict_points(
+        gap,
+        floor,
+        samples,
+        n_dominoes=n,
+        fit_from=fit_from,
+        seed=seed,
+        model=model,
+        fidelity=tolerance,
+    )
     if scheduler is None:
         from dominowave.chain.build import ChainParams
         from dominowave.chain.scenario import scene_kind
@@ -85,6 +123,7 @@ def predict_command(
         fit_from=fit_from,
         seed=seed,
         model=model,
+        fidelity=tolerance,
         workers=workers,
         scheduler=scheduler,
         progress=progress,
@@ -106,6 +145,7 @@ def predict_command(
         + (f" ({pred.n_died} waves died before the end)" if pred.n_died else "")
         + (f" ({pred.n_failed} runs failed: see failure.json)" if pred.n_failed else "")
     )
+    console.print(_contact_line(pred))
     lean_lo, lean_mid, lean_hi = pred.leaning_band
     console.print(
         f"leaning train (inelastic, rigid, theory.leaning) at the same samples' friction:"

@@ -259,7 +259,9 @@ class _ChainRun(ScenarioModel):
         # ChainParams checks the rest (e.g. thickness < height / 2), DominoChain that the
         # DEM can resolve the stiffness and hold the run (so `config` refuses what `run`
         # would), at no cost: nothing is simulated or allocated
-        DominoChain(self.params(), steps_per_collision=self.steps_per_collision)
+        DominoChain(
+            self.params(), steps_per_collision=self.steps_per_collision, fidelity=self.fidelity
+        )
         if self.fit_from is not None:
             from dominowave.chain.wave import check_fit_from
 
@@ -303,7 +305,7 @@ ChainScenario = create_model(
         "DEM chain of sphere clumps (dominowave.chain on dominowave.dem, paper section 3)."
         "\n\nThe physical fields are those of :class:`dominowave.chain.ChainParams`, derived"
         " from its declarations (names, defaults, units, ranges), plus how the run is"
-        " driven: ``push_omega``, ``steps_per_collision`` and ``fit_from``."
+        " driven: ``push_omega``, ``steps_per_collision``, ``fidelity`` and ``fit_from``."
     ),
     __module__=__name__,
     **fields_from_parameters(ChainParams),
@@ -314,6 +316,16 @@ ChainScenario = create_model(
     steps_per_collision=(
         int,
         quantity(50, "", "time steps per theory collision time T_c (sets dt)", ge=10),
+    ),
+    fidelity=(
+        float | Literal["exact"] | None,
+        quantity(
+            None,
+            "",
+            "box chain given young (a preset): exact (the material's contact) or the"
+            " tolerance of the speed, the softest contact within it (not set: 0.01;"
+            " chain.fidelity)",
+        ),
     ),
     preset=(
         Literal["standard"] | None,

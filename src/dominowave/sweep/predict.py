@@ -39,8 +39,15 @@ from pathlib import Path
 from typing import Literal
 
 import numpy as np
-from pydantic import Field
+from pydantic import Field, field_validator
 
+from dominowave.chain.fidelity import (
+    DEFAULT_TOLERANCE,
+    EXACT,
+    Fidelity,
+    check_fidelity,
+    choose_contact,
+)
 from dominowave.chain.materials import load_materials
 from dominowave.chain.presets import SAMPLED, standard_domino, standard_entries
 from dominowave.chain.scenario import DominoChain
@@ -93,6 +100,17 @@ class PredictSample(ScenarioModel):
     stiffness_ratio: float | None = quantity(
         None, "", "replaces the modulus by the paper's k/k* (cheap test chains)", gt=0.0
     )
+    fidelity: float | Literal["exact"] | None = quantity(
+        None,
+        "",
+        "exact (the plastic's contact) or the tolerance of the speed: the softest contact"
+        " whose estimated error stays within it (not set: 0.01; chain.fidelity)",
+    )
+
+    @field_validator("fidelity")
+    @classmethod
+    def _fidelity(cls, value):
+        return check_fidelity(value)
 
     def params(self):
         """The chain's :class:`~dominowave.chain.build.ChainParams`."""
@@ -107,15 +125,19 @@ class PredictSample(ScenarioModel):
 
 def run_predict_sample(cfg: PredictSample, ctx: RunContext | None = None) -> RunResult:
     """Run the chain of one sample and measure its front speed from ``fit_from`` on."""
-    run = DominoChain(cfg.params()).run()
+    run = DominoChain(cfg.params(), fidelity=cfg.fidelity).run()
     fit = speed_from(run.arrival, run.positions, cfg.fit_from)
     reached_all = bool(np.isfinite(run.arrival[-1]) and fit.reached == cfg.n_dominoes)
+    # the estimate at the larger of the a-priori speed and this sample's measured one
+    error = 0.0 if run.fidelity is None else run.fidelity.error_at(fit.speed)
     summary = {
         "sample": cfg.sample,
         **{name: getattr(cfg, name) for name in SAMPLED},
         "speed": fit.speed if reached_all else math.nan,
         "speed_err": fit.speed_err if reached_all else math.nan,
         "dominoes_toppled": int(fit.reached),
+        "contact_kn": run.params.contact_stiffness,
+        "stiffness_error": error,
         "wall_time": run.wall_time,
     }
     return RunResult(summary=summary, may_be_nan=("speed", "speed_err"))
@@ -138,6 +160,10 @@ class Prediction:
     ``leaning_speed`` (S,) [m/s] is the leaning train's steady speed
     (:mod:`dominowave.theory.leaning`) at each sample's friction between dominoes (the
     only material value it depends on) and ``leaning_band`` its quantiles :data:`BAND`.
+    ``contact_kn`` (S,) [N/m] is the contact spring each chain ran with and
+    ``stiffness_error`` (S,) [1] the estimated relative speed error of that spring
+    against the plastic's (:mod:`dominowave.chain.fidelity`; NaN for a missing point),
+    ``fidelity`` the setting of the chains (None: not set, the default tolerance).
     """
 
     gap: float
@@ -160,6 +186,15 @@ class Prediction:
     run: PresetRun
     leaning_speed: np.ndarray
     leaning_band: tuple[float, float, float]
+    contact_kn: np.ndarray
+    stiffness_error: np.ndarray
+    fidelity: Fidelity = None
+
+    @property
+    def stiffness_error_max(self) -> float:
+        """The largest estimated speed error of a chain's contact [1] (NaN if none ran)."""
+        ran = self.stiffness_error[np.isfinite(self.stiffness_error)]
+        return float(ran.max()) if ran.size else math.nan
 
 
 def _problem(floor: str, materials=None) -> tuple[dict, dict[str, float]]:
@@ -185,12 +220,16 @@ def predict_points(
     seed: int = 0,
     model: str = "3d",
     stiffness_ratio: float | None = None,
+    fidelity: Fidelity = None,
 ) -> tuple[list[PredictSample], dict, np.ndarray, dict[str, float]]:
     """The points of a prediction: ``(points, problem, X, fixed)`` with ``X`` (S, D).
 
     ``samples`` is Saltelli's base size ``N`` (a power of 2: the Sobol' sequence's balance
-    needs it), giving ``N (D + 2)`` points; ``seed`` scrambles the sequence.
+    needs it), giving ``N (D + 2)`` points; ``seed`` scrambles the sequence; ``fidelity``
+    that of every chain (:mod:`dominowave.chain.fidelity`: not set, the softest contact
+    within 1 % of the plastic's speed; ``"exact"``, the plastic's own).
     """
+    check_fidelity(fidelity)
     from SALib.sample import sobol as sobol_sample
 
     if isinstance(samples, bool) or not isinstance(samples, int) or samples < 1:
@@ -206,7 +245,11 @@ def predict_points(
         f"the {n_points} chains of its design",
         f"samples = {samples} ({n_points} chains)",
     )
-    standard_domino(gap=gap, floor=floor, n_dominoes=n_dominoes, model=model)  # bad input now
+    # bad input now, not in the workers: the chain, and a tolerance for a chain without
+    # the plastic's modulus (stiffness_ratio replaces it)
+    stiffness = {} if stiffness_ratio is None else {"stiffness_ratio": stiffness_ratio}
+    nominal = standard_domino(gap=gap, floor=floor, n_dominoes=n_dominoes, model=model, **stiffness)
+    choose_contact(nominal, fidelity)
     x = sobol_sample.sample(problem, samples, calc_second_order=False, seed=seed)
     points = []
     for i, row in enumerate(x):
@@ -220,6 +263,7 @@ def predict_points(
                 fit_from=fit_from,
                 model=model,
                 stiffness_ratio=stiffness_ratio,
+                fidelity=fidelity,
                 **values,
             )
         )
@@ -237,6 +281,7 @@ def predict(
     seed: int = 0,
     model: str = "3d",
     stiffness_ratio: float | None = None,
+    fidelity: Fidelity = None,
     workers: int | None = None,
     scheduler: str | None = None,
     client=None,
@@ -258,6 +303,7 @@ def predict(
         seed=seed,
         model=model,
         stiffness_ratio=stiffness_ratio,
+        fidelity=fidelity,
     )
     out_dir = Path(out_dir)
 
@@ -275,6 +321,7 @@ def predict(
     )
     speed = np.array([math.nan if s is None else float(s["speed"]) for s in done.summaries])
     prediction = _analyse(gap, floor, problem, x, speed, fixed, done)
+    prediction.fidelity = fidelity
     if prediction.n_missing == 0:  # a point that did not run is never written as a result
         write_prediction(prediction, out_dir)
     return prediction
@@ -301,7 +348,10 @@ def _analyse(gap, floor, problem, x, speed, fixed, done) -> Prediction:
     leaning_speed = _leaning_speeds(gap, problem, x, fixed)
     lean_ok = leaning_speed[np.isfinite(leaning_speed)]
     lean_band = tuple(float(q) for q in np.quantile(lean_ok, BAND)) if lean_ok.size else band
+    summaries = [None] * speed.size if done is None else done.summaries
     return Prediction(
+        contact_kn=_summary_column(summaries, "contact_kn"),
+        stiffness_error=_summary_column(summaries, "stiffness_error"),
         gap=gap,
         floor=floor,
         names=tuple(problem["names"]),
@@ -323,6 +373,11 @@ def _analyse(gap, floor, problem, x, speed, fixed, done) -> Prediction:
         leaning_speed=leaning_speed,
         leaning_band=lean_band if lean_ok.size else (math.nan,) * 3,
     )
+
+
+def _summary_column(summaries, name: str) -> np.ndarray:
+    """``name`` of every point's summary, (S,); NaN where a point has none."""
+    return np.array([math.nan if s is None else float(s.get(name, math.nan)) for s in summaries])
 
 
 def _leaning_speeds(gap, problem, x, fixed) -> np.ndarray:
@@ -367,6 +422,13 @@ def _effects(problem: dict, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return out
 
 
+def _fidelity_text(fidelity: Fidelity) -> str:
+    """The fidelity as stored: ``exact`` or the tolerance (not set: the default's)."""
+    if fidelity == EXACT:
+        return EXACT
+    return f"{DEFAULT_TOLERANCE if fidelity is None else fidelity:g}"
+
+
 def write_prediction(pred: Prediction, out_dir: Path) -> list[Path]:
     """``samples.csv``, ``samples.nc`` and ``prediction.csv`` of ``pred`` in ``out_dir``."""
     import xarray as xr
@@ -378,13 +440,23 @@ def write_prediction(pred: Prediction, out_dir: Path) -> list[Path]:
             **dict(zip(pred.names, map(float, row), strict=True)),
             "speed": v,
             "leaning_speed": lean,
+            "contact_kn": kn,
+            "stiffness_error": err,
         }
-        for i, (row, v, lean) in enumerate(
-            zip(pred.samples, pred.speed, pred.leaning_speed, strict=True)
+        for i, (row, v, lean, kn, err) in enumerate(
+            zip(
+                pred.samples,
+                pred.speed,
+                pred.leaning_speed,
+                pred.contact_kn,
+                pred.stiffness_error,
+                strict=True,
+            )
         )
     ]
+    columns = ["sample", *pred.names, "speed", "leaning_speed", "contact_kn", "stiffness_error"]
     with (out_dir / SAMPLES_CSV).open("w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=["sample", *pred.names, "speed", "leaning_speed"])
+        writer = csv.DictWriter(fh, fieldnames=columns)
         writer.writeheader()
         writer.writerows(rows)
     units = {"mass": "kg", "young": "Pa"}
@@ -398,6 +470,16 @@ def write_prediction(pred: Prediction, out_dir: Path) -> list[Path]:
         pred.leaning_speed,
         {"units": "m/s", "long_name": "steady speed of the leaning train"},
     )
+    data["contact_kn"] = (
+        "sample",
+        pred.contact_kn,
+        {"units": "N/m", "long_name": "contact spring per point the chain ran with"},
+    )
+    data["stiffness_error"] = (
+        "sample",
+        pred.stiffness_error,
+        {"units": "1", "long_name": "estimated relative speed error of that spring"},
+    )
     ds = xr.Dataset(
         data,
         coords={"sample": np.arange(pred.speed.size)},
@@ -407,6 +489,7 @@ def write_prediction(pred: Prediction, out_dir: Path) -> list[Path]:
             "band_quantiles": list(BAND),
             "band_m_s": list(pred.band),
             **{f"fixed_{k}": v for k, v in pred.fixed.items()},
+            "fidelity": _fidelity_text(pred.fidelity),
         },
     )
     ds.to_netcdf(out_dir / SAMPLES_NC)
@@ -418,6 +501,7 @@ def write_prediction(pred: Prediction, out_dir: Path) -> list[Path]:
         writer.writerow(["speed_mean", pred.mean, "", "m/s"])
         for q, v in zip(BAND, pred.leaning_band, strict=True):
             writer.writerow([f"leaning_speed_q{round(100 * q):02d}", v, "", "m/s"])
+        writer.writerow(["stiffness_error_max", pred.stiffness_error_max, "", "1"])
         writer.writerow(["waves_died", pred.n_died, "", "1"])
         writer.writerow(["runs_failed", pred.n_failed, "", "1"])
         for j, name in enumerate(pred.names):

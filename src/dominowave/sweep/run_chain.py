@@ -136,7 +136,9 @@ class ChainScenarioStepper(ScenarioStepper):
                 "vtk_every: VTK output draws the spheres of clump dominoes; shape = 'box'"
                 " has none (run box chains without VTK output)"
             )
-        self.chain = DominoChain(cfg.params(), steps_per_collision=cfg.steps_per_collision)
+        self.chain = DominoChain(
+            cfg.params(), steps_per_collision=cfg.steps_per_collision, fidelity=cfg.fidelity
+        )
         push = Push(omega=cfg.push_omega) if cfg.push_omega is not None else None
         self.stepper = self.chain.stepper(push, contact_forces=spheres)
 
@@ -174,6 +176,11 @@ def chain_result(
         # the paper's per-particle k (eq 24): k_n = k / 2 per contact, a box's two points k / 4
         "stiffness": 2.0 * params.points_per_spring * params.contact_stiffness,
         "stiffness_over_kstar": params.stiffness_over_kstar,
+        # a chain of given materials: the spring it ran with against the material's, and the
+        # estimated speed error of the softening (chain.fidelity; NaN and 0 without one)
+        "contact_kn": params.contact_stiffness,
+        "material_kn": math.nan if run.fidelity is None else run.fidelity.material_kn,
+        "stiffness_error": run.stiffness_error,
         "mass": params.mass,
         "speed": run.wave.speed,
         "speed_err": run.wave.speed_err,
@@ -218,6 +225,7 @@ def chain_result(
             "speed_theory_window",
             "speed_fit_from",
             "speed_fit_from_err",
+            "material_kn",
         ),
         spheres=sphere_trajectory(chain, record, run.push, contacts) if spheres else None,
     )
