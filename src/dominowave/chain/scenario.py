@@ -407,6 +407,24 @@ class DominoChain:
         # theory's Omega_1: the same impulse on a domino hinged at its base contact
         return v, w, push.impulse * h / inertia_pivot
 
+    def _stands(self, v0: np.ndarray, w0: np.ndarray):
+        """Where each domino stands, ``(x, y, yaw)`` [m, m, rad] with its placement errors,
+        and how it starts: the keywords ``blocked``, ``velocity``, ``angular_velocity`` and
+        ``held`` of ``dem.Scene.add_clump`` and ``add_box``. Domino 0 moves with ``v0``
+        [m/s] and ``w0`` [rad/s]; the others stand still (held, if the chain holds them)."""
+        p = self.params
+        errors = self.placement
+        stands = zip(self.positions + errors.along, errors.across, errors.yaw, strict=True)
+        for n, (x, y, yaw) in enumerate(stands):
+            moving = n == 0
+            start = {
+                "blocked": "y rx rz" if p.model == "2d" else "",
+                "velocity": v0 if moving else (0.0, 0.0, 0.0),
+                "angular_velocity": w0 if moving else (0.0, 0.0, 0.0),
+                "held": p.holds and not moving,
+            }
+            yield x, y, yaw, start
+
     def build(self, push: Push, record: bool = True, track_energy: bool = True):
         """The ``dem`` simulation with domino ``n`` as body ``n``; returns (sim, omega_1).
 
@@ -445,21 +463,11 @@ class DominoChain:
             (mat_base if bottom else mat_face)[rho]
             for rho, bottom in zip(self.shape.density, self.shape.bottom, strict=True)
         ]
-        blocked = "y rx rz" if p.model == "2d" else ""
         v0, w0, omega_1 = self._push_velocities(push)
         sink = self._sink()
-        errors = self.placement
-        stands = zip(self.positions + errors.along, errors.across, errors.yaw, strict=True)
-        for n, (x, y, yaw) in enumerate(stands):
-            moving = n == 0
+        for x, y, yaw, start in self._stands(v0, w0):
             scene.add_clump(
-                place_domino(self.shape, x, yaw, sink, y),
-                self.shape.radii,
-                materials,
-                blocked=blocked,
-                velocity=v0 if moving else (0.0, 0.0, 0.0),
-                angular_velocity=w0 if moving else (0.0, 0.0, 0.0),
-                held=p.holds and not moving,
+                place_domino(self.shape, x, yaw, sink, y), self.shape.radii, materials, **start
             )
         sim = scene.build(
             **step,
@@ -489,24 +497,17 @@ class DominoChain:
         scene.set_pair(box, box, friction=p.friction_dominoes, restitution=e_dominoes)
         scene.set_pair(box, floor, friction=p.friction_floor, restitution=e_floor)
         scene.add_wall(point=(0.0, 0.0, 0.0), normal=(0.0, 0.0, 1.0), material=floor)
-        blocked = "y rx rz" if p.model == "2d" else ""
         v0, w0, omega_1 = self._push_velocities(push)
         sink = self._sink()
         shape = self.shape
-        errors = self.placement
-        stands = zip(self.positions + errors.along, errors.across, errors.yaw, strict=True)
-        for n, (x, y, yaw) in enumerate(stands):
-            moving = n == 0
+        for x, y, yaw, start in self._stands(v0, w0):
             scene.add_box(
                 (x, y, shape.half_extents[2] - sink),
                 shape.half_extents,
                 shape.rounding,
                 box,
                 orientation=yaw_matrix(yaw),
-                blocked=blocked,
-                velocity=v0 if moving else (0.0, 0.0, 0.0),
-                angular_velocity=w0 if moving else (0.0, 0.0, 0.0),
-                held=p.holds and not moving,
+                **start,
             )
         sim = scene.build(
             **step,

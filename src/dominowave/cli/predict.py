@@ -91,17 +91,10 @@ def predict_command(
     ensure_writable_dir(out)
     console = Console(width=120)
     start = time.perf_counter()
-    # bad input (samples, fit_from, gap, floor) fails here, before the compile notice
-    predict_points(
-        gap,
-        floor,
-        samples,
-        n_dominoes=n,
-        fit_from=fit_from,
-        seed=seed,
-        model=model,
-        fidelity=tolerance,
-    )
+    # the chains checked are the chains run: bad input (samples, fit_from, gap, floor)
+    # fails here, before the compile notice
+    chains = dict(n_dominoes=n, fit_from=fit_from, seed=seed, model=model, fidelity=tolerance)
+    predict_points(gap, floor, samples, **chains)
     if scheduler is None:
         from dominowave.chain.build import ChainParams
         from dominowave.chain.scenario import scene_kind
@@ -115,18 +108,7 @@ def predict_command(
         )
 
     pred = predict(
-        gap,
-        floor,
-        out,
-        samples,
-        n_dominoes=n,
-        fit_from=fit_from,
-        seed=seed,
-        model=model,
-        fidelity=tolerance,
-        workers=workers,
-        scheduler=scheduler,
-        progress=progress,
+        gap, floor, out, samples, **chains, workers=workers, scheduler=scheduler, progress=progress
     )
     console.print(pred.run.report.line())
     if pred.n_missing:

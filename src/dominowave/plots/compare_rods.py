@@ -43,25 +43,26 @@ def plot_comparisons(comparisons, out_dir) -> list[Path]:
     def values(group, name):
         return np.array([getattr(c, name) for c in group], dtype=float)
 
+    def plot_measured(axes, *ratios):
+        """Each group's measured ``(name, over)`` ratios against d/l, a ratio a panel
+        (``over`` None: the value itself)."""
+        for (normal, k_ratio), group in groups.items():
+            x = values(group, "d_over_l")
+            label = f"{normal}, k/k*={k_ratio:g}"
+            for ax, (name, over) in zip(axes, ratios, strict=True):
+                y = values(group, name)
+                if over is not None:
+                    y = y / values(group, over)
+                ax.plot(x, y, styles[normal], marker="o", label=label)
+
+    def save(fig, name):
+        fig.tight_layout()
+        paths.append(out_dir / name)
+        fig.savefig(paths[-1], dpi=120)
+
     fig = Figure(figsize=(10, 4))
     axes = fig.subplots(1, 2)
-    for (normal, k_ratio), group in groups.items():
-        x = values(group, "d_over_l")
-        label = f"{normal}, k/k*={k_ratio:g}"
-        axes[0].plot(
-            x,
-            values(group, "tc_first") / values(group, "tc_theory"),
-            styles[normal],
-            marker="o",
-            label=label,
-        )
-        axes[1].plot(
-            x,
-            values(group, "f_first") / values(group, "fm_theory"),
-            styles[normal],
-            marker="o",
-            label=label,
-        )
+    plot_measured(axes, ("tc_first", "tc_theory"), ("f_first", "fm_theory"))
     axes[0].set_ylim(0.0, 2.5)  # k/k* <= 100 at extreme d/l goes beyond (see the CSV)
     axes[1].set_ylim(0.0, 1.5)
     axes[0].set_ylabel("measured duration / T_c (eq 31)")
@@ -70,9 +71,7 @@ def plot_comparisons(comparisons, out_dir) -> list[Path]:
         ax.axhline(1.0, color="k", lw=0.5)
         ax.set_xlabel("d/l")
     axes[0].legend(fontsize=6)
-    fig.tight_layout()
-    paths.append(out_dir / "collision.png")
-    fig.savefig(paths[-1], dpi=120)
+    save(fig, "collision.png")
 
     fig = Figure(figsize=(10, 4))
     axes = fig.subplots(1, 2)
@@ -81,20 +80,14 @@ def plot_comparisons(comparisons, out_dir) -> list[Path]:
     f_p = theory.f_plus(beta)
     axes[0].plot(grid, f_p, "k", lw=2, label="f_+ (eq 4)")
     axes[1].plot(grid, f_p / theory.f_minus(beta), "k", lw=2, label="f_+/f_- (eq 3)")
-    for (normal, k_ratio), group in groups.items():
-        x = values(group, "d_over_l")
-        label = f"{normal}, k/k*={k_ratio:g}"
-        axes[0].plot(x, values(group, "transfer_first"), styles[normal], marker="o", label=label)
-        axes[1].plot(x, values(group, "rebound_first"), styles[normal], marker="o", label=label)
+    plot_measured(axes, ("transfer_first", None), ("rebound_first", None))
     axes[0].set_ylim(-0.05, 1.3)  # k/k* = 1 (no collisions in any useful sense) goes beyond
     axes[0].set_ylabel("Omega_{n+1} / Omega_fn")
     axes[1].set_ylabel("Omega_bn / Omega_fn")
     for ax in axes:
         ax.set_xlabel("d/l")
     axes[0].legend(fontsize=6)
-    fig.tight_layout()
-    paths.append(out_dir / "collision_map.png")
-    fig.savefig(paths[-1], dpi=120)
+    save(fig, "collision_map.png")
 
     fig = Figure(figsize=(7, 5))
     ax = fig.subplots()
@@ -143,9 +136,7 @@ def plot_comparisons(comparisons, out_dir) -> list[Path]:
     ax.set_xlabel("d/l")
     ax.set_ylabel("v / sqrt(g l)  (o settled fit, x last 10 %)")
     ax.legend(fontsize=6)
-    fig.tight_layout()
-    paths.append(out_dir / "speed.png")
-    fig.savefig(paths[-1], dpi=120)
+    save(fig, "speed.png")
     return paths
 
 

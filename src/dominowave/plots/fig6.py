@@ -155,6 +155,22 @@ def _write_csv(rows: list[dict], path: Path) -> None:
         writer.writerows(rows)
 
 
+def _present(configs, rows: list[dict]) -> list[str]:
+    """The ``configs`` that have rows in ``rows``, in their order."""
+    return [c for c in configs if any(r["config"] == c for r in rows)]
+
+
+def _save_panel(fig, out: Path, name: str, rows: list[dict], dpi: int) -> list[Path]:
+    """Save ``fig`` as ``out/name.png`` at ``dpi`` and its ``rows`` as ``out/name.csv``;
+    returns the two paths."""
+    fig.tight_layout()
+    png = out / f"{name}.png"
+    fig.savefig(png, dpi=dpi)
+    path = out / f"{name}.csv"
+    _write_csv(rows, path)
+    return [png, path]
+
+
 def _grid(summaries) -> np.ndarray:
     dls = sorted({r["d_over_l"] for s in summaries for r in s})
     return np.linspace(max(0.05, min(dls) - 0.05), min(0.9, max(dls) + 0.05), 60)
@@ -175,7 +191,7 @@ def plot_fig6(summary: list[dict], out) -> list[Path]:
     boxes = " (box dominoes)" if _shape_of(summary) == "box" else ""
     written = []
     for panel, (title, configs) in PANELS.items():
-        present = [c for c in configs if any(r["config"] == c for r in summary)]
+        present = _present(configs, summary)
         if not present:
             continue
         fig = Figure(figsize=(6.4, 6.4 if panel == "E" else 4.8))
@@ -188,12 +204,8 @@ def plot_fig6(summary: list[dict], out) -> list[Path]:
             "squares: transient theory)"
         )
         _draw_panel(ax, ax2, summary, panel, present, scale, grid, heading)
-        fig.tight_layout()
-        png = out / f"fig6{panel}.png"
-        fig.savefig(png, dpi=120)
-        path = out / f"fig6{panel}.csv"
-        _write_csv([r for r in summary if r["config"] in present], path)
-        written += [png, path]
+        rows = [r for r in summary if r["config"] in present]
+        written += _save_panel(fig, out, f"fig6{panel}", rows, dpi=120)
     return written
 
 
@@ -211,7 +223,7 @@ def plot_fig6_beside(clump: list[dict], box: list[dict], out) -> list[Path]:
     grid = _grid([clump, box])
     written = []
     for panel, (title, configs) in PANELS.items():
-        present = [c for c in configs if any(r["config"] == c for r in clump + box)]
+        present = _present(configs, clump + box)
         if not present:
             continue
         fig = Figure(figsize=(12.0, 7.2 if panel == "E" else 5.0))
@@ -222,7 +234,7 @@ def plot_fig6_beside(clump: list[dict], box: list[dict], out) -> list[Path]:
             axes = fig.subplots(1, 2, sharey=True)
             pairs = [(axes[0], None), (axes[1], None)]
         for (ax, ax2), summary, name in zip(pairs, (clump, box), ("clump", "box"), strict=True):
-            here = [c for c in present if any(r["config"] == c for r in summary)]
+            here = _present(present, summary)
             if not here:
                 continue
             heading = (
@@ -230,10 +242,6 @@ def plot_fig6_beside(clump: list[dict], box: list[dict], out) -> list[Path]:
                 "solid clump / dashed point mass; squares: transient)"
             )
             _draw_panel(ax, ax2, summary, panel, here, scale, grid, heading)
-        fig.tight_layout()
-        png = out / f"fig6{panel}_beside.png"
-        fig.savefig(png, dpi=110)
-        path = out / f"fig6{panel}_beside.csv"
-        _write_csv([r for r in clump + box if r["config"] in present], path)
-        written += [png, path]
+        rows = [r for r in clump + box if r["config"] in present]
+        written += _save_panel(fig, out, f"fig6{panel}_beside", rows, dpi=110)
     return written

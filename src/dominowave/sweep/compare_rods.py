@@ -82,16 +82,20 @@ class OmegaProfilePoint(_RodsPoint):
     push_factor: float = quantity(1.0, "-", "push over the limit Omega (eq 9)", gt=0.0)
 
 
+def _chain_keywords(point: _RodsPoint) -> dict:
+    """The keywords that build a point's chain beside (d/l, k/k*): the same in the check
+    and in both kinds of run."""
+    return {
+        "n": point.n,
+        "normal": point.normal,
+        "g": point.g,
+        "gravity_in_contact": point.gravity_in_contact,
+    }
+
+
 def run_comparison(cfg: RodsComparison, ctx: RunContext | None = None) -> RunResult:
     """The sweep engine's run function of ``rods_comparison``."""
-    c = compare_point(
-        cfg.d_over_l,
-        cfg.k_over_kstar,
-        n=cfg.n,
-        normal=cfg.normal,
-        g=cfg.g,
-        gravity_in_contact=cfg.gravity_in_contact,
-    )
+    c = compare_point(cfg.d_over_l, cfg.k_over_kstar, **_chain_keywords(cfg))
     summary = asdict(c)
     # a collision that never ended or a wave that never settled has no value: NaN is a
     # result here, not a failure
@@ -102,15 +106,7 @@ def run_comparison(cfg: RodsComparison, ctx: RunContext | None = None) -> RunRes
 def run_omega_profile(cfg: OmegaProfilePoint, ctx: RunContext | None = None) -> RunResult:
     """The sweep engine's run function of ``rods_omega_profile``: ``Omega_n`` [rad/s]
     measured and from eq 8, one event row per domino."""
-    p = omega_profile(
-        cfg.d_over_l,
-        cfg.k_over_kstar,
-        cfg.push_factor,
-        n=cfg.n,
-        normal=cfg.normal,
-        g=cfg.g,
-        gravity_in_contact=cfg.gravity_in_contact,
-    )
+    p = omega_profile(cfg.d_over_l, cfg.k_over_kstar, cfg.push_factor, **_chain_keywords(cfg))
     return RunResult(
         summary={"push": p.push, "omega_limit": p.omega_limit},
         events={"n": np.arange(1, p.measured.size + 1), "measured": p.measured, "theory": p.theory},
@@ -120,14 +116,7 @@ def run_omega_profile(cfg: OmegaProfilePoint, ctx: RunContext | None = None) -> 
 def _checked(point: _RodsPoint) -> _RodsPoint:
     """``point``, once its chain is known to build (a bad value is one clear error now,
     not a failed point later)."""
-    paper_chain(
-        point.d_over_l,
-        point.k_over_kstar,
-        point.n,
-        normal=point.normal,
-        g=point.g,
-        gravity_in_contact=point.gravity_in_contact,
-    )
+    paper_chain(point.d_over_l, point.k_over_kstar, **_chain_keywords(point))
     return point
 
 
