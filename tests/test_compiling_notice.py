@@ -78,7 +78,7 @@ def test_the_notice_says_how_long_and_a_terminal_hears_it_is_still_working(monke
     monkeypatch.setattr(compiling, "HEARTBEAT_S", 1.0)
     monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
     monkeypatch.setattr(compiling, "_kernel", lambda need: ("DEM clumps", Kernel()))
-    assert compiling.notice_if_compiling(SceneKind(planar=True, spheres=True, boxes=False))
+    assert compiling.notice_if_compiling(SceneKind(planar=True, boxes=False))
     time.sleep(4.0)
     err = capsys.readouterr().err
     assert f"{compiling.FIRST_RUN['DEM clumps']} for the DEM clumps on 2 cores" in err

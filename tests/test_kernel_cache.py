@@ -78,7 +78,7 @@ def test_the_package_kernels_carry_their_instruments_stamp():
     from dominowave.dem import engine
     from dominowave.rods import kernel
 
-    loop = engine.time_loop(engine.SceneKind(planar=True, spheres=True, boxes=False))
+    loop = engine.time_loop(engine.SceneKind(planar=True, boxes=False))
     stamp = loop._cache._impl.locator.get_source_stamp()
     assert stamp[1:] == (kernel_cache.kernel_stamp("dem"),)
     rods = next(f for f in vars(kernel).values() if hasattr(f, "_cache") and f._cache)

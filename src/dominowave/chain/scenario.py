@@ -72,10 +72,8 @@ __all__ = [
 def scene_kind(params: ChainParams) -> dem.SceneKind:
     """What the DEM scene of a chain ``params`` holds, which decides the kernels its time
     loop compiles and runs (``dem.engine.time_loop``): the planar kernels for the 2D
-    model, sphere contacts for clumps, box contacts for boxes."""
-    return dem.SceneKind(
-        planar=params.model == "2d", spheres=params.shape == "clump", boxes=params.shape == "box"
-    )
+    model, box contacts for boxes."""
+    return dem.SceneKind(planar=params.model == "2d", boxes=params.shape == "box")
 
 
 def member_push_factor(seed: int, member: int, jitter: float) -> float:

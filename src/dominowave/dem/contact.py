@@ -480,19 +480,12 @@ def build_verlet_list(spheres, walls, bodies, mats, contacts, skin):
     src = np.empty(n_new, np.int64)
     _merge_history(spheres, walls, bodies, mats, contacts, keys, first, src, np.empty(4))
     _list_spheres(spheres, contacts, np.zeros(spheres.pos.shape[0], np.uint8))
-    store_build_pose(bodies)
-    return n_new
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def store_build_pose(bodies):
-    """Keep every body's position and orientation at this list build: the reference of
-    :func:`needs_rebuild` (the box lists rely on the same test, boxes.py)."""
     for b in range(bodies.mass.shape[0]):
         for d in range(3):
             bodies.pos_at_build[b, d] = bodies.pos[b, d]
         for d in range(4):
             bodies.quat_at_build[b, d] = bodies.quat[b, d]
+    return n_new
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)

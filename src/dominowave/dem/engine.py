@@ -54,7 +54,6 @@ from dominowave.dem.contact import (
     contact_power,
     moved_beyond,
     needs_rebuild,
-    store_build_pose,
 )
 from dominowave.dem.energy import (
     E_DISSIPATED_DAMPING,
@@ -556,11 +555,12 @@ def _advance_bodies(bodies, settings, first, stop):
     return _advance_general(bodies, settings, first, stop)
 
 
-SceneKind = namedtuple("SceneKind", ["planar", "spheres", "boxes"])
-"""What a scene holds, which decides the kernels its time loop calls: ``planar`` (the
-planar kernels, dem/planar.py), ``spheres`` (sphere contacts: the Verlet list,
-contact.py) and ``boxes`` (rounded-cuboid contacts: boxes.py, and box_sphere.py with
-spheres).  Each is a bool."""
+SceneKind = namedtuple("SceneKind", ["planar", "boxes"])
+"""What a scene holds, which decides the kernels its time loop calls (bools): ``planar``
+(the planar kernels, dem/planar.py, or the general ones) and ``boxes`` (rounded-cuboid
+contacts: boxes.py, box_sphere.py).  The sphere kernels (contact.py) are in every loop:
+a scene of boxes alone runs them over an empty Verlet list, and leaving them out of its
+loop would save seconds of its minutes of compiling, for one more loop to compile."""
 
 
 @functools.cache
@@ -581,8 +581,8 @@ def time_loop(kind: SceneKind):
     return _compile_run_loop(*kind)
 
 
-def _compile_run_loop(PLANAR, SPHERES, BOXES):  # (capitals: constants of the compiled loop)
-    """:func:`run_loop` for the kind ``(PLANAR, SPHERES, BOXES)`` (:func:`time_loop`).
+def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled loop)
+    """:func:`run_loop` for the kind ``(PLANAR, BOXES)`` (:func:`time_loop`).
 
     The flags are tested by name in every ``if`` (numba prunes a branch whose condition
     is a constant; it does not follow a constant through a variable or a ``not``)."""
@@ -649,13 +649,9 @@ def _compile_run_loop(PLANAR, SPHERES, BOXES):  # (capitals: constants of the co
             if build_due:
                 if not _finite(bodies):
                     return ABORT_NAN, done
-                if SPHERES:
-                    update_sphere_positions(bodies, spheres, PLANAR)  # the search sees all
-                    if build_verlet_list(spheres, walls, bodies, mats, contacts, settings.skin) < 0:
-                        return GROW_CONTACTS, done
-                else:  # (what the build of an empty list does)
-                    contacts.n[0] = 0
-                    store_build_pose(bodies)
+                update_sphere_positions(bodies, spheres, PLANAR)  # the search sees every sphere
+                if build_verlet_list(spheres, walls, bodies, mats, contacts, settings.skin) < 0:
+                    return GROW_CONTACTS, done
                 rec.n_rebuilds[0] += 1
                 # (the box list with the spheres': both rely on the same displacement test)
                 if BOXES:
@@ -664,46 +660,28 @@ def _compile_run_loop(PLANAR, SPHERES, BOXES):  # (capitals: constants of the co
                     skin = settings.skin
                     if build_box_sphere_candidates(bodies, spheres, boxes, walls, skin) < 0:
                         return GROW_BOX_CANDIDATES, done
-            n_changes = 0
-            if SPHERES:
-                if contacts.n[0] == 0:  # (no sphere pairs listed)
-                    _zero_forces(bodies)  # (compute_forces' first act: a call costs more)
-                elif PLANAR:
-                    n_changes = compute_forces_planar(
-                        bodies,
-                        spheres,
-                        walls,
-                        contacts,
-                        dt,
-                        rec.ledger,
-                        rec.changes,
-                        step == 0,
-                        shear_kinematics,
-                    )
-                else:
-                    n_changes = compute_forces(
-                        bodies,
-                        spheres,
-                        walls,
-                        contacts,
-                        dt,
-                        rec.ledger,
-                        rec.changes,
-                        step == 0,
-                        shear_kinematics,
-                    )
+            ledger, changes, first = rec.ledger, rec.changes, step == 0
+            if contacts.n[0] == 0:  # (no sphere pairs listed, as in a scene of boxes only)
+                _zero_forces(bodies)  # (compute_forces' first act: a call costs more)
+                n_changes = 0
+            elif PLANAR:
+                n_changes = compute_forces_planar(
+                    bodies, spheres, walls, contacts, dt, ledger, changes, first, shear_kinematics
+                )
             else:
-                _zero_forces(bodies)
+                n_changes = compute_forces(
+                    bodies, spheres, walls, contacts, dt, ledger, changes, first, shear_kinematics
+                )
             released = False
             if BOXES:
                 box_forces(bodies, boxes, walls, mats, dt, rec.ledger, step == 0, PLANAR)
-                if SPHERES:
+                if spheres.body.shape[0] > 0:  # (the call alone costs ~0.5 us: _zero_forces)
                     box_sphere_forces(
                         bodies, spheres, boxes, mats, dt, rec.ledger, step == 0, PLANAR
                     )
                 if boxes.n_changes[0] > 0:
                     released = _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t)
-            if SPHERES and n_changes > 0:
+            if n_changes > 0:
                 released |= _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t,
                                       step == 0)  # fmt: skip
             if released:  # (the held flags changed)
@@ -713,8 +691,7 @@ def _compile_run_loop(PLANAR, SPHERES, BOXES):  # (capitals: constants of the co
                     if released_since_build(bodies, boxes):
                         boxes.n_cand[0] = -1  # (the list is built at the next step)
             if settings.record_peak_force:
-                if SPHERES:
-                    _record_peak_force(spheres, contacts, rec)
+                _record_peak_force(spheres, contacts, rec)
                 if BOXES:
                     box_peak_force(boxes, spheres, rec.peak_force)
             # stop conditions, decided at t_n
@@ -739,17 +716,13 @@ def _compile_run_loop(PLANAR, SPHERES, BOXES):  # (capitals: constants of the co
                 else:
                     p_damping = kick_general(bodies, g, dt, settings.damping, damp_gravity)
                 if settings.track_energy:
-                    if SPHERES:
-                        if PLANAR:
-                            contact_power_planar(bodies, spheres, walls, contacts, p_contacts)
-                        else:
-                            contact_power(bodies, spheres, walls, contacts, p_contacts)
-                    else:  # (contact_power's sums over no contacts)
-                        p_contacts[POWER_VISCOUS] = p_contacts[POWER_FRICTION] = 0.0
+                    if PLANAR:
+                        contact_power_planar(bodies, spheres, walls, contacts, p_contacts)
+                    else:
+                        contact_power(bodies, spheres, walls, contacts, p_contacts)
                     if BOXES:
                         box_power(bodies, boxes, p_contacts)
-                        if SPHERES:
-                            box_sphere_power(bodies, spheres, boxes, p_contacts)
+                        box_sphere_power(bodies, spheres, boxes, p_contacts)
                     # trapezoidal rule for the work of the non-conservative forces since
                     # t_{n-1}
                     if step > 0:
@@ -805,8 +778,7 @@ def _compile_run_loop(PLANAR, SPHERES, BOXES):  # (capitals: constants of the co
                 else:
                     drift_general(bodies, dt)
                 rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
-            if SPHERES:
-                update_listed_sphere_positions(bodies, spheres, PLANAR)
+            update_listed_sphere_positions(bodies, spheres, PLANAR)
             rec.clock[CLOCK_TIME] = t + dt
             rec.step[0] = step + 1
             if code >= 0:

@@ -63,9 +63,10 @@ def _upgraded(state: dict, n_materials: int) -> dict:
     if version == STATE_FORMAT:
         return state
     if not 1 <= version < STATE_FORMAT:
+        newer = " (a newer dominowave wrote it)" if version > STATE_FORMAT else ""
         raise ValueError(
-            f"state_format = {version}: this version of dominowave reads formats 1 to "
-            f"{STATE_FORMAT} (a newer dominowave wrote it)"
+            f"state_format = {version}: this version of dominowave reads formats 1 to"
+            f" {STATE_FORMAT}{newer}"
         )
     nm = n_materials
     state = {
@@ -340,7 +341,7 @@ class Simulation:
         afterwards the contact state of the last step is used.
         """
         contacts = self.contacts
-        if self.rec.step[0] == 0 and self.spheres.body.size:  # (no spheres: no list)
+        if self.rec.step[0] == 0:
             while (
                 build_verlet_list(
                     self.spheres, self.walls, self.bodies, self.mats, contacts, self.settings.skin
@@ -476,13 +477,9 @@ class Simulation:
     @property
     def kind(self) -> SceneKind:
         """What the scene holds, which decides the kernels of its time loop
-        (engine.time_loop): planar kernels (as decided at the start of the last run), sphere
-        contacts, box contacts."""
-        return SceneKind(
-            planar=self.settings.planar,
-            spheres=self.spheres.body.size > 0,
-            boxes=self.boxes.body.size > 0,
-        )
+        (engine.time_loop): planar kernels (as decided at the start of the last run), box
+        contacts."""
+        return SceneKind(planar=self.settings.planar, boxes=self.boxes.body.size > 0)
 
     @property
     def planar(self) -> bool:
