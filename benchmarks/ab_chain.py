@@ -8,7 +8,7 @@ ensemble of perturbed pushes: the ensemble averages out the different chaotic tr
 of versions whose floating-point results differ, the alternation the drift.
 
 Run:  python benchmarks/ab_chain.py --base 0984542 [--n 30] [--members 16] [--steps S] [--cpu]
-      [--model 3d]
+      [--model 3d] [--shape box]
       (engines only, as bench_chain.py; S defaults to the paper case's steps, scaled per
       domino)
 """
@@ -59,6 +59,9 @@ def main(argv=None) -> int:
     ap.add_argument("--members", type=int, default=16)
     ap.add_argument("--model", default="2d", choices=("2d", "3d"), help="the chain's model")
     ap.add_argument(
+        "--shape", default="clump", choices=("clump", "box"), help="the dominoes' shape"
+    )
+    ap.add_argument(
         "--cpu", action="store_true", help="time the process's CPU time (a shared machine)"
     )
     ap.add_argument("--steps", type=int, default=0)
@@ -77,8 +80,9 @@ def main(argv=None) -> int:
             "base": (base_scenario, base_build),
             "new": (scenario, build),
         }.items():
+            shape = {"base": "two"} if args.shape == "clump" else {"shape": "box"}
             params = bu.ChainParams(
-                n_dominoes=args.n, d_over_l=0.4, base="two", held=False, model=args.model
+                n_dominoes=args.n, d_over_l=0.4, held=False, model=args.model, **shape
             )
             versions[name] = sc.DominoChain(params)
 
@@ -101,7 +105,8 @@ def main(argv=None) -> int:
                 times[name][member] = run(name, member)
     base, new = times["base"], times["new"]
     print(
-        f"N = {args.n} ({args.model}), {args.members} members x {steps} steps, engines only, "
+        f"N = {args.n} ({args.shape}, {args.model}), {args.members} members x {steps} steps,"
+        " engines only, "
         f"{'CPU' if args.cpu else 'wall'} time: {args.base} "
         f"{base.mean() / steps * 1e6:.2f} us/step, working tree "
         f"{new.mean() / steps * 1e6:.2f} us/step; speed-up of the means "

@@ -54,7 +54,10 @@ def test_the_chain_schema_is_the_chain_parameters():
     specs = parameter_specs(ChainParams)
     assert set(specs) == {f.name for f in dataclasses.fields(ChainParams)}
     fields = ChainScenario.model_fields
-    run_fields = {"kind", "push_omega", "steps_per_collision", "fit_from", "preset", "gap", "floor"}
+    run_fields = {  # how the run is driven
+        *("kind", "push_omega", "steps_per_collision", "fit_from", "fidelity"),
+        *("preset", "gap", "floor"),
+    }
     assert set(fields) == {*specs, *run_fields}
     for name, (field, spec) in specs.items():
         info = fields[name]
