@@ -8,7 +8,8 @@ its per-domino table, compare the arrival times of the wave with the theory's
 transient on the same dominoes, and draw one frame of the toppling chain.
 
 The chain is short (12 dominoes) so this runs in a second once the numba kernels
-are compiled (the first run of a fresh install compiles them: about 4 minutes on 2 cores).
+are compiled (the first run of a fresh install compiles those of a 2D clump chain: about
+30 s on 2 cores).
 """
 
 # %%
