@@ -73,6 +73,7 @@ __all__ = [
     "choose_contact",
     "given_materials",
     "parse_fidelity",
+    "tolerance_of",
 ]
 
 EXACT = "exact"
@@ -117,6 +118,14 @@ def check_fidelity(fidelity: Fidelity) -> Fidelity:
         )
     check_in_range("fidelity", fidelity, 0.0, MAX_TOLERANCE, hi_inclusive=True)
     return float(fidelity)
+
+
+def tolerance_of(fidelity: Fidelity) -> float | None:
+    """The tolerance [1] a (checked) setting stands for: None for ``"exact"``,
+    :data:`DEFAULT_TOLERANCE` when not set."""
+    if fidelity == EXACT:
+        return None
+    return DEFAULT_TOLERANCE if fidelity is None else fidelity
 
 
 def parse_fidelity(text: str | None) -> Fidelity:
@@ -241,8 +250,7 @@ def choose_contact(params: ChainParams, fidelity: Fidelity = None) -> ContactFid
             f" of the model (shape = {params.shape!r}, young = {params.young!r}, normal_law ="
             f" {params.normal_law!r}): leave fidelity unset or 'exact'"
         )
-    tolerance = DEFAULT_TOLERANCE if fidelity is None else fidelity
-    tolerance = None if tolerance == EXACT else tolerance
+    tolerance = tolerance_of(fidelity)
     k_m = params.contact_stiffness
     t_m = theory_collision_time(params)
     v = _reference_speed(params)

@@ -32,13 +32,13 @@ def _fmt(x: float, digits: int = 3) -> str:
 
 def _contact_line(pred) -> str:
     """The contact springs the chains ran with and the largest estimated speed error."""
-    from dominowave.chain.fidelity import DEFAULT_TOLERANCE, EXACT, MAX_RESTITUTION
+    from dominowave.chain.fidelity import MAX_RESTITUTION, tolerance_of
 
     kn = pred.contact_kn[np.isfinite(pred.contact_kn)]
     springs = f"k_n {_fmt(kn.min())}-{_fmt(kn.max())} N/m" if kn.size else "no chain ran"
-    if pred.fidelity == EXACT:
+    tolerance = tolerance_of(pred.fidelity)
+    if tolerance is None:
         return f"contacts: the plastic's (fidelity exact), {springs}"
-    tolerance = DEFAULT_TOLERANCE if pred.fidelity is None else pred.fidelity
     softened = int(np.count_nonzero(pred.stiffness_error > 0))
     return (
         f"contacts softened for speed (fidelity {tolerance:g}) in {softened} of"

@@ -42,11 +42,11 @@ import numpy as np
 from pydantic import Field, field_validator
 
 from dominowave.chain.fidelity import (
-    DEFAULT_TOLERANCE,
     EXACT,
     Fidelity,
     check_fidelity,
     choose_contact,
+    tolerance_of,
 )
 from dominowave.chain.materials import load_materials
 from dominowave.chain.presets import SAMPLED, standard_domino, standard_entries
@@ -319,7 +319,7 @@ def predict(
         client=client,
         on_point=on_point,
     )
-    speed = np.array([math.nan if s is None else float(s["speed"]) for s in done.summaries])
+    speed = _summary_column(done.summaries, "speed")
     prediction = _analyse(gap, floor, problem, x, speed, fixed, done)
     prediction.fidelity = fidelity
     if prediction.n_missing == 0:  # a point that did not run is never written as a result
@@ -424,9 +424,8 @@ def _effects(problem: dict, x: np.ndarray, y: np.ndarray) -> np.ndarray:
 
 def _fidelity_text(fidelity: Fidelity) -> str:
     """The fidelity as stored: ``exact`` or the tolerance (not set: the default's)."""
-    if fidelity == EXACT:
-        return EXACT
-    return f"{DEFAULT_TOLERANCE if fidelity is None else fidelity:g}"
+    tolerance = tolerance_of(fidelity)
+    return EXACT if tolerance is None else f"{tolerance:g}"
 
 
 def write_prediction(pred: Prediction, out_dir: Path) -> list[Path]:
