@@ -506,7 +506,8 @@ def paper_fig6_command(
     ensure_writable_dir(out)
     check_cluster_options(workers, scheduler)
     # each worker process loads (or compiles) them: the kernels of every configuration
-    notice_if_compiling(*{scene_kind(ChainParams(shape=shape, **c)) for c in CONFIGS.values()})
+    kinds = {scene_kind(ChainParams(shape=shape, **c)) for c in CONFIGS.values()}
+    notice_if_compiling(*kinds, by_workers=True)
 
     if shape == "box":
         preset = QUICK_BOX if quick else FULL_BOX
