@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import importlib
 import sys
+import types
 
 import pytest
 from typer.testing import CliRunner
@@ -83,6 +84,70 @@ def test_the_notice_says_how_long_and_a_terminal_hears_it_is_still_working(monke
     err = capsys.readouterr().err
     assert f"{compiling.FIRST_RUN['DEM clumps']} for the DEM clumps on 2 cores" in err
     assert err.count("still compiling") == 2  # at 1 s and 2 s, not after the end
+
+
+@pytest.mark.parametrize(
+    ("by_workers", "first_words", "heartbeats"),
+    [(False, "compiling", 1), (True, "the workers compile", 0)],
+)
+def test_the_heartbeat_waits_only_on_kernels_this_process_compiles(
+    by_workers, first_words, heartbeats, monkeypatch, capsys
+):
+    """On a terminal, kernels that this process compiles get the heartbeat after the
+    notice. Kernels that the Dask workers of a sweep compile never get a signature in
+    this process: their notice says once who compiles them, with the time, and starts
+    no heartbeat (which would say "still compiling" until the command ends)."""
+    started = []
+
+    class Thread:  # records the heartbeat instead of starting it
+        def __init__(self, target, args, daemon):
+            self.target = target
+
+        def start(self):
+            started.append(self.target)
+
+    monkeypatch.setattr(compiling, "kernels_cached", lambda dispatcher: False)
+    monkeypatch.setattr(compiling, "threading", types.SimpleNamespace(Thread=Thread))
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
+    assert compiling.notice_if_compiling("rods", by_workers=by_workers)
+    err = capsys.readouterr().err
+    assert err.startswith(f"{first_words} the rods kernels (first run")
+    assert f"{compiling.FIRST_RUN['rods']} for the rods on 2 cores" in err
+    assert started == [compiling._heartbeat] * heartbeats
+
+
+class Stop(Exception):
+    """Raised where a command would start its sweep: the notice is all a test needs."""
+
+
+def _stop(*args, **kwargs):
+    raise Stop
+
+
+@pytest.mark.parametrize(
+    ("command", "runner"),
+    [
+        (["paper-fig6", "--quick"], "dominowave.sweep.fig6.run_fig6"),
+        (["predict", "--gap", "0.012", "--floor", "felt"], "dominowave.sweep.predict.predict"),
+        (["compare-rods", "--quick"], "dominowave.sweep.compare_rods.run_compare_rods"),
+        (["sweep", "{study}"], "dominowave.sweep.runner.run_sweep"),
+    ],
+)
+def test_the_commands_run_on_dask_workers_say_the_workers_compile(
+    command, runner, tmp_path, monkeypatch
+):
+    """paper-fig6, predict, compare-rods and sweep run their kernels on Dask workers:
+    their notice says that the workers compile them."""
+    study = tmp_path / "study.toml"
+    study.write_text(
+        '[scenario]\nkind = "chain"\nn_dominoes = 4\n\n[sweep.grid]\nd_over_l = [0.3, 0.4]\n'
+    )
+    args = [word.format(study=study) for word in command]
+    monkeypatch.setattr(compiling, "kernels_cached", lambda dispatcher: False)
+    monkeypatch.setattr(runner, _stop)
+    result = CliRunner().invoke(app, [*args, "--out", str(tmp_path / "out")])
+    assert isinstance(result.exception, Stop), result.output
+    assert result.output.startswith("the workers compile the ")
 
 
 @pytest.mark.parametrize("shape", ["clump", "box"])

@@ -174,6 +174,17 @@ class ChainRun:
         return self.fidelity.error_at(speed)
 
     @property
+    def contact_columns(self) -> dict[str, float]:
+        """The run's contact as the columns of its tables and summary: ``contact_kn``
+        the spring it ran with [N/m], ``material_kn`` the material's [N/m] (NaN for a
+        chain without a material) and ``stiffness_error`` (:attr:`stiffness_error`, [1])."""
+        return {
+            "contact_kn": self.params.contact_stiffness,
+            "material_kn": math.nan if self.fidelity is None else self.fidelity.material_kn,
+            "stiffness_error": self.stiffness_error,
+        }
+
+    @property
     def reached_all(self) -> bool:
         """Whether the wave reached the last domino."""
         return bool(np.isfinite(self.arrival[-1]))

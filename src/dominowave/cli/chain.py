@@ -47,17 +47,6 @@ def _domino_rows(run: ChainRun) -> list[dict]:
     return rows
 
 
-def _contact_columns(run: ChainRun) -> dict:
-    """The contact spring a run used [N/m], the material's (NaN: the chain has none),
-    and the estimated relative speed error of a softened one (``chain.fidelity``)."""
-    contact = run.fidelity
-    return {
-        "contact_kn": run.params.contact_stiffness,
-        "material_kn": math.nan if contact is None else contact.material_kn,
-        "stiffness_error": run.stiffness_error,
-    }
-
-
 def _write_csv(path: Path, rows: list[dict]) -> None:
     with path.open("w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
@@ -397,7 +386,7 @@ def chain_command(
         table.add_column(escape(header), justify="right")
     rows = _domino_rows(run)
     for r in rows:  # (the contact and its error estimate are the run's, on every row)
-        r.update(_contact_columns(run))
+        r.update(run.contact_columns)
         cells = [_cell(r[c]) for c in cols]
         cells[-1] = REGIME_SHORT[int(r["mechanism"])]
         table.add_row(*cells)
@@ -471,7 +460,7 @@ def chain_command(
                         "speed": f.speed,
                         "speed_err": f.speed_err,
                         "settled": f.settled,
-                        **_contact_columns(r),
+                        **r.contact_columns,
                     }
                     for i, (r, f) in enumerate(zip(ens.runs, ens.fits, strict=True))
                 ],
@@ -517,7 +506,8 @@ def paper_fig6_command(
     ensure_writable_dir(out)
     check_cluster_options(workers, scheduler)
     # each worker process loads (or compiles) them: the kernels of every configuration
-    notice_if_compiling(*{scene_kind(ChainParams(shape=shape, **c)) for c in CONFIGS.values()})
+    kinds = {scene_kind(ChainParams(shape=shape, **c)) for c in CONFIGS.values()}
+    notice_if_compiling(*kinds, by_workers=True)
 
     if shape == "box":
         preset = QUICK_BOX if quick else FULL_BOX

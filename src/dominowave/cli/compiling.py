@@ -69,28 +69,43 @@ def kernels_cached(dispatcher) -> bool:
         return False  # another numba's internals
 
 
-def notice_if_compiling(*needs) -> bool:
+def notice_if_compiling(*needs, by_workers: bool = False) -> bool:
     """Print one line on stderr if the kernels of ``needs`` (``"rods"``, or the
     :class:`~dominowave.dem.SceneKind` of a DEM scene) will be compiled by this command;
-    return whether it did."""
+    return whether it did.
+
+    ``by_workers``: the command runs its kernels in Dask worker processes (a sweep),
+    which compile them; the line says so.  Otherwise this process compiles them, and on
+    a terminal a line every :data:`HEARTBEAT_S` follows until it has.
+    """
+    missing = _uncached(needs)
+    if not missing:
+        return False
+    times = ", ".join(f"{FIRST_RUN[name]} for the {name}" for name in missing)
+    instruments = dict.fromkeys(name.split()[0] for name in missing)
+    who = "the workers compile" if by_workers else "compiling"
+    typer.echo(
+        f"{who} the {' and '.join(instruments)} kernels (first run after installing or"
+        f" changing them; {times} on 2 cores, once: later runs load them from the cache)",
+        err=True,
+    )
+    # the heartbeat watches this process's dispatchers: the workers' compiling never
+    # shows there, so for them it would say "still compiling" until the command ends
+    if not by_workers and sys.stderr.isatty():
+        dispatchers = [d for group in missing.values() for d in group]
+        threading.Thread(target=_heartbeat, args=(dispatchers,), daemon=True).start()
+    return True
+
+
+def _uncached(needs) -> dict[str, list]:
+    """The dispatchers of ``needs`` that have no fresh cache, by kernel name (a key of
+    :data:`FIRST_RUN`)."""
     missing: dict[str, list] = {}
     for need in needs:
         name, dispatcher = _kernel(need)
         if not kernels_cached(dispatcher):
             missing.setdefault(name, []).append(dispatcher)
-    if not missing:
-        return False
-    times = ", ".join(f"{FIRST_RUN[name]} for the {name}" for name in missing)
-    instruments = dict.fromkeys(name.split()[0] for name in missing)
-    typer.echo(
-        f"compiling the {' and '.join(instruments)} kernels (first run after installing or"
-        f" changing them; {times} on 2 cores, once: later runs load them from the cache)",
-        err=True,
-    )
-    if sys.stderr.isatty():  # on a terminal, say that it is still working
-        dispatchers = [d for group in missing.values() for d in group]
-        threading.Thread(target=_heartbeat, args=(dispatchers,), daemon=True).start()
-    return True
+    return missing
 
 
 def study_kernels(kind: str, points) -> list:

@@ -99,7 +99,7 @@ def predict_command(
         from dominowave.chain.build import ChainParams
         from dominowave.chain.scenario import scene_kind
 
-        notice_if_compiling(scene_kind(ChainParams(shape="box", model=model)))
+        notice_if_compiling(scene_kind(ChainParams(shape="box", model=model)), by_workers=True)
 
     def progress(row):
         console.print(

@@ -189,7 +189,7 @@ def compare_rods_command(
 
     ensure_writable_dir(out)  # before the runs, not after them
     check_cluster_options(workers, scheduler)
-    notice_if_compiling("rods")
+    notice_if_compiling("rods", by_workers=True)
     if quick:
         d_over_l, stiffness_ratio, n = QUICK_D_OVER_L, QUICK_K_RATIO, 30
     d_values = parse_values(d_over_l, "d_over_l")

@@ -219,7 +219,7 @@ def _sweep(loaded, folder, scheduler, workers, retry_failed, quiet, force=False)
 
     check_cluster_options(workers, scheduler)
     if scheduler is None:  # the local workers share this machine's kernel cache
-        notice_if_compiling(*study_kernels(loaded.scenario.kind, loaded.points))
+        notice_if_compiling(*study_kernels(loaded.scenario.kind, loaded.points), by_workers=True)
     report = run_sweep(
         loaded,
         folder,

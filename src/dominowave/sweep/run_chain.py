@@ -176,11 +176,10 @@ def chain_result(
         # the paper's per-particle k (eq 24): k_n = k / 2 per contact, a box's two points k / 4
         "stiffness": 2.0 * params.points_per_spring * params.contact_stiffness,
         "stiffness_over_kstar": params.stiffness_over_kstar,
-        # a chain of given materials: the spring it ran with against the material's, and the
-        # estimated speed error of the softening (chain.fidelity; NaN and 0 without one)
-        "contact_kn": params.contact_stiffness,
-        "material_kn": math.nan if run.fidelity is None else run.fidelity.material_kn,
-        "stiffness_error": run.stiffness_error,
+        # contact_kn, material_kn, stiffness_error: of a chain of given materials, the spring it
+        # ran with against the material's and the estimated speed error of the softening
+        # (chain.fidelity; NaN and 0 without one)
+        **run.contact_columns,
         "mass": params.mass,
         "speed": run.wave.speed,
         "speed_err": run.wave.speed_err,
