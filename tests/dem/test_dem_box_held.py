@@ -1,6 +1,6 @@
 """Held boxes (Scene.add_box(..., held=True)): fixed until a moving body touches them,
-as held clumps (engine.py), and without wall rows or rows with other held boxes while
-held (boxes.py)."""
+as held clumps (engine.py); while held, without rows with other held boxes, and with
+wall rows only once a moving box is near (boxes.py)."""
 
 import math
 
@@ -43,9 +43,9 @@ def _row(planar, held=True, mu=0.5):
 
 @pytest.mark.parametrize("planar", [True, False])
 def test_held_box_stays_put_and_is_released_when_touched(planar):
-    """A held box does not move (bit for bit) and has no contact rows with the floor or
-    another held box; the moving box's first touch releases it at that step, the box
-    behind stays held."""
+    """A held box does not move (bit for bit) and has no contact rows with another held
+    box (nor with the floor, which these touch without overlap); the moving box's first
+    touch releases it at that step, the box behind stays held."""
     sim = _row(planar)
     start = sim.positions()
     quat = sim.bodies.quat.copy()

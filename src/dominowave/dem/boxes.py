@@ -36,10 +36,11 @@ spheres' list when a body may have moved by half the skin, and after the release
 held box whose pairs it left out), and each step the bounding tests of
 :func:`box_forces` on the candidates only.  The candidates are a superset of the
 pairs that pass those tests, visited in the same order, so the forces do not depend on
-when the list was built.  Held boxes (engine.py) have no rows with walls or with other
-held boxes (:func:`_held_pair`); the loop of each step looks only at the candidates of
-the boxes that are not held (:func:`_visit_pairs`), so a chain of held dominoes costs
-what its moving part costs.
+when the list was built.  Held boxes (engine.py) have no rows with other held boxes,
+nor with the walls until a moving box is among their candidates (:func:`_held_pair`);
+the loop of each step looks only at the candidates of the boxes that are not held and
+at the wall pairs of the held boxes next to them (:func:`_visit_pairs`), so a chain of
+held dominoes costs what its moving part costs.
 """
 
 from __future__ import annotations
@@ -54,6 +55,7 @@ from dominowave.dem.contact import (
     END,
     ONSET,
     _candidate_pairs,
+    _scan_walls,
     apply_at_lever,
     end_impulse,
     pair_friction_restitution,
@@ -130,6 +132,8 @@ Boxes = namedtuple(
         "n_groups",  # (1,) int64: groups of visit/src/src_start, -1: to be rebuilt
         "held_at_build",  # (nx,) uint8: 1 if the box's pairs with held boxes and walls may
         #   be missing from cand (held at the list build; a new state: 1)
+        "engaged",  # (nx,) uint8 scratch: a held box with a moving box among its visited
+        #   candidates, which has its wall rows (_visit_pairs)
         "sphere_rows",  # BoxContacts of the box-sphere contacts (box_sphere.py), j: sphere
         "sphere_next",  # BoxContacts being built (scratch)
         "sphere_cand",  # (Q,) int64 candidate box-sphere pairs, box * ns + sphere, ascending
@@ -221,6 +225,7 @@ def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR,
         src_start=np.zeros(nx + 1, np.int64),
         n_groups=np.full(1, -1, np.int64),
         held_at_build=np.ones(nx, np.uint8),
+        engaged=np.zeros(nx, np.uint8),
         sphere_rows=_empty_rows(sphere_capacity),
         sphere_next=_empty_rows(sphere_capacity),
         sphere_cand=np.zeros(8 * nx + 16, np.int64),
@@ -269,10 +274,11 @@ def build_box_candidates(bodies, boxes, walls, skin):
     until the caller grows it and builds again).
 
     While at most half of the boxes move, the pairs that get no rows while the list
-    lasts are left out -- two held boxes, a held box and a wall (:func:`_held_pair`) --
-    and the search looks only around the boxes that are not held (contact._scan_active,
-    every neighbour cell of each): it costs what the moving part of a chain held until
-    touched costs.  ``boxes.held_at_build`` marks the boxes held then; the engine builds
+    lasts are left out -- two held boxes, a held box that no moving box is near and a wall
+    (:func:`_held_pair`) -- and the search looks only around the boxes that are not held
+    (contact._scan_active, every neighbour cell of each), and at the walls of the held
+    boxes it finds: it costs what the moving part of a chain held until touched costs.
+    ``boxes.held_at_build`` marks the boxes held then; the engine builds
     the list again at the step after one of them is released (or at the start of a run
     in which it is free, :func:`released_since_build`).  With more boxes moving, every
     pair is listed (the half-shell search over all boxes, contact._scan_cells, is the
@@ -310,6 +316,7 @@ def build_box_candidates(bodies, boxes, walls, skin):
         n_moving += moving[x]
     if 2 * n_moving <= nx:
         keys, _ = _candidate_pairs(bound, walls, skin, moving)
+        keys = _with_neighbour_walls(bound, walls, skin, moving, keys)
         for x in range(nx):
             boxes.held_at_build[x] = 1 - moving[x]
     else:
@@ -343,6 +350,29 @@ def build_box_candidates(bodies, boxes, walls, skin):
     return n
 
 
+@njit(cache=True, error_model="numpy", _nrt=True)
+def _with_neighbour_walls(bound, walls, skin, moving, keys):
+    """``keys`` (ascending pair codes of the pairs with a moving box, ``moving`` (nx,)
+    uint8) with the wall pairs of the held boxes among them added, ascending: a held box
+    next to a moving one gets its wall rows before the step that releases it
+    (:func:`_visit_pairs`)."""
+    nx = moving.shape[0]
+    nw = walls.point.shape[0]
+    stride = nx + nw
+    neighbour = np.zeros(nx, np.uint8)
+    for k in range(keys.shape[0]):
+        a, j = keys[k] // stride, keys[k] % stride
+        if j < nx:
+            neighbour[a] |= 1 - moving[a]
+            neighbour[j] |= 1 - moving[j]
+    raw = np.empty(nx * nw + 1, np.int64)
+    first = np.empty(raw.shape[0], np.int64)
+    n = _scan_walls(bound, walls, skin, neighbour, raw, first, 0)
+    if n == 0:
+        return keys
+    return np.sort(np.concatenate((keys, raw[:n])))
+
+
 @njit(cache=True, error_model="numpy", inline="always")
 def released_since_build(bodies, boxes):
     """True if a box held at the last list build is free now: its pairs with held boxes
@@ -359,7 +389,13 @@ def _visit_pairs(bodies, boxes, nx, nw):
     """The listed candidate pairs that are not held pairs (:func:`_held_pair`), ascending,
     into ``boxes.visit``, grouped by their first box (``boxes.src``, ``boxes.src_start``);
     returns the number of groups, or ``nx`` without a list (every box a source, every
-    pair a candidate: :func:`_partner_range`).
+    pair a candidate: :func:`_partner_range`; no box engaged).
+
+    A held box with a moving box among its candidates is *engaged* (``boxes.engaged``):
+    its wall pairs are visited too, so that it stands on the floor in the step a moving
+    box first touches it, as a free box at rest does; the release after that step's
+    forces (engine._bookkeep_boxes) then changes nothing but the flag.  Its wall rows
+    act on a held body, which does not move, until then.
 
     The visited pairs change only when the list is built or a box is released, so they
     are kept from step to step (``boxes.n_groups``) and built again only after
@@ -375,16 +411,33 @@ def _visit_pairs(bodies, boxes, nx, nw):
     and the sort restores the pair order of the list (a reverse pair (a, b) comes before
     b's own pairs): the pairs are visited in the order of the full list, so the forces
     are the same to the bit."""
+    engaged = boxes.engaged
     if boxes.n_cand[0] < 0:
+        engaged[:] = 0
         return nx
     if boxes.n_groups[0] >= 0:
         return boxes.n_groups[0]
     held, body = bodies.held, boxes.body
     visit, cand, rev = boxes.visit, boxes.cand, boxes.rev
     stride = nx + nw
+    engaged[:] = 0
+    for b in range(nx):
+        if held[body[b]]:
+            continue
+        for k in range(boxes.rev_start[b], boxes.rev_start[b + 1]):
+            engaged[rev[k]] |= held[body[rev[k]]]
+        for k in range(boxes.cand_start[b], boxes.cand_start[b + 1]):
+            j = cand[k] % stride
+            if j < nx:
+                engaged[j] |= held[body[j]]
     n = 0
     for b in range(nx):
         if held[body[b]]:
+            if engaged[b]:  # (its wall pairs: the list has them, _with_neighbour_walls)
+                for k in range(boxes.cand_start[b], boxes.cand_start[b + 1]):
+                    if cand[k] % stride >= nx:
+                        visit[n] = cand[k]
+                        n += 1
             continue
         for k in range(boxes.rev_start[b], boxes.rev_start[b + 1]):
             a = rev[k]
@@ -474,13 +527,15 @@ def _manifold(bodies, boxes, walls, a, j, planar, margin, frame_ready):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _held_pair(bodies, ba, bj, wall):
-    """True if body ``ba`` and its partner (body ``bj``, or a wall) get no contact rows
-    because of held bodies (engine.py, held until touched): a held box with a wall, two
-    held boxes.  A held box is fixed, so these contacts could do no work; a moving body
-    touching a held box gets its rows, whose onset releases the held box."""
+def _held_pair(bodies, boxes, a, bj, wall):
+    """True if box ``a`` and its partner (body ``bj``, or a wall) get no contact rows
+    because of held bodies (engine.py, held until touched): two held boxes, a held box
+    with a wall unless the box is engaged (:func:`_visit_pairs`).  A held box is fixed,
+    so these contacts could do no work; a moving body touching a held box gets its rows,
+    whose onset releases the held box."""
+    ba = boxes.body[a]
     if wall:
-        return bodies.held[ba] == 1
+        return bodies.held[ba] == 1 and boxes.engaged[a] == 0
     return bodies.held[ba] == 1 and bodies.held[bj] == 1
 
 
@@ -495,7 +550,7 @@ def _within_reach(bodies, boxes, walls, a, j, planar):
     it is thick)."""
     ba = boxes.body[a]
     wall = j < 0
-    if _held_pair(bodies, ba, boxes.body[j] if not wall else ba, wall):
+    if _held_pair(bodies, boxes, a, boxes.body[j] if not wall else ba, wall):
         return -1.0
     if wall:
         w = -j - 1

@@ -188,9 +188,15 @@ Recorder = namedtuple(
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _release(bodies, spheres, contacts, b, t):
-    """Free a held body, and (transitively) held bodies it already touches."""
+    """Free a held body, and (transitively) held bodies it already touches.
+
+    A held body has been at rest, ``v_{n-1/2} = 0`` (Scene and Simulation refuse it a
+    velocity), so it is not flagged ``fresh``: it takes the leapfrog's full kick
+    ``v_{n+1/2} = dt a_n``, as a free body at rest would.  The half kick of a
+    velocity-Verlet start would give it half of this step's impulse while its pusher
+    takes the whole reaction."""
     bodies.held[b] = 0
-    bodies.fresh[b] = 1  # starts from rest at t: velocity-Verlet half kick
+    bodies.fresh[b] = 0  # (a held body keeps the flag of its creation)
     bodies.release_time[b] = t
     changed = True
     while changed:
@@ -204,7 +210,7 @@ def _release(bodies, spheres, contacts, b, t):
             if bodies.held[bi] != bodies.held[bj]:
                 held = bi if bodies.held[bi] else bj
                 bodies.held[held] = 0
-                bodies.fresh[held] = 1
+                bodies.fresh[held] = 0
                 bodies.release_time[held] = t
                 changed = True
 
@@ -604,7 +610,8 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
         (contact.py): it allocates nothing itself, and every pass through the loop would
         otherwise pay atomic reference-count updates of the ~100 state arrays.
         """
-        dt = settings.dt
+        dt, skin = settings.dt, settings.skin
+        ledger, changes = rec.ledger, rec.changes
         kin = work[WORK_KINETIC]
         p_contacts = work[WORK_POWER]
         touched_body = int(stop[STOP_ARG_TOUCHED_BODY])
@@ -616,7 +623,7 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
             boxes.n_groups[0] = -1
             if released_since_build(bodies, boxes):
                 boxes.n_cand[0] = -1
-        rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
+        rebuild_due = needs_rebuild(bodies, skin, contacts.n[0])
         # (in here only a release changes the held flags)
         first_moving, stop_moving = _moving_range(bodies)
         for done in range(n_steps):
@@ -650,17 +657,16 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
                 if not _finite(bodies):
                     return ABORT_NAN, done
                 update_sphere_positions(bodies, spheres, PLANAR)  # the search sees every sphere
-                if build_verlet_list(spheres, walls, bodies, mats, contacts, settings.skin) < 0:
+                if build_verlet_list(spheres, walls, bodies, mats, contacts, skin) < 0:
                     return GROW_CONTACTS, done
                 rec.n_rebuilds[0] += 1
                 # (the box list with the spheres': both rely on the same displacement test)
                 if BOXES:
-                    if build_box_candidates(bodies, boxes, walls, settings.skin) < 0:
+                    if build_box_candidates(bodies, boxes, walls, skin) < 0:
                         return GROW_BOX_CANDIDATES, done
-                    skin = settings.skin
                     if build_box_sphere_candidates(bodies, spheres, boxes, walls, skin) < 0:
                         return GROW_BOX_CANDIDATES, done
-            ledger, changes, first = rec.ledger, rec.changes, step == 0
+            first = step == 0
             if contacts.n[0] == 0:  # (no sphere pairs listed, as in a scene of boxes only)
                 _zero_forces(bodies)  # (compute_forces' first act: a call costs more)
                 n_changes = 0
@@ -674,16 +680,13 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
                 )
             released = False
             if BOXES:
-                box_forces(bodies, boxes, walls, mats, dt, rec.ledger, step == 0, PLANAR)
+                box_forces(bodies, boxes, walls, mats, dt, ledger, first, PLANAR)
                 if spheres.body.shape[0] > 0:  # (the call alone costs ~0.5 us: _zero_forces)
-                    box_sphere_forces(
-                        bodies, spheres, boxes, mats, dt, rec.ledger, step == 0, PLANAR
-                    )
+                    box_sphere_forces(bodies, spheres, boxes, mats, dt, ledger, first, PLANAR)
                 if boxes.n_changes[0] > 0:
                     released = _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t)
             if n_changes > 0:
-                released |= _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t,
-                                      step == 0)  # fmt: skip
+                released |= _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, first)
             if released:  # (the held flags changed)
                 first_moving, stop_moving = _moving_range(bodies)
                 if BOXES:
@@ -729,9 +732,9 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
                         viscous = rec.power[LAST_POWER_VISCOUS] + p_contacts[POWER_VISCOUS]
                         damping = rec.power[LAST_POWER_DAMPING] + p_damping
                         friction = rec.power[LAST_POWER_FRICTION] + p_contacts[POWER_FRICTION]
-                        rec.ledger[LEDGER_VISCOUS] -= 0.5 * dt * viscous
-                        rec.ledger[LEDGER_DAMPING] -= 0.5 * dt * damping
-                        rec.ledger[LEDGER_FRICTION] -= 0.5 * dt * friction
+                        ledger[LEDGER_VISCOUS] -= 0.5 * dt * viscous
+                        ledger[LEDGER_DAMPING] -= 0.5 * dt * damping
+                        ledger[LEDGER_FRICTION] -= 0.5 * dt * friction
                     rec.power[LAST_POWER_VISCOUS] = p_contacts[POWER_VISCOUS]
                     rec.power[LAST_POWER_DAMPING] = p_damping
                     rec.power[LAST_POWER_FRICTION] = p_contacts[POWER_FRICTION]
@@ -744,14 +747,14 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
                 if energy_due:
                     k = rec.energy_n[0]
                     rec.energy_t[k] = t
-                    energies(bodies, contacts, settings.gravity, rec.ledger, rec.energy_val[k])
+                    energies(bodies, contacts, settings.gravity, ledger, rec.energy_val[k])
                     if BOXES:
                         box_energies(boxes, rec.energy_val[k])
                         box_sphere_energies(boxes, rec.energy_val[k])
                     rec.energy_n[0] = k + 1
                 # sanity checks at t_n, before the drift
                 if check_due:
-                    energies(bodies, contacts, settings.gravity, rec.ledger, rec.energy_now)
+                    energies(bodies, contacts, settings.gravity, ledger, rec.energy_now)
                     if BOXES:
                         box_energies(boxes, rec.energy_now)
                         box_sphere_energies(boxes, rec.energy_now)
@@ -777,7 +780,7 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
                     drift_planar(bodies, dt)
                 else:
                     drift_general(bodies, dt)
-                rebuild_due = needs_rebuild(bodies, settings.skin, contacts.n[0])
+                rebuild_due = needs_rebuild(bodies, skin, contacts.n[0])
             update_listed_sphere_positions(bodies, spheres, PLANAR)
             rec.clock[CLOCK_TIME] = t + dt
             rec.step[0] = step + 1

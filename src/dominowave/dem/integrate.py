@@ -385,7 +385,7 @@ def kick_body_planar(bodies, b, gravity, dt, damping, damp_gravity):
 def kick_general(bodies, gravity, dt, damping, damp_gravity):
     """Half-step velocities v_{n-1/2} -> v_{n+1/2} from the current forces (module doc).
 
-    A body flagged ``fresh`` (new, released, or given a velocity) holds the full-step
+    A body flagged ``fresh`` (new, or given a velocity) holds the full-step
     velocity v_n instead, and gets the half kick ``v_{n+1/2} = v_n + dt/2 a_n`` of the
     velocity-Verlet start.  Returns the power of the local damping forces at t_n [W]
     (negative), booked by the caller with the trapezoidal rule.

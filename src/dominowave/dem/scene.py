@@ -253,8 +253,9 @@ class Scene:
             ``m = 8 a b c rho``, ``I_x = m (b^2 + c^2) / 3`` (shapes.cuboid_mass_properties).
         blocked, velocity, angular_velocity : as :meth:`add_clump`.
         held : keep the box fixed until a moving body touches it (as :meth:`add_clump`):
-            while held it has no contact with the walls nor with other held boxes, so a
-            box held resting on the floor costs nothing until it is released.
+            while held it has no contact with other held boxes, nor with the walls until
+            a moving box comes near (then it stands on them, as a free box at rest does),
+            so a box held resting on the floor costs nothing until a moving box nears it.
         """
         from dominowave.dem.shapes.cuboid import cuboid_mass_properties
 

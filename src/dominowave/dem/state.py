@@ -7,8 +7,9 @@ kernels update in place.  Conventions used throughout ``dominowave.dem``:
 * Quaternions ``(w, x, y, z)`` rotate the body's principal frame into the world frame:
   ``x_world = x_com + R(q) @ x_body``.
 * Body velocities are the leapfrog half-step values ``v(t - dt/2)`` between steps
-  (as in YADE's NewtonIntegrator), except for ``fresh`` bodies (new, just released or
-  given a velocity) whose values are full-step ones; recorders report full-step values.
+  (as in YADE's NewtonIntegrator), except for ``fresh`` bodies (new or given a
+  velocity) whose values are full-step ones; recorders report full-step values.  A held
+  body is at rest, so its values are both (engine._release).
 * A contact's second partner ``j >= 0`` is a sphere index, ``j < 0`` is the wall ``-(j + 1)``.
 """
 
