@@ -64,10 +64,10 @@ CHAINS: dict[str, dict] = {
     "s19": {"spheres_per_column": 19},
     "2d_phid": {"friction_dominoes": 0.5},
     "3d_phid": {"model": "3d", "friction_dominoes": 0.5},
-    "box": {"shape": "box"},
-    "box_3d": {"shape": "box", "model": "3d"},
-    "box_k1e3": {"shape": "box", "stiffness_ratio": 1e3},
-    "box_k1e5": {"shape": "box", "stiffness_ratio": 1e5},
+    "box": {"shape": "box", "held": False},
+    "box_3d": {"shape": "box", "model": "3d", "held": False},
+    "box_k1e3": {"shape": "box", "stiffness_ratio": 1e3, "held": False},
+    "box_k1e5": {"shape": "box", "stiffness_ratio": 1e5, "held": False},
 }
 """Chain name -> ``ChainParams`` changes from the Fig 6 base chain (paper_fig6.CONFIGS)."""
 

@@ -1,13 +1,14 @@
 """The standard domino's front speed against the friction between dominoes.
 
 For the standard 48 x 24 x 7.5 mm box domino (``chain.presets.standard_domino``, the
-plastic's contact stiffness, ``fidelity="exact"``, as the shipped scan was measured, every
-other value nominal from materials.toml) at the 9.38 mm gap of the Smarter Every Day
-films, a chain of ``--n`` dominoes pushed with ``omega = sqrt(g/l)`` is run once per
-(model, floor, domino-domino friction), and its front speed fitted from domino
-``--fit-from`` on, pitch-based (``chain.wave.speed_from``), as the films are fitted. The
-friction values go below the range of materials.toml on purpose: the scan asks how low
-the friction would have to be for the model to run as fast as the films, it fits nothing.
+plastic's contact stiffness, ``fidelity="exact"``, and every box free, ``held=False``,
+as the shipped scan was measured, every other value nominal from materials.toml) at the
+9.38 mm gap of the Smarter Every Day films, a chain of ``--n`` dominoes pushed with
+``omega = sqrt(g/l)`` is run once per (model, floor, domino-domino friction), and its
+front speed fitted from domino ``--fit-from`` on, pitch-based
+(``chain.wave.speed_from``), as the films are fitted. The friction values go below the
+range of materials.toml on purpose: the scan asks how low the friction would have to be
+for the model to run as fast as the films, it fits nothing.
 
 Usage::
 
@@ -38,7 +39,9 @@ FRICTIONS = (0.0, 0.1, 0.2, 0.3, 0.525)
 def front_speed(model: str, floor: str, friction: float, n: int, fit_from: int, gap: float):
     """Fitted front speed [m/s], its uncertainty (``SteadySpeed.speed_err``) [m/s] and the
     CPU time [s] of one chain."""
-    p = standard_domino(gap=gap, floor=floor, n_dominoes=n, model=model, friction_dominoes=friction)
+    p = standard_domino(
+        gap=gap, floor=floor, n_dominoes=n, model=model, friction_dominoes=friction, held=False
+    )
     start = time.process_time()
     run = DominoChain(p, fidelity="exact").run(Push(omega=math.sqrt(p.g / p.height)))
     fit = speed_from(run.arrival, chain_positions(p), fit_from)

@@ -47,7 +47,9 @@ def main() -> None:
         for d in (float(x) for x in args.d_over_l.split(",")):
             for shape in ("clump", "box"):
                 size = STANDARD if args.standard else {}
-                p = ChainParams(d_over_l=d, shape=shape, **size, **MODELS[model])
+                p = ChainParams(
+                    d_over_l=d, shape=shape, held=shape == "clump", **size, **MODELS[model]
+                )
                 start = time.perf_counter()
                 ens = DominoChain(p).ensemble(members=args.members, seed=0)
                 settled = [r.wave.settled for r in ens.runs]

@@ -55,7 +55,9 @@ def main() -> None:
     clump = dict(base=args.base, held=False) if args.base == "two" else {}
     shapes = [dict(spheres_per_column=n, **clump) for n in _numbers(args.resolutions, int)]
     if not args.no_box:
-        shapes += [dict(shape="box", rounding=r) for r in _numbers(args.roundings, float)]
+        shapes += [
+            dict(shape="box", rounding=r, held=False) for r in _numbers(args.roundings, float)
+        ]
     rows = []
     for d in (float(x) for x in args.d_over_l.split(",")):
         for shape in shapes:
@@ -74,7 +76,7 @@ def main() -> None:
                     "spheres_per_column": p.n_column if p.shape == "clump" else 0,
                     "rounding": p.rounding_radius if p.shape == "box" else p.radius,
                     "base": p.base_layout if p.shape == "clump" else "flat",
-                    "held": p.holds,
+                    "held": p.held,
                     "members": args.members,
                     "reached_all": tail.size,
                     "n_settled": int(sum(r.wave.settled for r in ens.runs)),

@@ -19,7 +19,7 @@ STICKY = dict(shape="box", friction_floor=10.0)
 # --- parameters ----------------------------------------------------------------------------
 def test_clump_defaults_unchanged():
     p = ChainParams()
-    assert p.shape == "clump" and p.base_layout == "one" and p.holds
+    assert p.shape == "clump" and p.base_layout == "one" and p.held
     assert p.contact_stiffness == ChainParams(base="one", held=True).contact_stiffness
 
 
@@ -33,7 +33,7 @@ def test_box_mass_and_stiffness_meaning(model):
     assert p.contact_stiffness == pytest.approx(k / 4, rel=1e-14)
     assert p.pair_stiffness == pytest.approx(k / 2, rel=1e-14)
     assert p.stiffness_over_kstar == pytest.approx(1e4, rel=1e-14)
-    assert p.rounding_radius == p.thickness / 20 and not p.holds
+    assert p.rounding_radius == p.thickness / 20 and p.held
 
 
 def test_box_stiffness_from_young_uses_the_rounding():

@@ -38,6 +38,10 @@ def test_validate_held_box_chain_arrives_as_the_free_one(case):
     np.testing.assert_allclose(held[1:], free[1:], rtol=1e-9, atol=0)
 
 
+def test_box_chains_are_held_by_default():
+    assert ChainParams(shape="box").held and ChainParams().held
+
+
 def test_a_held_box_stands_on_the_floor_once_a_moving_box_is_near():
     """The held box next to the pushed one has its floor rows before it is touched (so
     that the step of its first touch has the floor's support); a held box far from any

@@ -48,7 +48,8 @@ A **box** domino (``shape = "box"``) is one rigid rounded cuboid (``dem.Scene.ad
 of thickness ``s``, width ``w`` and height ``l`` whose edges are rounded with radius
 ``r = rounding`` (default ``s/20``, ``0 < r < s/2``), with the uniform cuboid's mass
 ``m = rho l w s`` and inertia, in 2D (planar: ``y``, ``rx``, ``rz`` blocked) and 3D alike.
-It stands on its own flat base, so ``held`` is off unless asked for; the clump's
+It stands on its own flat base in equilibrium, so holding it until touched changes
+nothing but the cost (docs/shape.md, "Holding a box until it is touched"); the clump's
 ``spheres_per_column`` and ``base`` do not apply to it (and the box's ``rounding``,
 ``restitution_dominoes``, ``restitution_floor`` not to a clump).
 
@@ -210,11 +211,7 @@ class ChainParams:
         "clump only: one bottom sphere, or two half-size (not set: one)",
         choices=("one", "two"),
     )
-    held: bool | None = parameter(
-        None,
-        "",
-        "untouched dominoes are held until first touched (not set: clump yes, box no)",
-    )
+    held: bool = parameter(True, "", "untouched dominoes are held until first touched")
     lateral_asymmetry: float = parameter(
         0.0, "rad", "placement error: yaw of each domino, uniform in +-amplitude (3d)", ge=0, lt=0.1
     )
@@ -338,11 +335,6 @@ class ChainParams:
     def base_layout(self) -> Base:
         """The clump's base: ``base``, or ``"one"`` when not set."""
         return self.base or "one"
-
-    @property
-    def holds(self) -> bool:
-        """Whether untouched dominoes are held: ``held``, or (not set) clump yes, box no."""
-        return self.shape == "clump" if self.held is None else self.held
 
     @property
     def restitution_pairs(self) -> tuple[float | None, float | None]:

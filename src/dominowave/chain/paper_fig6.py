@@ -24,8 +24,9 @@ spacings and members, and the ensemble statistics, are a study:
 ``shape = "box"`` builds every configuration of rounded cuboids instead of clumps
 (``ChainParams(shape="box")``: the same l, s, w and density, the cuboid's own mass,
 k/k* per box with ``k_n = k/4`` per contact point, the same friction and local damping;
-docs/shape.md). The box chain is not held until touched: a box stands on its own flat
-base, and holding is the clump's fix for its one rolling base sphere (docs/chain.md).
+docs/shape.md). The box chain of this preset is not held until touched: its data
+(docs/fig6/box) were measured with every box free, and a held box chain equals the free
+one to round-off (docs/shape.md, "Holding a box until it is touched").
 """
 
 from __future__ import annotations
@@ -77,11 +78,14 @@ def fig6_params(
     config: str, d_over_l: float, n_dominoes: int, shape: Shape = "clump"
 ) -> ChainParams:
     """The chain of configuration ``config`` (a key of :data:`CONFIGS`) at gap ``d/l``,
-    of ``shape`` dominoes (``"clump"``, the paper's, or ``"box"``; not held: ``held``
-    keeps its default, off for a box)."""
+    of ``shape`` dominoes (``"clump"``, the paper's, held until touched, or ``"box"``,
+    not held: module docstring)."""
     if config not in CONFIGS:
         raise ValueError(f"config = {config!r} is not one of {', '.join(CONFIGS)}")
-    return ChainParams(n_dominoes=n_dominoes, d_over_l=d_over_l, shape=shape, **CONFIGS[config])
+    return ChainParams(
+        n_dominoes=n_dominoes, d_over_l=d_over_l, shape=shape, held=shape == "clump",
+        **CONFIGS[config],
+    )  # fmt: skip
 
 
 def run_member(

@@ -430,7 +430,7 @@ class DominoChain:
                 "blocked": "y rx rz" if p.model == "2d" else "",
                 "velocity": v0 if moving else (0.0, 0.0, 0.0),
                 "angular_velocity": w0 if moving else (0.0, 0.0, 0.0),
-                "held": p.holds and not moving,
+                "held": p.held and not moving,
             }
             yield x, y, yaw, start
 

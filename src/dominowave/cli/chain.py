@@ -242,7 +242,8 @@ def chain_command(
         str | None, typer.Option(help="clump: one | two base spheres (default one)")
     ] = None,
     held: Annotated[
-        bool | None, typer.Option(help="hold untouched dominoes (default: clump yes, box no)")
+        bool | None,
+        typer.Option(help="hold untouched dominoes until first touched (default: yes)"),
     ] = None,
     spheres_per_column: Annotated[
         int | None, typer.Option(help="clump: spheres per column, default round(l/s)")
