@@ -36,6 +36,15 @@ train runs (the widest gaps), ``2 sqrt(g l)``, the fastest wave of the package's
 and of the filmed rows. After the run, :meth:`ContactFidelity.error_at` gives the
 estimate at the larger of that speed and the run's own.
 
+**The step.** A chain's step is its collision time over a number of steps
+(``DominoChain``'s ``steps_per_collision``): :data:`STEPS_PER_COLLISION`, which resolves a
+collision alike at every stiffness, and :data:`SOFTENED_STEPS_PER_COLLISION` for a
+softened chain. The step is not in the estimate: its effect on the speed was measured
+instead (``docs/real_dominoes/step_convergence.py``: at most 0.15 % from T_c/50 to T_c/20
+on the chains of the validation, 0.45 % at T_c/10), and the validation runs the softened
+chains at their own step against the material's chains at T_c/50, so the estimate is
+checked for both together.
+
 **Where it applies.** Box chains given a Young's modulus with the linear law (the
 presets, :func:`dominowave.chain.presets.standard_domino`), whose restitutions between
 dominoes and with the floor are at most :data:`MAX_RESTITUTION` (the nominal 0.5 of the
@@ -66,6 +75,8 @@ __all__ = [
     "EXACT",
     "MAX_RESTITUTION",
     "MAX_TOLERANCE",
+    "SOFTENED_STEPS_PER_COLLISION",
+    "STEPS_PER_COLLISION",
     "ContactFidelity",
     "Fidelity",
     "applies",
@@ -73,6 +84,7 @@ __all__ = [
     "choose_contact",
     "given_materials",
     "parse_fidelity",
+    "steps_per_collision",
     "tolerance_of",
 ]
 
@@ -87,6 +99,13 @@ MAX_RESTITUTION = 0.5
 softened: the estimate is validated up to it (0.1 and 0.5); nearly elastic contacts
 rattle, and the speed of such a chain still changes between ``k/k*`` = 1e6 and the
 plastic's 3.4e6 (module docstring)."""
+
+STEPS_PER_COLLISION = 50
+"""Time steps per collision time ``T_c`` (eq 31) of a chain: a collision is resolved alike
+at every stiffness."""
+SOFTENED_STEPS_PER_COLLISION = 20
+"""Time steps per collision time of a softened chain: its speed moves by at most 0.15 %
+from :data:`STEPS_PER_COLLISION` (module docstring), a small part of the tolerance."""
 
 Fidelity = float | Literal["exact"] | None
 """``"exact"`` (the material's spring), a tolerance in ``(0, MAX_TOLERANCE]``, or None
@@ -228,6 +247,14 @@ def _reference_speed(params: ChainParams) -> float:
         )
     )
     return v if math.isfinite(v) and v > 0 else 2.0 * math.sqrt(params.g * params.height)
+
+
+def steps_per_collision(contact: ContactFidelity | None) -> int:
+    """The steps per collision time of a chain whose contact is ``contact``
+    (:func:`choose_contact`): :data:`SOFTENED_STEPS_PER_COLLISION` if it is softened,
+    :data:`STEPS_PER_COLLISION` otherwise."""
+    softened = contact is not None and contact.softened
+    return SOFTENED_STEPS_PER_COLLISION if softened else STEPS_PER_COLLISION
 
 
 def choose_contact(params: ChainParams, fidelity: Fidelity = None) -> ContactFidelity | None:

@@ -41,6 +41,7 @@ from dominowave.chain.events import (
     merge_contacts,
 )
 from dominowave.chain.fidelity import ContactFidelity, Fidelity, choose_contact
+from dominowave.chain.fidelity import steps_per_collision as default_steps_per_collision
 from dominowave.chain.stepper import ChainStepper
 from dominowave.chain.wave import (
     EnsembleStats,
@@ -259,9 +260,10 @@ class DominoChain:
     """The DEM model of a domino chain for parameters ``params`` (``ChainParams``).
 
     Parameters of the run (not of the physics): ``dt`` [s] (default: the theory's
-    collision time ``T_c`` (eq 31, clump mapping) divided by ``steps_per_collision``,
-    so a collision is resolved alike at every stiffness; the engine refuses a step
-    above its critical one), ``frame_interval`` [s] between trajectory frames used
+    collision time ``T_c`` (eq 31, clump mapping) divided by ``steps_per_collision``, not
+    set 50, so a collision is resolved alike at every stiffness, or 20 for a softened
+    contact (:func:`dominowave.chain.fidelity.steps_per_collision`); the engine refuses a
+    step above its critical one), ``frame_interval`` [s] between trajectory frames used
     for the event analysis, ``quiet_time`` [s] without any new contact after which
     the run stops (the wave died; default ``10 sqrt(l/g)``), ``max_time`` [s] hard
     limit (default: three times the travel time at :func:`default_speed_bound` plus
@@ -286,7 +288,7 @@ class DominoChain:
         params: ChainParams,
         *,
         dt: float | None = None,
-        steps_per_collision: int = 50,
+        steps_per_collision: int | None = None,
         frame_interval: float | None = None,
         quiet_time: float | None = None,
         max_time: float | None = None,
@@ -309,6 +311,8 @@ class DominoChain:
             "max_time": max_time,
             "tail_time": tail_time,
         }
+        if steps_per_collision is None:
+            steps_per_collision = default_steps_per_collision(self.contact)
         check_in_range("steps_per_collision", steps_per_collision, 10, math.inf, lo_inclusive=True)
         if safety is not None:
             check_in_range("safety", safety, 0.0, 1.0, hi_inclusive=True)

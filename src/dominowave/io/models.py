@@ -314,8 +314,14 @@ ChainScenario = create_model(
         quantity(None, "rad/s", "push of domino 0 about its base (not set: sqrt(g/l))", gt=0),
     ),
     steps_per_collision=(
-        int,
-        quantity(50, "", "time steps per theory collision time T_c (sets dt)", ge=10),
+        int | None,
+        quantity(
+            None,
+            "",
+            "time steps per theory collision time T_c (sets dt; not set: 50, or 20 for a"
+            " softened contact, chain.fidelity)",
+            ge=10,
+        ),
     ),
     fidelity=(
         float | Literal["exact"] | None,
