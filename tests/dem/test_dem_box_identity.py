@@ -40,7 +40,7 @@ HERTZ_ALPHA = 0.3588733627771574  # hertz.hertz_damping_ratio(0.6) where the arr
 
 def _chain(fields):
     p = ChainParams(shape="box", friction_dominoes=0.3, friction_floor=0.5, **fields)
-    sim, _ = DominoChain(p).build(Push(omega=12.0), record=True, track_energy=True)
+    sim, _ = DominoChain(p, sleep=False).build(Push(omega=12.0), record=True, track_energy=True)
     return sim
 
 

@@ -2,8 +2,9 @@
 
 A state of the current format round-trips as it is; a format-1 state (written before the
 key existed, without the planar switch, the shear kinematics, the material-pair tables
-and the Hertz tables) is read with the values its scene had implicitly and resumes bit
-for bit; a state of a newer format is refused in one line.
+and the Hertz tables) and a format-2 state (without the sleep settings) are read with the
+values their scene had implicitly and resume bit for bit; a state of a newer format is
+refused in one line.
 """
 
 from __future__ import annotations
@@ -24,7 +25,9 @@ FORMAT_2_KEYS = (
     "mats.poisson",
     "mats.hertz_damping",
 )
-"""The keys a format-1 state lacks."""
+"""The keys a format-1 state lacks (with :data:`FORMAT_3_KEYS`)."""
+FORMAT_3_KEYS = ("settings.sleep_speed", "settings.sleep_time", "bodies.calm_since")
+"""The keys a format-2 state lacks."""
 
 
 def _bouncing_ball():
@@ -46,7 +49,7 @@ def test_a_state_carries_its_format():
 def test_a_format_1_state_resumes_bit_identically():
     sim = _bouncing_ball()
     sim.run(n_steps=500)
-    old = {k: v for k, v in sim.get_state().items() if k not in FORMAT_2_KEYS}
+    old = {k: v for k, v in sim.get_state().items() if k not in FORMAT_2_KEYS + FORMAT_3_KEYS}
     restored = Simulation.from_state(old)
     assert restored.planar_kernels
     sim.run(n_steps=3000)
@@ -54,6 +57,19 @@ def test_a_format_1_state_resumes_bit_identically():
     for name in ("pos", "vel", "quat", "omega"):
         np.testing.assert_array_equal(getattr(restored.bodies, name), getattr(sim.bodies, name))
     assert sim.bodies.vel_full[0, 2] > 0  # it bounced
+
+
+def test_a_format_2_state_resumes_bit_identically_and_never_sleeps():
+    sim = _bouncing_ball()
+    sim.run(n_steps=500)
+    old = {k: v for k, v in sim.get_state().items() if k not in FORMAT_3_KEYS}
+    old["state_format"] = np.array(2)
+    restored = Simulation.from_state(old)
+    assert restored.settings.sleep_speed == 0.0
+    sim.run(n_steps=3000)
+    restored.run(n_steps=3000)
+    for name in ("pos", "vel", "quat", "omega"):
+        np.testing.assert_array_equal(getattr(restored.bodies, name), getattr(sim.bodies, name))
 
 
 @pytest.mark.parametrize("version", [STATE_FORMAT + 1, 0])

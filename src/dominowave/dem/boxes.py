@@ -134,6 +134,10 @@ Boxes = namedtuple(
         #   be missing from cand (held at the list build; a new state: 1)
         "engaged",  # (nx,) uint8 scratch: a held box with a moving box among its visited
         #   candidates, which has its wall rows (_visit_pairs)
+        "dormant",  # BoxContacts: the rows of the pairs of two resting bodies (held, or a
+        #   wall), kept as they were while neither moves (_drop_before, _wake_rows)
+        "order",  # (K,) int64 scratch of _wake_rows
+        "restless",  # (nx,) uint8 scratch of engine._sleep_and_wake
         "sphere_rows",  # BoxContacts of the box-sphere contacts (box_sphere.py), j: sphere
         "sphere_next",  # BoxContacts being built (scratch)
         "sphere_cand",  # (Q,) int64 candidate box-sphere pairs, box * ns + sphere, ascending
@@ -226,6 +230,9 @@ def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR,
         n_groups=np.full(1, -1, np.int64),
         held_at_build=np.ones(nx, np.uint8),
         engaged=np.zeros(nx, np.uint8),
+        dormant=_empty_rows(capacity),
+        order=np.zeros(capacity, np.int64),
+        restless=np.zeros(nx, np.uint8),
         sphere_rows=_empty_rows(sphere_capacity),
         sphere_next=_empty_rows(sphere_capacity),
         sphere_cand=np.zeros(8 * nx + 16, np.int64),
@@ -844,21 +851,31 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     """Add the forces and torques of every box contact to the bodies (after
     contact.compute_forces, which zeroes them), rebuild the contact rows, book the change
     of the energy stored in the shear springs in ``ledger[LEDGER_FRICTION]``.  Body pairs
-    whose contact (any point) started or ended are listed in ``boxes.changes``."""
-    old, new = boxes.rows, boxes.next
+    whose contact (any point) started or ended are listed in ``boxes.changes``.
+
+    The rows of a pair of resting bodies -- two held boxes, or a held box and a wall,
+    that have rows: bodies put to sleep (engine._sleep_and_wake) -- are not visited; they
+    are kept aside as they were (``boxes.dormant``), with no end logged, and merged back
+    when the visited pairs are built anew after a body of one of them woke
+    (:func:`_wake_rows`): a pair visited again continues its rows, shear springs and all."""
     boxes.n_changes[0] = 0
     nx = boxes.body.shape[0]
     nw = walls.point.shape[0]
+    if first_step:  # (the held flags may be new: _visit_pairs)
+        boxes.n_groups[0] = -1
+    visited_anew = boxes.n_groups[0] < 0
+    n_groups = _visit_pairs(bodies, boxes, nx, nw)  # (and which held boxes are engaged)
+    if visited_anew and _woken(bodies, boxes):
+        _wake_rows(boxes, nx, nw)
+    old, new = boxes.rows, boxes.next
     mult = float(PLANAR_MULTIPLICITY) if planar else 1.0
     used = boxes.used
     used[: old.n[0]] = 0
     props = boxes.props
     hertz = boxes.normal_law[0] == LAW_HERTZ
-    if first_step:  # (the held flags may be new: _visit_pairs)
-        boxes.n_groups[0] = -1
     o = 0
     n_new = 0
-    for g in range(_visit_pairs(bodies, boxes, nx, nw)):
+    for g in range(n_groups):
         a = _source(boxes, g)
         ba = boxes.body[a]
         lo, hi = _partner_range(boxes, g, a, nx, nw)
@@ -872,7 +889,7 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
             bj = ba if wall else boxes.body[j]
             code = _pair_code(a, j, nx, nw)
             # old rows of pairs before this one are gone: release their springs
-            o = _drop_before(old, boxes, o, code, nx, nw, ledger)
+            o = _drop_before(bodies, old, boxes, o, code, nx, nw, ledger)
             o_end = o
             while o_end < old.n[0] and _pair_code(old.i[o_end], old.j[o_end], nx, nw) == code:
                 o_end += 1
@@ -925,17 +942,26 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
             elif o_end > o and n_new == first_row:
                 _log(boxes, a, j, END, _lag(end_depth, end_speed, dt, first_step))
             o = o_end
-    _drop_before(old, boxes, o, 2**62, nx, nw, ledger)
+    _drop_before(bodies, old, boxes, o, 2**62, nx, nw, ledger)
     _copy_rows(new, old, n_new)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _drop_before(old, boxes, o, code, nx, nw, ledger):
-    """Old rows from o on of the pairs before ``code`` are gone (their pair is out of
-    reach): release their springs and log the end of each such pair; returns the first
-    row of ``code`` or after."""
+def _drop_before(bodies, old, boxes, o, code, nx, nw, ledger):
+    """Old rows from o on of the pairs before ``code`` were not visited: a pair of resting
+    bodies (:func:`_resting_pair`) keeps them aside (``boxes.dormant``); any other pair is
+    out of reach: release their springs and log the end of each such pair.  Returns the
+    first row of ``code`` or after."""
     used = boxes.used
     while o < old.n[0] and _pair_code(old.i[o], old.j[o], nx, nw) < code:
+        if _resting_pair(bodies, boxes, old.i[o], old.j[o]):
+            d = boxes.dormant.n[0]
+            if d == boxes.dormant.i.shape[0]:
+                raise RuntimeError("dormant box contact rows full")
+            _copy_row(old, o, boxes.dormant, d)
+            boxes.dormant.n[0] = d + 1
+            o += 1
+            continue
         if not used[o]:
             _release(old, o, ledger)
         if o + 1 == old.n[0] or old.i[o + 1] != old.i[o] or old.j[o + 1] != old.j[o]:
@@ -945,25 +971,87 @@ def _drop_before(old, boxes, o, code, nx, nw, ledger):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _resting_pair(bodies, boxes, i, j):
+    """True if box i and its partner j (box, or -(wall + 1)) are not visited because of
+    held bodies (:func:`_held_pair`): a pair of them that has rows rests (a held box gets
+    rows only while a moving body is near, or asleep)."""
+    wall = j < 0
+    return _held_pair(bodies, boxes, i, boxes.body[i] if wall else boxes.body[j], wall)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _copy_row(src, s, dst, c):
+    """Row s of the rows ``src`` into row c of ``dst``."""
+    dst.i[c] = src.i[s]
+    dst.j[c] = src.j[s]
+    dst.key[c] = src.key[s]
+    dst.mult[c] = src.mult[s]
+    dst.overlap[c] = src.overlap[s]
+    dst.vn[c] = src.vn[s]
+    dst.fn[c] = src.fn[s]
+    dst.fn_viscous[c] = src.fn_viscous[s]
+    dst.kn[c] = src.kn[s]
+    dst.kt[c] = src.kt[s]
+    dst.mu[c] = src.mu[s]
+    dst.cn[c] = src.cn[s]
+    for d in range(3):
+        dst.shear[c, d] = src.shear[s, d]
+        dst.point[c, d] = src.point[s, d]
+        dst.normal[c, d] = src.normal[s, d]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _copy_rows(src, dst, n):
     for c in range(n):
-        dst.i[c] = src.i[c]
-        dst.j[c] = src.j[c]
-        dst.key[c] = src.key[c]
-        dst.mult[c] = src.mult[c]
-        dst.overlap[c] = src.overlap[c]
-        dst.vn[c] = src.vn[c]
-        dst.fn[c] = src.fn[c]
-        dst.fn_viscous[c] = src.fn_viscous[c]
-        dst.kn[c] = src.kn[c]
-        dst.kt[c] = src.kt[c]
-        dst.mu[c] = src.mu[c]
-        dst.cn[c] = src.cn[c]
-        for d in range(3):
-            dst.shear[c, d] = src.shear[c, d]
-            dst.point[c, d] = src.point[c, d]
-            dst.normal[c, d] = src.normal[c, d]
+        _copy_row(src, c, dst, c)
     dst.n[0] = n
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _woken(bodies, boxes):
+    """True if a dormant row's pair no longer rests (a body of it woke, or a held box of
+    it is engaged: :func:`_visit_pairs`, called before)."""
+    dormant = boxes.dormant
+    for c in range(dormant.n[0]):
+        if not _resting_pair(bodies, boxes, dormant.i[c], dormant.j[c]):
+            return True
+    return False
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _wake_rows(boxes, nx, nw):
+    """Merge the dormant rows (:func:`box_forces`) back into ``boxes.rows``, in pair order
+    (through ``boxes.next``); the pairs still resting are put aside again by the next
+    :func:`box_forces`.  The dormant rows are sorted first (a stable insertion sort of
+    their indices: they were put aside in pair order, step after step, so they are
+    nearly sorted); a pair's rows are in one table only."""
+    dormant, old, new, order = boxes.dormant, boxes.rows, boxes.next, boxes.order
+    nd = dormant.n[0]
+    for k in range(nd):
+        order[k] = k
+    for k in range(1, nd):
+        r = order[k]
+        code = _pair_code(dormant.i[r], dormant.j[r], nx, nw)
+        m = k - 1
+        while m >= 0 and _pair_code(dormant.i[order[m]], dormant.j[order[m]], nx, nw) > code:
+            order[m + 1] = order[m]
+            m -= 1
+        order[m + 1] = r
+    a, b, c = 0, 0, 0
+    while a < old.n[0] or b < nd:
+        if b == nd or (
+            a < old.n[0]
+            and _pair_code(old.i[a], old.j[a], nx, nw)
+            < _pair_code(dormant.i[order[b]], dormant.j[order[b]], nx, nw)
+        ):
+            _copy_row(old, a, new, c)
+            a += 1
+        else:
+            _copy_row(dormant, order[b], new, c)
+            b += 1
+        c += 1
+    _copy_rows(new, old, c)
+    dormant.n[0] = 0
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -1000,7 +1088,9 @@ def box_energies(boxes, out):
     """Add the elastic energies [J] of the box contacts to ``out`` (ENERGY_NAMES vector:
     normal ``k_n delta^2 / 2`` (Hertz: ``2/5 K delta^{5/2}``) to entry 3, tangential
     ``k_t |u|^2 / 2`` to 4, both to the total, 8)."""
-    rows_energies(boxes.rows, boxes.normal_law[0] == LAW_HERTZ, out)
+    hertz = boxes.normal_law[0] == LAW_HERTZ
+    rows_energies(boxes.rows, hertz, out)
+    rows_energies(boxes.dormant, hertz, out)  # (their springs keep their energy)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -1101,9 +1191,10 @@ def box_state(boxes) -> dict[str, np.ndarray]:
     bodies' shapes and materials, the normal law, the candidate list, and the contact
     rows of the last step (their used part: feature keys, shear histories, stiffness,
     dashpot, overlap, normal velocity) under ``rows.<field>``, those of the box-sphere
-    contacts (box_sphere.py) under ``sphere_rows.<field>``."""
+    contacts (box_sphere.py) under ``sphere_rows.<field>``, the rows of resting pairs put
+    aside (:func:`box_forces`) under ``dormant.<field>``."""
     out = {name: np.array(getattr(boxes, name), copy=True) for name in _BOX_ARRAYS + _SPHERE_LIST}
-    for group in ("rows", "sphere_rows"):
+    for group in ("rows", "sphere_rows", "dormant"):
         rows = getattr(boxes, group)
         n = int(rows.n[0])
         for name, value in rows._asdict().items():
@@ -1119,7 +1210,7 @@ def boxes_from_state(state: dict, n_spheres: int = 0) -> Boxes:
         state["body"], state["half"], state["radius"], state["material"],
         int(np.asarray(state["normal_law"]).reshape(-1)[0]), n_spheres,
     )  # fmt: skip
-    for group in ("rows", "sphere_rows"):
+    for group in ("rows", "sphere_rows", "dormant"):
         if f"{group}.n" not in state:  # (box-sphere rows: a state of a scene without any)
             continue
         n = int(np.asarray(state[f"{group}.n"]).reshape(-1)[0])

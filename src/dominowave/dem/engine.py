@@ -36,6 +36,7 @@ from dominowave.dem.box_sphere import (
     build_box_sphere_candidates,
 )
 from dominowave.dem.boxes import (
+    _reach_of,
     box_energies,
     box_forces,
     box_peak_force,
@@ -134,6 +135,8 @@ Settings = namedtuple(
         "check_every",  # steps between stop/energy checks
         "track_energy",  # bool: keep the dissipation ledger (off: YADE's trackEnergy=False)
         "planar",  # bool: the scene is planar, use the planar kernels (planar.py)
+        "sleep_speed",  # [m/s] a box slower than this at every point may sleep; 0: never
+        "sleep_time",  # [s] how long it must stay that slow (_sleep_and_wake)
     ],
 )
 
@@ -197,7 +200,9 @@ def _release(bodies, spheres, contacts, b, t):
     takes the whole reaction."""
     bodies.held[b] = 0
     bodies.fresh[b] = 0  # (a held body keeps the flag of its creation)
-    bodies.release_time[b] = t
+    bodies.calm_since[b] = math.nan
+    if math.isnan(bodies.release_time[b]):  # (a body woken from sleep keeps its first)
+        bodies.release_time[b] = t
     changed = True
     while changed:
         changed = False
@@ -211,8 +216,81 @@ def _release(bodies, spheres, contacts, b, t):
                 held = bi if bodies.held[bi] else bj
                 bodies.held[held] = 0
                 bodies.fresh[held] = 0
-                bodies.release_time[held] = t
+                bodies.calm_since[held] = math.nan
+                if math.isnan(bodies.release_time[held]):
+                    bodies.release_time[held] = t
                 changed = True
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _box_speed(bodies, boxes, x):
+    """Bound [m/s] on the speed of every point of box x: ``|v| + |omega| (reach + r)``,
+    at the full-step velocities of the last kick."""
+    v, w = bodies.vel_full[boxes.body[x]], bodies.omega_full[boxes.body[x]]
+    speed = math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2)
+    spin = math.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2)
+    return speed + spin * (_reach_of(boxes, x) + boxes.radius[x])
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _sleep_and_wake(bodies, spheres, contacts, boxes, settings, t, ledger):
+    """Put resting boxes to sleep and wake sleeping ones that a moving box drives; returns
+    whether a held flag changed.  Called at the check steps (every ``check_every``), after
+    the kick.
+
+    A box *sleeps* -- it is held again, as an untouched domino is (its velocity zeroed,
+    its kinetic energy, below ``m v_s^2 / 2``, booked as dissipated by damping; held with
+    ``bodies.calm_since`` set, where an untouched domino has NaN; its rows
+    with other resting bodies and the walls put aside, boxes.box_forces) -- once every
+    point of it has moved slower than ``settings.sleep_speed`` ``v_s`` for
+    ``settings.sleep_time`` and every moving box it touches is that slow too (a box
+    leaning on a moving one moves with it).  A sleeping box *wakes* (engine._release) at
+    the onset of a new contact with a moving body, as a held one is released, or here
+    when a box it touches moves at ``v_s`` or faster.  The error of the criterion is
+    measured, not bounded (docs/dem.md, "Sleeping boxes")."""
+    v_sleep = settings.sleep_speed
+    rows = boxes.rows
+    held, calm = bodies.held, bodies.calm_since
+    changed = False
+    restless = boxes.restless
+    restless[:] = 0
+    for c in range(rows.n[0]):
+        i, j = rows.i[c], rows.j[c]
+        if j < 0:
+            continue
+        bi, bj = boxes.body[i], boxes.body[j]
+        for rest, mover, x in ((bi, bj, j), (bj, bi, i)):
+            if held[mover]:
+                continue
+            fast = _box_speed(bodies, boxes, x) >= v_sleep
+            if held[rest] and fast and not math.isnan(calm[rest]):  # (asleep)
+                _release(bodies, spheres, contacts, rest, t)
+                changed = True
+            if fast:  # (the partner of a box that is not slow does not sleep)
+                restless[i if rest == bi else j] = 1
+    for x in range(boxes.body.shape[0]):
+        b = boxes.body[x]
+        if held[b]:
+            continue
+        if _box_speed(bodies, boxes, x) >= v_sleep:
+            calm[b] = math.nan
+            continue
+        if math.isnan(calm[b]):
+            calm[b] = t
+        if t - calm[b] < settings.sleep_time or restless[x]:
+            continue
+        kinetic = 0.0
+        for k in range(3):
+            kinetic += 0.5 * bodies.mass[b] * bodies.vel_full[b, k] ** 2
+            kinetic += 0.5 * bodies.omega_full[b, k] * bodies.angmom_full[b, k]
+            for arr in (bodies.vel, bodies.vel_full, bodies.omega, bodies.omega_full):
+                arr[b, k] = 0.0
+            bodies.angmom[b, k] = 0.0
+            bodies.angmom_full[b, k] = 0.0
+        ledger[LEDGER_DAMPING] += kinetic
+        held[b] = 1  # (asleep: held with calm_since set)
+        changed = True
+    return changed
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -776,6 +854,17 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
                         kinetic = kin[E_KINETIC_TRANSLATIONAL] + kin[E_KINETIC_ROTATIONAL]
                         if kinetic < stop[STOP_ARG_KINETIC_BELOW]:
                             code = STOP_KINETIC
+                if BOXES:
+                    slept = False
+                    if settings.sleep_speed > 0.0 and check_due:
+                        slept = _sleep_and_wake(
+                            bodies, spheres, contacts, boxes, settings, t, ledger
+                        )
+                    if slept:  # (the held flags changed)
+                        first_moving, stop_moving = _moving_range(bodies)
+                        boxes.n_groups[0] = -1  # (boxes._visit_pairs)
+                        if released_since_build(bodies, boxes):
+                            boxes.n_cand[0] = -1  # (the list is built at the next step)
                 if PLANAR:
                     drift_planar(bodies, dt)
                 else:

@@ -363,6 +363,7 @@ class Scene:
             held=np.zeros(nb, np.uint8),
             fresh=np.ones(nb, np.uint8),
             release_time=np.full(nb, np.nan),
+            calm_since=np.full(nb, np.nan),
             vel_full=z3(),
             omega_full=z3(),
             angmom_full=z3(),
@@ -468,6 +469,8 @@ class Scene:
         overlap_tolerance: float = 1e-9,
         track_energy: bool = True,
         impact_speed: float | None = None,
+        sleep_speed: float = 0.0,
+        sleep_time: float = 0.0,
     ):
         """Freeze the scene into a :class:`~dominowave.dem.simulation.Simulation`.
 
@@ -498,6 +501,11 @@ class Scene:
             ``3/2 K delta^{1/2}`` at the overlap such an impact reaches (timestep.py).
             Default: the fastest point of any body at start plus the free-fall speed
             ``sqrt(2 g H)`` over the height H the boxes span.
+        sleep_speed : [m/s] boxes whose every point stays slower than this for
+            ``sleep_time`` [s], with the moving boxes they touch, are put to sleep: held
+            again, at no cost, until a moving body touches or drives them
+            (engine._sleep_and_wake; docs/dem.md, "Sleeping boxes").  0 (default): never.
+            Scenes of boxes only.
         """
         from dominowave.dem.timestep import critical_timestep
 
@@ -506,11 +514,18 @@ class Scene:
         check_in_range("damping", damping, 0.0, 1.0, lo_inclusive=True)
         check_in_range("safety", safety, 0.0, 1.0, hi_inclusive=True)
         check_in_range("check_every", check_every, 1, math.inf, lo_inclusive=True)
+        check_nonnegative("sleep_speed", sleep_speed)
+        check_nonnegative("sleep_time", sleep_time)
         mats = self._material_table()
         bodies, spheres = self._bodies_and_spheres()
         walls = self._walls_arrays()
         if spheres.radius.size:
             _check_initial_overlaps(spheres, walls, overlap_tolerance)
+            if sleep_speed > 0.0:
+                raise ValueError(
+                    f"sleep_speed = {sleep_speed} puts boxes to sleep, in scenes of boxes"
+                    " only; this scene has spheres (leave sleep_speed = 0)"
+                )
         boxes = self._boxes_arrays(spheres.radius.size)
         if NORMAL_LAWS[self.normal_law] == LAW_HERTZ and spheres.radius.size:
             raise ValueError(
@@ -561,6 +576,8 @@ class Scene:
             check_every=int(check_every),
             track_energy=bool(track_energy),
             boxes=boxes,
+            sleep_speed=sleep_speed,
+            sleep_time=sleep_time,
         )
 
     def _expected_impact_speed(self, bodies, boxes):

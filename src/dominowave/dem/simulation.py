@@ -48,17 +48,20 @@ STOP_REASONS = {
     engine.STOP_KINETIC: "kinetic",
 }
 
-STATE_FORMAT = 2
+STATE_FORMAT = 3
 """Version of the layout of :meth:`Simulation.get_state` (key ``state_format``).
 1 (files without the key): no ``settings.planar``, ``planar_kernels``,
 ``mats.shear_kinematics``, material-pair tables or Hertz tables, and the stiffness rule
-of materials giving k_n as the flag ``mats.given_kn``; :func:`_upgraded` reads it."""
+of materials giving k_n as the flag ``mats.given_kn``; 2: no sleeping boxes
+(``settings.sleep_speed``, ``settings.sleep_time``, ``bodies.calm_since``);
+:func:`_upgraded` reads both."""
 
 
 def _upgraded(state: dict, n_materials: int) -> dict:
-    """``state`` in the layout of :data:`STATE_FORMAT`: a format-1 state with the values its
-    scene had implicitly (planar kernels allowed, the contact-point shear kinematics, the
-    min rule of the pair tables, linear contacts); a state of a newer format is refused."""
+    """``state`` in the layout of :data:`STATE_FORMAT`: an older state with the values its
+    scene had implicitly (format 1: planar kernels allowed, the contact-point shear
+    kinematics, the min rule of the pair tables, linear contacts; formats 1 and 2: no
+    sleeping); a state of a newer format is refused."""
     version = int(np.asarray(state.get("state_format", 1)))
     if version == STATE_FORMAT:
         return state
@@ -69,7 +72,11 @@ def _upgraded(state: dict, n_materials: int) -> dict:
             f" {STATE_FORMAT}{newer}"
         )
     nm = n_materials
+    nb = np.asarray(state["bodies.mass"]).shape[0]
     state = {
+        "settings.sleep_speed": np.array(0.0),
+        "settings.sleep_time": np.array(0.0),
+        "bodies.calm_since": np.full(nb, np.nan),
         "settings.planar": np.array(False),  # (decided at each run)
         "planar_kernels": np.array(True),
         "mats.shear_kinematics": np.array([SHEAR_CONTACT_POINT], np.int64),
@@ -204,6 +211,8 @@ class Simulation:
         check_every,
         track_energy=True,
         boxes=None,
+        sleep_speed=0.0,
+        sleep_time=0.0,
     ):
         self.bodies = bodies
         #: rounded-cuboid bodies and their contact rows (dem/boxes.py)
@@ -223,6 +232,8 @@ class Simulation:
             check_every=check_every,
             track_energy=bool(track_energy),
             planar=False,  # decided at each run (_start_run)
+            sleep_speed=float(sleep_speed),
+            sleep_time=float(sleep_time),
         )
         #: Use the planar kernels (dem/planar.py) when the scene is planar.  False forces
         #: the general ones (the same trajectories in every scene compared; planar.py).
@@ -258,7 +269,8 @@ class Simulation:
 
     @property
     def release_time(self) -> np.ndarray:
-        """(n_bodies,) time a held body was released [s]; nan: never held or still held."""
+        """(n_bodies,) time a held (or sleeping) body was first released [s]; nan: never
+        released."""
         return self.bodies.release_time.copy()
 
     @property

@@ -50,7 +50,9 @@ Bodies = namedtuple(
         "blocked",  # (nb, 6) uint8: x y z rx ry rz blocked
         "held",  # (nb,) uint8: 1 while held in place until touched
         "fresh",  # (nb,) uint8: 1 if vel/omega hold full-step values (velocity-Verlet start)
-        "release_time",  # (nb,) time the body was released [s], nan otherwise
+        "release_time",  # (nb,) time the body was first released [s], nan otherwise
+        "calm_since",  # (nb,) time since which the body has been slower than the sleep
+        #   speed [s] (asleep: held with it set), nan otherwise (engine._sleep_and_wake)
         "vel_full",  # (nb, 3) full-step velocity v(t) of the last step [m/s]
         "omega_full",  # (nb, 3) full-step angular velocity of the last step [rad/s]
         "angmom_full",  # (nb, 3) full-step angular momentum of the last step [kg m^2/s]
