@@ -7,10 +7,11 @@ turn, ``--repeat`` rounds of interleaved runs (one of each per round, so that a 
 the shared machine falls on all of them alike), and the median wall time of each is
 reported with its speed:
 
-* dominowave with the package's defaults (every box free; the softest contact within 1 %
-  of the plastic's speed, ``chain.fidelity``);
+* dominowave with the package's defaults (the softest contact within 1 % of the
+  plastic's speed and its step T_c/20, ``chain.fidelity``; dominoes held until touched
+  and put to sleep once at rest);
 * dominowave at the plastic's own stiffness (``fidelity="exact"``);
-* dominowave with the stiffness set by ``stiffness_ratio`` (``--ratios``), boxes free;
+* dominowave with the stiffness set by ``stiffness_ratio`` (``--ratios``);
 * MuJoCo (``benchmarks/mujoco_chain.py``: exact boxes, elliptic cones, implicitfast), with
   its default contacts at dt 1e-3 s and with the 2 ms contacts of the cross-check at
   dt 2e-4 s.
