@@ -51,9 +51,9 @@ LENGTHS = ((12, 3), (30, 10))
 """(dominoes, fitted from domino) of the chains."""
 
 
-def rows_of(gap, friction, restitution, floor_restitution, n, fit_from) -> list[dict]:
-    """One row per tolerance of the chain (3D, hardwood)."""
-    p = standard_domino(
+def chain_params(gap, friction, restitution, floor_restitution, n):
+    """The standard chain of ``n`` dominoes (3D, hardwood) of one entry of :data:`CHAINS`."""
+    return standard_domino(
         gap=gap,
         floor="hardwood",
         n_dominoes=n,
@@ -61,6 +61,23 @@ def rows_of(gap, friction, restitution, floor_restitution, n, fit_from) -> list[
         restitution_dominoes=restitution,
         restitution_floor=floor_restitution,
     )
+
+
+def chain_columns(gap, friction, restitution, floor_restitution, n, fit_from) -> dict:
+    """The CSV columns that name a chain of :data:`CHAINS` and its fit."""
+    return {
+        "gap_m": gap,
+        "friction_dominoes": friction,
+        "restitution_dominoes": restitution,
+        "restitution_floor": floor_restitution,
+        "n_dominoes": n,
+        "fit_from": fit_from,
+    }
+
+
+def rows_of(gap, friction, restitution, floor_restitution, n, fit_from) -> list[dict]:
+    """One row per tolerance of the chain (3D, hardwood)."""
+    p = chain_params(gap, friction, restitution, floor_restitution, n)
     # the chain at restitution 0.5 or below, whose spring a tolerance softens
     twin = p.with_(
         restitution_dominoes=min(restitution, 0.5), restitution_floor=min(floor_restitution, 0.5)
@@ -81,12 +98,7 @@ def rows_of(gap, friction, restitution, floor_restitution, n, fit_from) -> list[
         exact = speed if tolerance == "exact" else exact
         rows.append(
             {
-                "gap_m": gap,
-                "friction_dominoes": friction,
-                "restitution_dominoes": restitution,
-                "restitution_floor": floor_restitution,
-                "n_dominoes": n,
-                "fit_from": fit_from,
+                **chain_columns(gap, friction, restitution, floor_restitution, n, fit_from),
                 "fidelity": tolerance,
                 "softened_by_default": twin == p,
                 "k_over_kstar": f"{chain.params.stiffness_over_kstar:.4g}",
@@ -101,16 +113,21 @@ def rows_of(gap, friction, restitution, floor_restitution, n, fit_from) -> list[
     return rows
 
 
+def measure(rows_of, chains, out: Path) -> None:
+    """Warm the kernels, then write to ``out`` the rows ``rows_of(*values, n, fit_from)``
+    of each chain ``values`` of ``chains`` at each length of :data:`LENGTHS`."""
+    DominoChain(standard_domino(gap=0.00938, floor="hardwood", n_dominoes=4)).run()
+    rows = []
+    for n, fit_from in LENGTHS:
+        for values in chains:
+            rows += rows_of(*values, n, fit_from)
+    write_rows(out, rows)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, required=True, help="CSV to write")
-    args = parser.parse_args()
-    DominoChain(standard_domino(gap=0.00938, floor="hardwood", n_dominoes=4)).run()  # warm
-    rows = []
-    for n, fit_from in LENGTHS:
-        for values in CHAINS + NEARLY_ELASTIC:
-            rows += rows_of(*values, n, fit_from)
-    write_rows(args.out, rows)
+    measure(rows_of, CHAINS + NEARLY_ELASTIC, parser.parse_args().out)
 
 
 if __name__ == "__main__":

@@ -20,11 +20,14 @@ import argparse
 import time
 from pathlib import Path
 
-from fidelity_validation import CHAINS, LENGTHS  # this folder's validation chains
-from rows_csv import write_rows  # this folder's CSV writer
+from fidelity_validation import (  # this folder's validation chains
+    CHAINS,
+    chain_columns,
+    chain_params,
+    measure,
+)
 
 from dominowave.chain import DominoChain
-from dominowave.chain.presets import standard_domino
 from dominowave.chain.wave import speed_from
 
 STEPS = (50, 20, 15, 10)
@@ -33,14 +36,7 @@ STEPS = (50, 20, 15, 10)
 
 def rows_of(gap, friction, restitution, floor_restitution, n, fit_from) -> list[dict]:
     """One row per number of steps of the chain at the default tolerance's spring."""
-    p = standard_domino(
-        gap=gap,
-        floor="hardwood",
-        n_dominoes=n,
-        friction_dominoes=friction,
-        restitution_dominoes=restitution,
-        restitution_floor=floor_restitution,
-    )
+    p = chain_params(gap, friction, restitution, floor_restitution, n)
     rows, reference = [], None
     for steps in STEPS:
         chain = DominoChain(p, steps_per_collision=steps)
@@ -51,12 +47,7 @@ def rows_of(gap, friction, restitution, floor_restitution, n, fit_from) -> list[
         reference = speed if reference is None else reference
         rows.append(
             {
-                "gap_m": gap,
-                "friction_dominoes": friction,
-                "restitution_dominoes": restitution,
-                "restitution_floor": floor_restitution,
-                "n_dominoes": n,
-                "fit_from": fit_from,
+                **chain_columns(gap, friction, restitution, floor_restitution, n, fit_from),
                 "k_over_kstar": f"{chain.params.stiffness_over_kstar:.4g}",
                 "steps_per_collision": steps,
                 "dt_s": f"{run.dt:.4g}",
@@ -72,13 +63,7 @@ def rows_of(gap, friction, restitution, floor_restitution, n, fit_from) -> list[
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, required=True, help="CSV to write")
-    args = parser.parse_args()
-    DominoChain(standard_domino(gap=0.00938, floor="hardwood", n_dominoes=4)).run()  # warm
-    rows = []
-    for n, fit_from in LENGTHS:
-        for values in CHAINS:
-            rows += rows_of(*values, n, fit_from)
-    write_rows(args.out, rows)
+    measure(rows_of, CHAINS, parser.parse_args().out)
 
 
 if __name__ == "__main__":
