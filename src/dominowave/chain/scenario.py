@@ -293,7 +293,7 @@ class DominoChain:
     ``sleep`` (box chains): a domino that has come to rest is put to sleep, held again at
     no cost until a moving body touches or drives it (:data:`SLEEP_SPEED`,
     :data:`SLEEP_TIME`; ``dem.Scene.build``). It changes the standard chain's front speed
-    by 1e-4 and makes a 300-domino chain cost a tenth of its time awake
+    by 1e-4 and makes a 300-domino chain cost a third of its time awake
     (docs/shape.md, "Sleeping dominoes"); ``sleep=False`` keeps every domino awake.
     """
 
