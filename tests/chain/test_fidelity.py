@@ -14,6 +14,8 @@ from dominowave.chain.compare import theory_collision_time
 from dominowave.chain.fidelity import (
     DEFAULT_TOLERANCE,
     MAX_RESTITUTION,
+    SOFTENED_STEPS_PER_COLLISION,
+    STEPS_PER_COLLISION,
     applies,
     check_fidelity,
     choose_contact,
@@ -62,8 +64,11 @@ def test_the_chain_runs_with_the_softened_spring_and_keeps_the_material():
     assert chain.material_params == p and chain.params.young is None
     assert chain.params.contact_stiffness == chain.contact.kn
     exact = DominoChain(p, fidelity="exact")
-    # the step goes as the collision time, 1 / sqrt(k) (eq 31)
-    assert chain.dt / exact.dt == pytest.approx(math.sqrt(p.contact_stiffness / chain.contact.kn))
+    # the step goes as the collision time, 1 / sqrt(k) (eq 31), over 20 steps instead of 50
+    ratio = math.sqrt(p.contact_stiffness / chain.contact.kn)
+    steps = STEPS_PER_COLLISION / SOFTENED_STEPS_PER_COLLISION
+    assert chain.dt / exact.dt == pytest.approx(ratio * steps)
+    assert DominoChain(p, steps_per_collision=50).dt / exact.dt == pytest.approx(ratio)
 
 
 @pytest.mark.parametrize(
