@@ -84,7 +84,7 @@ def _run(params, member: int, keep_record: bool):
     from dominowave.chain import DominoChain
     from dominowave.chain.scenario import member_push_factor
 
-    chain = DominoChain(params)
+    chain = DominoChain(params, sleep=False)  # (as the data were measured: awake)
     push = chain.resolve(None).scaled(member_push_factor(0, member, 1e-3))
     return chain, chain.run(push, keep_record=keep_record)
 

@@ -12,8 +12,8 @@ never using a predicted row in the fit:
 * the box DEM: the friction interpolated in the shipped friction scan
   (``chain.reconcile.dem_friction_for_speed``, 3D, the fitted floor), then a chain of
   ``--n`` standard dominoes at each other condition with that friction, the plastic's
-  contact stiffness (``fidelity="exact"``) and every box free (``held=False``), as the
-  shipped scan, and every other value
+  contact stiffness (``fidelity="exact"``) and every box free and awake (``held=False``,
+  ``sleep=False``), as the shipped scan, and every other value
   nominal, fitted from domino ``--fit-from`` on, pitch-based, as the films are.
 
 Writes one CSV row per condition: the measured mean, each model's prediction and its
@@ -55,7 +55,7 @@ CONDITIONS = (  # (gap [m], floor) of every filmed asymptotic speed
 def dem_speed(gap: float, floor: str, friction: float, n: int, fit_from: int) -> float:
     """The 3D box chain's front speed [m/s] at this friction between dominoes."""
     p = standard_domino(gap=gap, floor=floor, n_dominoes=n, friction_dominoes=friction, held=False)
-    run = DominoChain(p, fidelity="exact").run(Push(omega=math.sqrt(p.g / p.height)))
+    run = DominoChain(p, fidelity="exact", sleep=False).run(Push(omega=math.sqrt(p.g / p.height)))
     fit = speed_from(run.arrival, chain_positions(p), fit_from)
     return fit.speed if fit.settled else math.nan
 

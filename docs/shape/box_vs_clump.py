@@ -51,7 +51,7 @@ def main() -> None:
                     d_over_l=d, shape=shape, held=shape == "clump", **size, **MODELS[model]
                 )
                 start = time.perf_counter()
-                ens = DominoChain(p).ensemble(members=args.members, seed=0)
+                ens = DominoChain(p, sleep=False).ensemble(members=args.members, seed=0)
                 settled = [r.wave.settled for r in ens.runs]
                 tail = tail_speeds(ens, p.pitch)
                 tail_mean, tail_stderr = mean_and_stderr(tail)

@@ -43,13 +43,14 @@ def arrivals(case: dict, held: bool, push_change: float = 0.0) -> np.ndarray:
     scaled by ``1 + push_change``."""
     p = ChainParams(held=held, **COMMON, **case)
     push = _push(p)
-    return np.asarray(DominoChain(p).run(Push(omega=push.omega * (1 + push_change))).arrival)
+    chain = DominoChain(p, sleep=False)  # (a free domino at rest would fall asleep: held)
+    return np.asarray(chain.run(Push(omega=push.omega * (1 + push_change))).arrival)
 
 
 def release_steps(held: bool, steps: int = 6) -> list[tuple[float, float, float]]:
     """``(t, v_x, v_z)`` of domino 1 of the 2D chain in the steps around its first touch."""
     p = ChainParams(held=held, model="2d", **COMMON)
-    sim, _ = DominoChain(p).build(_push(p))
+    sim, _ = DominoChain(p, sleep=False).build(_push(p))
     touch = arrivals(CASES["2d"], held=False)[1]
     sim.run(until=touch - 2 * sim.dt)
     rows = []

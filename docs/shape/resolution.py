@@ -63,7 +63,7 @@ def main() -> None:
         for shape in shapes:
             p = ChainParams(d_over_l=d, **common, **shape)
             start = time.perf_counter()
-            ens = DominoChain(p).ensemble(members=args.members, seed=0)
+            ens = DominoChain(p, sleep=False).ensemble(members=args.members, seed=0)
             tail = tail_speeds(ens, p.pitch)
             tail_mean, tail_stderr = mean_and_stderr(tail)
             rows.append(

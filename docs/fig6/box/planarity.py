@@ -35,7 +35,7 @@ THRESHOLDS = (1e-12, 1e-9, 1e-6, 1e-3)  # lateral displacements [m]
 
 def member_run(params, member: int, safety: float | None, keep_record: bool = False):
     """Run ensemble member ``member`` of the chain ``params`` (the Fig 6 preset's push)."""
-    chain = DominoChain(params, safety=safety)
+    chain = DominoChain(params, safety=safety, sleep=False)  # (as measured: awake)
     push = chain.resolve(None).scaled(member_push_factor(0, member, 1e-3))
     return chain.run(push, keep_record=keep_record)
 

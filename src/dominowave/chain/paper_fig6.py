@@ -113,7 +113,7 @@ def run_member(
     engine's wall time [s] and steps.
     """
     p = fig6_params(config, d_over_l, n_dominoes, shape)
-    chain = DominoChain(p)
+    chain = DominoChain(p, sleep=False)  # (the box preset's data were measured awake)
     base = chain.resolve(None)
     run = chain.run(base.scaled(member_push_factor(seed, member, jitter)))
     ev = run.events
