@@ -391,6 +391,16 @@ def released_since_build(bodies, boxes):
     return False
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def held_flags_changed(bodies, boxes):
+    """The held flags changed (a release, a sleep, or the caller between runs): the
+    visited pairs are built anew (:func:`_visit_pairs`), and the list too, at the next
+    step, if it leaves out pairs of a box free now (:func:`released_since_build`)."""
+    boxes.n_groups[0] = -1
+    if released_since_build(bodies, boxes):
+        boxes.n_cand[0] = -1
+
+
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _visit_pairs(bodies, boxes, nx, nw):
     """The listed candidate pairs that are not held pairs (:func:`_held_pair`), ascending,

@@ -42,7 +42,7 @@ from dominowave.dem.boxes import (
     box_peak_force,
     box_power,
     build_box_candidates,
-    released_since_build,
+    held_flags_changed,
 )
 from dominowave.dem.contact import (
     CHANGE_CONTACT,
@@ -189,6 +189,16 @@ Recorder = namedtuple(
 )
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _free(bodies, b, t):
+    """Body b, held or asleep, moves from time t [s] on (:func:`_release`)."""
+    bodies.held[b] = 0
+    bodies.fresh[b] = 0  # (a held body keeps the flag of its creation)
+    bodies.calm_since[b] = math.nan
+    if math.isnan(bodies.release_time[b]):  # (a body woken from sleep keeps its first)
+        bodies.release_time[b] = t
+
+
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _release(bodies, spheres, contacts, b, t):
     """Free a held body, and (transitively) held bodies it already touches.
@@ -198,11 +208,7 @@ def _release(bodies, spheres, contacts, b, t):
     ``v_{n+1/2} = dt a_n``, as a free body at rest would.  The half kick of a
     velocity-Verlet start would give it half of this step's impulse while its pusher
     takes the whole reaction."""
-    bodies.held[b] = 0
-    bodies.fresh[b] = 0  # (a held body keeps the flag of its creation)
-    bodies.calm_since[b] = math.nan
-    if math.isnan(bodies.release_time[b]):  # (a body woken from sleep keeps its first)
-        bodies.release_time[b] = t
+    _free(bodies, b, t)
     changed = True
     while changed:
         changed = False
@@ -213,12 +219,7 @@ def _release(bodies, spheres, contacts, b, t):
             bi = spheres.body[contacts.i[c]]
             bj = spheres.body[j]
             if bodies.held[bi] != bodies.held[bj]:
-                held = bi if bodies.held[bi] else bj
-                bodies.held[held] = 0
-                bodies.fresh[held] = 0
-                bodies.calm_since[held] = math.nan
-                if math.isnan(bodies.release_time[held]):
-                    bodies.release_time[held] = t
+                _free(bodies, bi if bodies.held[bi] else bj, t)
                 changed = True
 
 
@@ -694,15 +695,10 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
         p_contacts = work[WORK_POWER]
         touched_body = int(stop[STOP_ARG_TOUCHED_BODY])
         shear_kinematics = mats.shear_kinematics[0]
-        if BOXES:
-            # the caller may have changed the held flags: the visited pairs are built anew
-            # (boxes._visit_pairs), and the list too if it leaves out pairs of a box
-            # released since (boxes.build_box_candidates)
-            boxes.n_groups[0] = -1
-            if released_since_build(bodies, boxes):
-                boxes.n_cand[0] = -1
+        if BOXES:  # (the caller may have changed the held flags)
+            held_flags_changed(bodies, boxes)
         rebuild_due = needs_rebuild(bodies, skin, contacts.n[0])
-        # (in here only a release changes the held flags)
+        # (in here only a release or a sleep changes the held flags)
         first_moving, stop_moving = _moving_range(bodies)
         for done in range(n_steps):
             t = rec.clock[CLOCK_TIME]
@@ -768,9 +764,7 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
             if released:  # (the held flags changed)
                 first_moving, stop_moving = _moving_range(bodies)
                 if BOXES:
-                    boxes.n_groups[0] = -1  # (boxes._visit_pairs)
-                    if released_since_build(bodies, boxes):
-                        boxes.n_cand[0] = -1  # (the list is built at the next step)
+                    held_flags_changed(bodies, boxes)
             if settings.record_peak_force:
                 _record_peak_force(spheres, contacts, rec)
                 if BOXES:
@@ -862,9 +856,7 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
                         )
                     if slept:  # (the held flags changed)
                         first_moving, stop_moving = _moving_range(bodies)
-                        boxes.n_groups[0] = -1  # (boxes._visit_pairs)
-                        if released_since_build(bodies, boxes):
-                            boxes.n_cand[0] = -1  # (the list is built at the next step)
+                        held_flags_changed(bodies, boxes)
                 if PLANAR:
                     drift_planar(bodies, dt)
                 else:
