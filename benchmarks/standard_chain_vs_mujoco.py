@@ -12,6 +12,10 @@ reported with its speed:
   and put to sleep once at rest);
 * dominowave at the plastic's own stiffness (``fidelity="exact"``);
 * dominowave with the stiffness set by ``stiffness_ratio`` (``--ratios``);
+* with ``--breakdown``, the defaults' settings taken away one at a time, to show where
+  their time comes from: every domino free (``held=False``) and awake (``sleep=False``)
+  at the plastic's stiffness (T_c/50), then the softened contact at T_c/50, at its own
+  step T_c/20, and held until touched (still awake);
 * MuJoCo (``benchmarks/mujoco_chain.py``: exact boxes, elliptic cones, implicitfast), with
   its default contacts at dt 1e-3 s and with the 2 ms contacts of the cross-check at
   dt 2e-4 s.
@@ -21,7 +25,7 @@ warm-up run first); of MuJoCo: its stepping loop (model build and settling exclu
 
 Usage::
 
-    python benchmarks/standard_chain_vs_mujoco.py [--repeat 3] [--ratios 1e4,1e5]
+    python benchmarks/standard_chain_vs_mujoco.py [--repeat 3] [--ratios 1e4,1e5] [--breakdown]
 """
 
 from __future__ import annotations
@@ -41,15 +45,19 @@ from dominowave.chain.wave import speed_from
 GAP, FRICTION, N, FIT_FROM = 0.00938, 0.3, 40, 10
 
 
-def dominowave_run(stiffness_ratio: float | None, fidelity=None) -> tuple[float, float]:
-    """(front speed [m/s], wall time [s]) of the standard chain in dominowave."""
+def dominowave_run(
+    stiffness_ratio: float | None, fidelity=None, held=True, **options
+) -> tuple[float, float]:
+    """(front speed [m/s], wall time [s]) of the standard chain in dominowave;
+    ``options`` go to ``DominoChain`` (``sleep``, ``steps_per_collision``)."""
     extra = {} if stiffness_ratio is None else {"stiffness_ratio": stiffness_ratio}
     p = standard_domino(
         gap=GAP, floor="felt", n_dominoes=N, friction_dominoes=FRICTION, friction_floor=FRICTION,
-        **extra,
+        held=held, **extra,
     )  # fmt: skip
     start = time.perf_counter()
-    run = DominoChain(p, fidelity=fidelity).run(Push(omega=math.sqrt(p.g / p.height)))
+    chain = DominoChain(p, fidelity=fidelity, **options)
+    run = chain.run(Push(omega=math.sqrt(p.g / p.height)))
     wall = time.perf_counter() - start
     return speed_from(run.arrival, chain_positions(p), FIT_FROM).speed, wall
 
@@ -64,11 +72,23 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--repeat", type=int, default=3, help="interleaved rounds")
     parser.add_argument("--ratios", default="1e4,1e5", help="stiffness ratios k/k* to add")
+    parser.add_argument(
+        "--breakdown", action="store_true", help="add the defaults' settings one at a time"
+    )
     args = parser.parse_args()
     configs = {
         "dominowave, defaults": lambda: dominowave_run(None),
         "dominowave, fidelity exact": lambda: dominowave_run(None, "exact"),
     }
+    if args.breakdown:
+        awake = {"held": False, "sleep": False}
+        configs.update({
+            "dominowave, exact, free and awake": lambda: dominowave_run(None, "exact", **awake),
+            "dominowave, softened at T_c/50, free and awake":
+                lambda: dominowave_run(None, steps_per_collision=50, **awake),
+            "dominowave, softened, free and awake": lambda: dominowave_run(None, **awake),
+            "dominowave, softened, held, awake": lambda: dominowave_run(None, sleep=False),
+        })  # fmt: skip
     for ratio in (float(r) for r in args.ratios.split(",") if r):
         configs[f"dominowave, k/k* = {ratio:g}"] = lambda r=ratio: dominowave_run(r)
     configs["MuJoCo, default contacts, dt 1e-3 s"] = lambda: mujoco_run(1e-3, 0.02)
