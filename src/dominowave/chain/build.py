@@ -152,7 +152,9 @@ class ChainParams:
         gt=0,
         group="shape",
     )
-    width: float = parameter(0.025, "m", "domino width (3D model)", gt=0, group="shape")
+    width: float = parameter(
+        0.025, "m", "domino width (clump: the 3D model; box: always)", gt=0, group="shape"
+    )
     d_over_l: float = parameter(
         0.4, "", "spacing ratio d/l (d = clear gap)", gt=0, lt=1, group="layout"
     )
@@ -173,12 +175,14 @@ class ChainParams:
     stiffness_ratio: float | None = parameter(
         None,
         "",
-        "paper's k/k* (k per particle, contact spring k_n = k/2, eq 24); 1e4 when neither"
-        " kn nor young is given",
+        "paper's k/k* (k per particle, contact spring k_n = k/2, eq 24; a box's k/4 per"
+        " contact point); 1e4 when neither kn nor young is given",
         gt=0,
         group="contact",
     )
-    kn: float | None = parameter(None, "N/m", "contact spring k_n, directly", gt=0, group="contact")
+    kn: float | None = parameter(
+        None, "N/m", "contact spring k_n per contact point, directly", gt=0, group="contact"
+    )
     young: float | None = parameter(
         None, "Pa", "Young's modulus (with young_rule)", gt=0, group="contact"
     )
