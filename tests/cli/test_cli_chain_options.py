@@ -24,7 +24,11 @@ from dominowave.params import parameter_specs
 
 SPECS = parameter_specs(ChainParams)
 COMMAND = typer.main.get_command(app).commands["chain"]
-RENAMED = {"n_dominoes": "--n", "lateral_asymmetry": "--asymmetry", "asymmetry_seed": "--placement-seed"}
+RENAMED = {
+    "n_dominoes": "--n",
+    "lateral_asymmetry": "--asymmetry",
+    "asymmetry_seed": "--placement-seed",
+}
 """The options whose name is not the field's (as the command line has always named them)."""
 
 

@@ -283,7 +283,7 @@ def chain_command(
     out: Annotated[
         Path | None, typer.Option(help="directory for CSV + PNG", rich_help_panel="Output")
     ] = None,
-    **fields,
+    **fields,  # the ChainParams fields, an option each: with_options(...) below
 ) -> None:
     """Run one DEM domino chain (or an ensemble): per-domino table, speed vs theory, plot.
 
