@@ -55,7 +55,7 @@ def test_the_chain_schema_is_the_chain_parameters():
     assert set(specs) == {f.name for f in dataclasses.fields(ChainParams)}
     fields = ChainScenario.model_fields
     run_fields = {  # how the run is driven
-        *("kind", "push_omega", "steps_per_collision", "fit_from", "fidelity"),
+        *("kind", "push_omega", "steps_per_collision", "fit_from", "fidelity", "sleep"),
         *("preset", "gap", "floor"),
     }
     assert set(fields) == {*specs, *run_fields}

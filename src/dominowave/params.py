@@ -7,7 +7,9 @@ range (or the choices of a categorical field). That one declaration is
 * checked when an instance is made (:func:`check_parameters`, the same one-line errors
   as :mod:`dominowave.checks`: name, value, valid range), and
 * read by :mod:`dominowave.io` to derive the study-file schema, so that the names,
-  defaults, units and ranges of a study can never drift from the scenario's own.
+  defaults, units and ranges of a study can never drift from the scenario's own, and
+* read by :mod:`dominowave.cli` to derive a command's options (``dominowave chain``),
+  grouped in its help by each parameter's declared concern (``group``).
 
 Cross-field rules (e.g. a thickness below half the height) stay in the class.
 """
@@ -31,7 +33,9 @@ class ParameterSpec:
 
     ``gt``/``ge`` and ``lt``/``le`` are the exclusive/inclusive bounds (at most one of
     each pair); ``allow_inf`` lets an unbounded side reach infinity (e.g. a rigid
-    stiffness); ``choices`` lists the values of a categorical field.
+    stiffness); ``choices`` lists the values of a categorical field; ``group`` names the
+    concern the parameter belongs to (e.g. the domino's shape, the contact law), by which
+    the command line groups its options.
     """
 
     unit: str
@@ -42,6 +46,7 @@ class ParameterSpec:
     le: float | None = None
     allow_inf: bool = False
     choices: tuple | None = None
+    group: str = ""
 
     def check(self, name: str, value) -> None:
         """Raise ``ValueError`` naming ``name``, ``value`` and the valid range or choices."""
@@ -87,12 +92,14 @@ def parameter(
     le: float | None = None,
     allow_inf: bool = False,
     choices: Sequence | None = None,
+    group: str = "",
 ) -> Any:
-    """A dataclass field carrying its :class:`ParameterSpec` (unit, description, range)."""
+    """A dataclass field carrying its :class:`ParameterSpec` (unit, description, range,
+    concern)."""
     if (gt is not None and ge is not None) or (lt is not None and le is not None):
         raise TypeError("give at most one lower (gt/ge) and one upper (lt/le) bound")
     spec = ParameterSpec(
-        unit, doc, gt, ge, lt, le, allow_inf, None if choices is None else tuple(choices)
+        unit, doc, gt, ge, lt, le, allow_inf, None if choices is None else tuple(choices), group
     )
     return dataclasses.field(default=default, metadata={"parameter": spec})
 

@@ -136,98 +136,182 @@ class ChainParams:
     and ``restitution_dominoes`` / ``restitution_floor`` set the two contact pairs apart.
     """
 
-    n_dominoes: int = parameter(30, "", "number of dominoes", ge=2, le=100_000)
+    n_dominoes: int = parameter(30, "", "number of dominoes", ge=2, le=100_000, group="layout")
     shape: Shape = parameter(
         "clump",
         "",
         "domino shape: clump (a clump of spheres, the paper's) or box (one rounded cuboid)",
         choices=("clump", "box"),
+        group="shape",
     )
-    height: float = parameter(0.05, "m", "domino height l", gt=0)
+    height: float = parameter(0.05, "m", "domino height l", gt=0, group="shape")
     thickness: float = parameter(
-        0.005, "m", "domino thickness s = sphere diameter (below l/2)", gt=0
+        0.005,
+        "m",
+        "domino thickness s = sphere diameter (below l/2)",
+        gt=0,
+        group="shape",
     )
-    width: float = parameter(0.025, "m", "domino width (3D model)", gt=0)
-    d_over_l: float = parameter(0.4, "", "spacing ratio d/l (d = clear gap)", gt=0, lt=1)
+    width: float = parameter(
+        0.025, "m", "domino width (clump: the 3D model; box: always)", gt=0, group="shape"
+    )
+    d_over_l: float = parameter(
+        0.4, "", "spacing ratio d/l (d = clear gap)", gt=0, lt=1, group="layout"
+    )
     density: float = parameter(
-        1000.0, "kg/m^3", "density (clump: of the beads; box: of the cuboid)", gt=0
+        1000.0,
+        "kg/m^3",
+        "density (clump: of the beads; box: of the cuboid)",
+        gt=0,
+        group="shape",
     )
     rounding: float | None = parameter(
-        None, "m", "box only: radius r of the rounded edges, 0 < r < s/2 (not set: s/20)", gt=0
+        None,
+        "m",
+        "box only: radius r of the rounded edges, 0 < r < s/2 (not set: s/20)",
+        gt=0,
+        group="shape",
     )
     stiffness_ratio: float | None = parameter(
         None,
         "",
-        "paper's k/k* (k per particle, contact spring k_n = k/2, eq 24); 1e4 when neither"
-        " kn nor young is given",
+        "paper's k/k* (k per particle, contact spring k_n = k/2, eq 24; a box's k/4 per"
+        " contact point); 1e4 when neither kn nor young is given",
         gt=0,
+        group="contact",
     )
-    kn: float | None = parameter(None, "N/m", "contact spring k_n, directly", gt=0)
-    young: float | None = parameter(None, "Pa", "Young's modulus (with young_rule)", gt=0)
+    kn: float | None = parameter(
+        None, "N/m", "contact spring k_n per contact point, directly", gt=0, group="contact"
+    )
+    young: float | None = parameter(
+        None, "Pa", "Young's modulus (with young_rule)", gt=0, group="contact"
+    )
     normal_law: NormalLaw = parameter(
         "linear",
         "",
         "normal force of a contact point: linear (k_n delta) or hertz (box with young: 4/3 E*"
         " sqrt(r) delta^{3/2})",
         choices=("linear", "hertz"),
+        group="contact",
     )
     poisson: float | None = parameter(
-        None, "", "hertz only: Poisson's ratio nu in [0, 0.5) (not set: 0.3)", ge=0, lt=0.5
+        None,
+        "",
+        "hertz only: Poisson's ratio nu in [0, 0.5) (not set: 0.3)",
+        ge=0,
+        lt=0.5,
+        group="contact",
     )
     young_rule: YoungRule = parameter(
         "paper",
         "",
         "k_n from young: paper pi R E / 2 (eq 24) or yade E R",
         choices=("paper", "yade"),
+        group="contact",
     )
     kt_ratio: float = parameter(
-        1.0, "", "tangential / normal contact stiffness", gt=0, allow_inf=True
+        1.0,
+        "",
+        "tangential / normal contact stiffness",
+        gt=0,
+        allow_inf=True,
+        group="contact",
     )
     shear_kinematics: ShearKinematics = parameter(
         "contact_point",
         "",
         "tangential spring rate: contact_point (material points, the default) or yade",
         choices=("contact_point", "yade"),
+        group="contact",
     )
-    friction_dominoes: float = parameter(0.0, "", "friction between dominoes phi_d", ge=0)
-    friction_floor: float = parameter(0.3, "", "friction with the floor phi_f", ge=0)
-    damping: float = parameter(0.0, "", "local (YADE-style) damping", ge=0, lt=1)
+    friction_dominoes: float = parameter(
+        0.0, "", "friction between dominoes phi_d", ge=0, group="contact"
+    )
+    friction_floor: float = parameter(
+        0.3, "", "friction with the floor phi_f", ge=0, group="contact"
+    )
+    damping: float = parameter(0.0, "", "local (YADE-style) damping", ge=0, lt=1, group="contact")
     restitution: float | None = parameter(
-        None, "", "normal restitution of every contact (not set = elastic)", gt=0, le=1
+        None,
+        "",
+        "normal restitution of every contact (not set = elastic)",
+        gt=0,
+        le=1,
+        group="contact",
     )
     restitution_dominoes: float | None = parameter(
-        None, "", "box only: restitution between dominoes (not set: restitution)", gt=0, le=1
+        None,
+        "",
+        "box only: restitution between dominoes (not set: restitution)",
+        gt=0,
+        le=1,
+        group="contact",
     )
     restitution_floor: float | None = parameter(
-        None, "", "box only: restitution with the floor (not set: restitution)", gt=0, le=1
+        None,
+        "",
+        "box only: restitution with the floor (not set: restitution)",
+        gt=0,
+        le=1,
+        group="contact",
     )
-    model: Model = parameter("2d", "", "2d: xz plane only; 3d: free", choices=("2d", "3d"))
+    model: Model = parameter(
+        "2d", "", "2d: xz plane only; 3d: free", choices=("2d", "3d"), group="layout"
+    )
     spheres_per_column: int | None = parameter(
-        None, "", "clump only: spheres per column (not set: round(l/s), touching)", ge=2
+        None,
+        "",
+        "clump only: spheres per column (not set: round(l/s), touching)",
+        ge=2,
+        group="shape",
     )
     base: Base | None = parameter(
         None,
         "",
         "clump only: one bottom sphere, or two half-size (not set: one)",
         choices=("one", "two"),
+        group="shape",
     )
-    held: bool = parameter(True, "", "untouched dominoes are held until first touched")
+    held: bool = parameter(
+        True, "", "untouched dominoes are held until first touched", group="layout"
+    )
     lateral_asymmetry: float = parameter(
-        0.0, "rad", "placement error: yaw of each domino, uniform in +-amplitude (3d)", ge=0, lt=0.1
+        0.0,
+        "rad",
+        "placement error: yaw of each domino, uniform in +-amplitude (3d)",
+        ge=0,
+        lt=0.1,
+        group="placement",
     )
     placement_along: float = parameter(
-        0.0, "m", "placement error: shift along the line, uniform in +-amplitude", ge=0
+        0.0,
+        "m",
+        "placement error: shift along the line, uniform in +-amplitude",
+        ge=0,
+        group="placement",
     )
     placement_across: float = parameter(
-        0.0, "m", "placement error: shift across the line, uniform in +-amplitude (3d)", ge=0
+        0.0,
+        "m",
+        "placement error: shift across the line, uniform in +-amplitude (3d)",
+        ge=0,
+        group="placement",
     )
     push_error: float = parameter(
-        0.0, "", "placement error of the push: relative, push x (1 + push_error N(0, 1))", ge=0
+        0.0,
+        "",
+        "placement error of the push: relative, push x (1 + push_error N(0, 1))",
+        ge=0,
+        group="placement",
     )
     asymmetry_seed: int = parameter(
-        0, "", "seed of the placement errors (yaw, along, across, push)", ge=0
+        0,
+        "",
+        "seed of the placement errors (yaw, along, across, push)",
+        ge=0,
+        group="placement",
     )
-    g: float = parameter(G_STANDARD, "m/s^2", "gravitational acceleration", gt=0)
+    g: float = parameter(G_STANDARD, "m/s^2", "gravitational acceleration", gt=0, group="layout")
 
     def __post_init__(self):
         check_parameters(self)

@@ -26,6 +26,7 @@ from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push
 from dominowave.chain.wave import check_fit_from, fit_speed, local_speeds, unsettled_reason
 from dominowave.checks import check_in_range
 from dominowave.cli.compiling import notice_if_compiling
+from dominowave.cli.declared import PanelledCommand, option_name, parameter_options, with_options
 from dominowave.io.atomic import ensure_writable_dir
 from dominowave.units import speed_scale
 
@@ -160,9 +161,42 @@ def _quoted_speed(run: ChainRun, fit) -> float:
     return chosen.speed if chosen.settled else math.nan
 
 
-def _preset_params(preset, gap, floor, n, physical, others) -> ChainParams:
-    """``ChainParams`` of ``--preset standard --gap --floor``; a physical option the
-    preset sets itself may not be given too (one error naming them)."""
+OPTION_NAMES = {
+    "n_dominoes": "n",
+    "lateral_asymmetry": "asymmetry",
+    "asymmetry_seed": "placement_seed",
+}
+"""The ChainParams fields whose option is not the field's name (``--n``, ...)."""
+
+PANELS = {
+    "shape": "The domino",
+    "contact": "Contact law",
+    "layout": "The chain",
+    "placement": "Placement errors",
+}
+"""Help panel of each concern (``group``) of the ChainParams fields."""
+
+SET_BY_PRESET = (
+    "height",
+    "thickness",
+    "width",
+    "density",
+    "d_over_l",
+    "stiffness_ratio",
+    "kn",
+    "young",
+    "friction_floor",
+    "friction_dominoes",
+    "restitution",
+    "restitution_dominoes",
+    "restitution_floor",
+)
+"""The ChainParams fields ``--preset standard`` sets itself (with ``--gap``, ``--floor``)."""
+
+
+def _preset_params(preset, gap, floor, fields: dict) -> ChainParams:
+    """``ChainParams`` of ``--preset standard --gap --floor`` and the other ``fields``
+    given; a field the preset sets itself may not be given too (one error naming them)."""
     from dominowave.chain.presets import standard_domino
 
     if preset != "standard":
@@ -171,176 +205,103 @@ def _preset_params(preset, gap, floor, n, physical, others) -> ChainParams:
         )
     if gap is None or floor is None:
         raise ValueError("--preset standard needs --gap [m] and --floor (felt, glass, ...)")
-    # every physical option defaults to None, so a value given on the command line is
-    # refused even when it equals the chain's default (the preset would override it)
-    clash = [k for k, v in physical.items() if v is not None]
+    # an option given is refused even when it equals the chain's default (the preset
+    # would override it)
+    clash = [option_name(k, OPTION_NAMES) for k in SET_BY_PRESET if k in fields]
     if clash:
-        names = ", ".join("--" + k.replace("_", "-") for k in clash)
-        raise ValueError(f"{names}: set by --preset standard from materials.toml, give not both")
-    unset = ("model", "shape", "rounding", "base", "held", "spheres_per_column")
-    overrides = {k: v for k, v in others.items() if not (k in unset and v is None)}
-    return standard_domino(gap=gap, floor=floor, n_dominoes=n, **overrides)
+        raise ValueError(
+            f"{', '.join(clash)}: set by --preset standard from materials.toml, give not both"
+        )
+    return standard_domino(gap=gap, floor=floor, **fields)
 
 
 def chain_command(
-    n: Annotated[int, typer.Option("--n", help="number of dominoes")] = 30,
-    shape: Annotated[
-        str | None,
-        typer.Option(help="clump (of spheres, the paper's; default) | box (rounded cuboid)"),
+    push_omega: Annotated[
+        float, typer.Option(help="push in units of sqrt(g/l)", rich_help_panel="Push")
+    ] = 1.0,
+    impulse: Annotated[
+        float | None, typer.Option(help="push as impulse [N s]", rich_help_panel="Push")
     ] = None,
-    d_over_l: Annotated[
-        float | None, typer.Option(help="gap d over height l [default 0.4]")
+    impulse_height: Annotated[
+        float | None, typer.Option(help="impulse height [m]", rich_help_panel="Push")
     ] = None,
-    height: Annotated[float | None, typer.Option(help="domino height l [m; default 0.05]")] = None,
-    thickness: Annotated[
-        float | None, typer.Option(help="thickness s (clump: sphere diameter) [m; default 0.005]")
-    ] = None,
-    width: Annotated[
-        float | None, typer.Option(help="width w (3D clump, every box) [m; default 0.025]")
-    ] = None,
-    density: Annotated[
-        float | None, typer.Option(help="bead or box density [kg/m^3; default 1000]")
-    ] = None,
-    rounding: Annotated[
-        float | None, typer.Option(help="box: edge rounding r [m], default s/20")
-    ] = None,
-    stiffness_ratio: Annotated[
-        float | None, typer.Option(help="paper's k/k* (k_n = k/2, box k/4); default 1e4")
-    ] = None,
-    kn: Annotated[float | None, typer.Option(help="spring k_n per contact point [N/m]")] = None,
-    young: Annotated[float | None, typer.Option(help="Young's modulus [Pa]")] = None,
-    young_rule: Annotated[str, typer.Option(help="paper (k_n = pi R E/2) | yade (E R)")] = "paper",
-    normal_law: Annotated[
-        str,
-        typer.Option(help="linear | hertz (box with --young: F = 4/3 E* sqrt(r) delta^1.5)"),
-    ] = "linear",
-    poisson: Annotated[
-        float | None, typer.Option(help="hertz: Poisson's ratio in [0, 0.5) [default 0.3]")
-    ] = None,
-    kt_ratio: Annotated[float, typer.Option(help="tangential / normal stiffness k_t/k_n")] = 1.0,
-    shear_kinematics: Annotated[
-        str, typer.Option(help="contact_point | yade (YADE's ratcheting-free shear rate)")
-    ] = "contact_point",
-    friction_floor: Annotated[
-        float | None, typer.Option(help="phi_f, floor and bottom layer [default 0.3]")
-    ] = None,
-    friction_dominoes: Annotated[
-        float | None, typer.Option(help="phi_d between dominoes [default 0]")
-    ] = None,
-    damping: Annotated[float, typer.Option(help="local damping in [0, 1)")] = 0.0,
-    restitution: Annotated[float | None, typer.Option(help="normal restitution")] = None,
-    restitution_dominoes: Annotated[
-        float | None, typer.Option(help="box: restitution between dominoes")
-    ] = None,
-    restitution_floor: Annotated[
-        float | None, typer.Option(help="box: restitution with the floor")
-    ] = None,
-    model: Annotated[
-        str | None, typer.Option(help="2d | 3d (default 2d; 3d with --preset)")
-    ] = None,
-    base: Annotated[
-        str | None, typer.Option(help="clump: one | two base spheres (default one)")
-    ] = None,
-    held: Annotated[
-        bool | None,
-        typer.Option(help="hold untouched dominoes until first touched (default: yes)"),
-    ] = None,
-    spheres_per_column: Annotated[
-        int | None, typer.Option(help="clump: spheres per column, default round(l/s)")
-    ] = None,
-    asymmetry: Annotated[
-        float, typer.Option(help="placement error: yaw amplitude of each domino (3D) [rad]")
-    ] = 0.0,
-    placement_along: Annotated[
-        float, typer.Option(help="placement error: shift along the line, amplitude [m]")
-    ] = 0.0,
-    placement_across: Annotated[
-        float, typer.Option(help="placement error: shift across the line, amplitude (3D) [m]")
-    ] = 0.0,
-    push_error: Annotated[
-        float, typer.Option(help="placement error of the push, relative (x N(0, 1))")
-    ] = 0.0,
-    placement_seed: Annotated[int, typer.Option(help="seed of the placement errors")] = 0,
+    members: Annotated[
+        int,
+        typer.Option(help="ensemble members (perturbed pushes)", rich_help_panel="Ensemble"),
+    ] = 1,
+    seed: Annotated[int, typer.Option(help="ensemble seed", rich_help_panel="Ensemble")] = 0,
+    jitter: Annotated[
+        float, typer.Option(help="relative push perturbation", rich_help_panel="Ensemble")
+    ] = 1e-3,
     vary_placement: Annotated[
-        bool, typer.Option(help="ensemble: each member set up anew (own placement errors)")
+        bool,
+        typer.Option(
+            help="each member set up anew (own placement errors)", rich_help_panel="Ensemble"
+        ),
     ] = False,
-    fit_from: Annotated[
-        int | None,
-        typer.Option(help="fit the front speed from domino K on (pitch-based, as cameras do)"),
-    ] = None,
-    push_omega: Annotated[float, typer.Option(help="push in units of sqrt(g/l)")] = 1.0,
-    impulse: Annotated[float | None, typer.Option(help="push as impulse [N s]")] = None,
-    impulse_height: Annotated[float | None, typer.Option(help="impulse height [m]")] = None,
-    members: Annotated[int, typer.Option(help="ensemble members (perturbed pushes)")] = 1,
-    seed: Annotated[int, typer.Option(help="ensemble seed")] = 0,
-    jitter: Annotated[float, typer.Option(help="relative push perturbation")] = 1e-3,
     preset: Annotated[
         str | None,
-        typer.Option(help="standard: the 48 x 24 x 7.5 mm domino from materials.toml"),
+        typer.Option(
+            help="standard: the 48 x 24 x 7.5 mm box domino from materials.toml (its size,"
+            " mass and contact, --model 3d unless given)",
+            rich_help_panel="Preset",
+        ),
     ] = None,
-    gap: Annotated[float | None, typer.Option(help="with --preset: clear gap d [m]")] = None,
+    gap: Annotated[
+        float | None,
+        typer.Option(help="with --preset: clear gap d [m]", rich_help_panel="Preset"),
+    ] = None,
     floor: Annotated[
-        str | None, typer.Option(help="with --preset: felt, glass, hardwood, laminate")
+        str | None,
+        typer.Option(
+            help="with --preset: felt, glass, hardwood, laminate", rich_help_panel="Preset"
+        ),
     ] = None,
     fidelity: Annotated[
         str | None,
         typer.Option(
             help="box chain given --young (a --preset): exact (the material's contact) or a"
-            " tolerance of the speed, softest contact within it [default 0.01]"
+            " tolerance of the speed, softest contact within it [default 0.01]",
+            rich_help_panel="Numerics",
         ),
     ] = None,
-    out: Annotated[Path | None, typer.Option(help="directory for CSV + PNG")] = None,
+    sleep: Annotated[
+        bool,
+        typer.Option(
+            help="box chain: dominoes at rest are put to sleep (the speed changes by about"
+            " 1e-4, a long chain runs faster); --no-sleep keeps every box awake",
+            rich_help_panel="Numerics",
+        ),
+    ] = True,
+    fit_from: Annotated[
+        int | None,
+        typer.Option(
+            help="fit the front speed from domino K on (pitch-based, as cameras do)",
+            rich_help_panel="Output",
+        ),
+    ] = None,
+    out: Annotated[
+        Path | None, typer.Option(help="directory for CSV + PNG", rich_help_panel="Output")
+    ] = None,
+    **fields,  # the ChainParams fields, an option each: with_options(...) below
 ) -> None:
-    """Run one DEM domino chain (or an ensemble): per-domino table, speed vs theory, plot."""
+    """Run one DEM domino chain (or an ensemble): per-domino table, speed vs theory, plot.
+
+    The options of the domino, the contact, the chain and its placement errors are the
+    fields of ChainParams (dominowave.chain), with its defaults.
+    """
     # checked here too: a single run (members = 1) never reaches DominoChain.ensemble
     check_in_range("members", members, 1, math.inf, lo_inclusive=True)
     check_in_range("seed", seed, 0, math.inf, lo_inclusive=True)
     tolerance = parse_fidelity(fidelity)
     if out is not None:
         ensure_writable_dir(out)  # before the run, not after it
-    physical = {
-        "height": height,
-        "thickness": thickness,
-        "width": width,
-        "density": density,
-        "stiffness_ratio": stiffness_ratio,
-        "kn": kn,
-        "young": young,
-        "friction_floor": friction_floor,
-        "friction_dominoes": friction_dominoes,
-        "restitution": restitution,
-        "restitution_dominoes": restitution_dominoes,
-        "restitution_floor": restitution_floor,
-        "d_over_l": d_over_l,
-    }
-    imperfections = {
-        "lateral_asymmetry": asymmetry,
-        "placement_along": placement_along,
-        "placement_across": placement_across,
-        "push_error": push_error,
-        "asymmetry_seed": placement_seed,
-    }
-    numerics = {
-        "shape": shape,
-        "rounding": rounding,
-        "young_rule": young_rule,
-        "normal_law": normal_law,
-        "poisson": poisson,
-        "kt_ratio": kt_ratio,
-        "shear_kinematics": shear_kinematics,
-        "damping": damping,
-        "model": model,
-        "base": base,
-        "held": held,
-        "spheres_per_column": spheres_per_column,
-    }
+    given = {name: value for name, value in fields.items() if value is not None}
     if preset is not None or gap is not None or floor is not None:
-        p = _preset_params(preset, gap, floor, n, physical, {**numerics, **imperfections})
+        p = _preset_params(preset, gap, floor, given)
     else:
-        numerics["model"] = model or "2d"
-        numerics["shape"] = shape or "clump"
-        given = {k: v for k, v in physical.items() if v is not None}
-        p = ChainParams(n_dominoes=n, **given, **numerics, **imperfections)
+        p = ChainParams(**given)
+    n = p.n_dominoes
     d_over_l = p.d_over_l
     if fit_from is not None:
         check_fit_from(fit_from, n)
@@ -349,7 +310,7 @@ def chain_command(
         push = Push(impulse=impulse, height=impulse_height)
     else:
         push = Push(omega=push_omega * math.sqrt(p.g / p.height))
-    chain = DominoChain(p, fidelity=tolerance)
+    chain = DominoChain(p, fidelity=tolerance, sleep=sleep)
     compiling = notice_if_compiling(scene_kind(p))
     start = time.perf_counter()
     ens = None
@@ -472,6 +433,9 @@ def chain_command(
         console.print(f"wrote {out}/chain_dominoes.csv, chain.png")
 
 
+with_options(chain_command, parameter_options(ChainParams, renamed=OPTION_NAMES, panels=PANELS))
+
+
 def paper_fig6_command(
     out: Annotated[Path, typer.Option(help="output directory")] = Path("fig6"),
     quick: Annotated[bool, typer.Option(help="small preset for CI")] = False,
@@ -559,5 +523,5 @@ def exit_if_incomplete(done) -> None:
 
 def register(app: typer.Typer) -> None:
     """Add ``chain`` and ``paper-fig6`` to the ``dominowave`` app."""
-    app.command("chain")(chain_command)
+    app.command("chain", cls=PanelledCommand)(chain_command)
     app.command("paper-fig6")(paper_fig6_command)

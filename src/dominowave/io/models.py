@@ -259,14 +259,21 @@ class _ChainRun(ScenarioModel):
         # ChainParams checks the rest (e.g. thickness < height / 2), DominoChain that the
         # DEM can resolve the stiffness and hold the run (so `config` refuses what `run`
         # would), at no cost: nothing is simulated or allocated
-        DominoChain(
-            self.params(), steps_per_collision=self.steps_per_collision, fidelity=self.fidelity
-        )
+        DominoChain(self.params(), **self.run_options())
         if self.fit_from is not None:
             from dominowave.chain.wave import check_fit_from
 
             check_fit_from(self.fit_from, self.n_dominoes)
         return self
+
+    def run_options(self) -> dict:
+        """The settings of the run that :class:`~dominowave.chain.scenario.DominoChain`
+        takes besides the parameters: ``steps_per_collision``, ``fidelity``, ``sleep``."""
+        return {
+            "steps_per_collision": self.steps_per_collision,
+            "fidelity": self.fidelity,
+            "sleep": self.sleep,
+        }
 
     def params(self, **changes) -> ChainParams:
         """The :class:`~dominowave.chain.build.ChainParams` of this config."""
@@ -305,7 +312,8 @@ ChainScenario = create_model(
         "DEM chain of sphere clumps (dominowave.chain on dominowave.dem, paper section 3)."
         "\n\nThe physical fields are those of :class:`dominowave.chain.ChainParams`, derived"
         " from its declarations (names, defaults, units, ranges), plus how the run is"
-        " driven: ``push_omega``, ``steps_per_collision``, ``fidelity`` and ``fit_from``."
+        " driven: ``push_omega``, ``steps_per_collision``, ``fidelity``, ``sleep`` and"
+        " ``fit_from``."
     ),
     __module__=__name__,
     **fields_from_parameters(ChainParams),
@@ -331,6 +339,15 @@ ChainScenario = create_model(
             "box chain given young (a preset): exact (the material's contact) or the"
             " tolerance of the speed, the softest contact within it (not set: 0.01;"
             " chain.fidelity)",
+        ),
+    ),
+    sleep=(
+        bool,
+        quantity(
+            True,
+            "",
+            "box chain: dominoes at rest are put to sleep (the speed changes by about 1e-4,"
+            " a long chain runs faster); false keeps every box awake (chain.scenario)",
         ),
     ),
     preset=(

@@ -136,9 +136,7 @@ class ChainScenarioStepper(ScenarioStepper):
                 "vtk_every: VTK output draws the spheres of clump dominoes; shape = 'box'"
                 " has none (run box chains without VTK output)"
             )
-        self.chain = DominoChain(
-            cfg.params(), steps_per_collision=cfg.steps_per_collision, fidelity=cfg.fidelity
-        )
+        self.chain = DominoChain(cfg.params(), **cfg.run_options())
         push = Push(omega=cfg.push_omega) if cfg.push_omega is not None else None
         self.stepper = self.chain.stepper(push, contact_forces=spheres)
 

@@ -1,0 +1,244 @@
+"""``dominowave chain``: its ChainParams options come from the parameter declarations.
+
+Each declared field of :class:`~dominowave.chain.ChainParams` is an option, shown in
+``--help`` at 80 columns with its description, unit and default, in the panel of its
+concern; a value given reaches ``ChainParams``; bad input is one line naming the
+parameter. Nothing is simulated: ``DominoChain`` is replaced by one that records what
+it is given and stops the command.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+
+import pytest
+import typer
+from typer.testing import CliRunner
+
+from dominowave.chain import ChainParams
+from dominowave.chain.presets import standard_domino
+from dominowave.cli import app
+from dominowave.cli import chain as chain_cli
+from dominowave.params import parameter_specs
+
+SPECS = parameter_specs(ChainParams)
+COMMAND = typer.main.get_command(app).commands["chain"]
+RENAMED = {
+    "n_dominoes": "--n",
+    "lateral_asymmetry": "--asymmetry",
+    "asymmetry_seed": "--placement-seed",
+}
+"""The options whose name is not the field's (as the command line has always named them)."""
+
+
+def flag(name: str) -> str:
+    return RENAMED.get(name, "--" + name.replace("_", "-"))
+
+
+def expected_help(name: str) -> str:
+    """The field's description with its unit and default, as ``--help`` must show it."""
+    field, spec = SPECS[name]
+    parts = [spec.unit] if spec.unit else []
+    default = field.default
+    if isinstance(default, bool):
+        parts.append(f"default {flag(name)}" if default else f"default --no-{flag(name)[2:]}")
+    elif isinstance(default, float):
+        parts.append(f"default {default:g}")
+    elif default is not None:
+        parts.append(f"default {default}")
+    elif "not set" not in spec.doc:
+        parts.append("not set by default")
+    return spec.doc + (f" [{'; '.join(parts)}]" if parts else "")
+
+
+def flat(text: str) -> str:
+    """The help without the panels' frames and line breaks (rich wraps at 80 columns)."""
+    return " ".join(re.sub("[│╭╮╰╯─]", " ", text).split())
+
+
+@pytest.fixture(scope="module")
+def help_80():
+    result = CliRunner().invoke(app, ["chain", "--help"], env={"COLUMNS": "80"}, terminal_width=80)
+    assert result.exit_code == 0, result.output
+    return result.output
+
+
+def panels(text: str) -> dict[str, str]:
+    """Panel title -> its text."""
+    parts = re.split(r"╭─ (.+?) ─+╮", text)
+    return {title: body for title, body in zip(parts[1::2], parts[2::2], strict=True)}
+
+
+def test_every_declared_field_is_an_option_of_its_name():
+    options = {p.name: p for p in COMMAND.params}
+    assert len(SPECS) >= 30
+    for name in SPECS:
+        assert name in options, f"ChainParams.{name} is not an option of chain"
+        assert options[name].opts[0] == flag(name), name
+        assert options[name].default is None, name  # not given: ChainParams' default
+
+
+@pytest.mark.parametrize("name", list(SPECS))
+def test_help_at_80_columns_shows_description_unit_and_default(name, help_80):
+    field, spec = SPECS[name]
+    shown = flat(help_80)
+    assert expected_help(name) in shown, f"{flag(name)}: {expected_help(name)!r} not shown"
+    if spec.unit:
+        assert f"[{spec.unit}" in shown
+    if field.default is not None:
+        assert "default " in expected_help(name)
+
+
+def test_help_fits_80_columns_with_one_panel_per_concern(help_80):
+    assert max(len(line) for line in help_80.splitlines()) <= 80
+    shown = panels(help_80)
+    for name, (_, spec) in SPECS.items():
+        title = chain_cli.PANELS[spec.group]
+        assert re.search(rf"(?<![\w-]){re.escape(flag(name))}(?![\w-])", shown[title]), (
+            f"{flag(name)} is not in the panel {title!r}"
+        )
+    for title in ("Push", "Ensemble", "Preset", "Numerics", "Output"):  # the hand-written
+        assert title in shown
+    assert "--sleep" in shown["Numerics"] and "--no-sleep" in shown["Numerics"]
+    assert "--out" in shown["Output"] and "--gap" in shown["Preset"]
+
+
+def test_brackets_of_the_hand_written_options_are_shown_too(help_80):
+    shown = flat(help_80)
+    for text in ("push as impulse [N s]", "clear gap d [m]", "within it [default 0.01]"):
+        assert text in shown
+
+
+class Stop(Exception):
+    """Raised by the recording DominoChain: the command got as far as building the chain."""
+
+
+@pytest.fixture
+def built(monkeypatch):
+    """``run(*args) -> (params, options)`` that ``chain`` gives ``DominoChain``."""
+    seen = {}
+
+    class Recording:
+        def __init__(self, params, **options):
+            seen["params"], seen["options"] = params, options
+            raise Stop
+
+    monkeypatch.setattr(chain_cli, "DominoChain", Recording)
+
+    def run(*args):
+        result = CliRunner().invoke(app, ["chain", *map(str, args)])
+        assert isinstance(result.exception, Stop), result.output
+        return seen["params"], seen["options"]
+
+    return run
+
+
+# (arguments, the ChainParams fields they set): together every declared field
+GIVEN = [
+    (
+        ["--n", 7, "--d-over-l", 0.5, "--height", 0.06, "--thickness", 0.006, "--width", 0.03],
+        {"n_dominoes": 7, "d_over_l": 0.5, "height": 0.06, "thickness": 0.006, "width": 0.03},
+    ),
+    (
+        ["--density", 900, "--spheres-per-column", 12, "--base", "two", "--model", "3d"],
+        {"density": 900.0, "spheres_per_column": 12, "base": "two", "model": "3d"},
+    ),
+    (
+        ["--stiffness-ratio", 1e3, "--kt-ratio", 0.5, "--shear-kinematics", "yade"],
+        {"stiffness_ratio": 1e3, "kt_ratio": 0.5, "shear_kinematics": "yade"},
+    ),
+    (
+        ["--friction-dominoes", 0.1, "--friction-floor", 0.4, "--damping", 0.1, "--no-held"],
+        {"friction_dominoes": 0.1, "friction_floor": 0.4, "damping": 0.1, "held": False},
+    ),
+    (["--kn", 50.0, "--restitution", 0.9, "--g", 9.7], {"kn": 50.0, "restitution": 0.9, "g": 9.7}),
+    (["--young", 1e9, "--young-rule", "yade"], {"young": 1e9, "young_rule": "yade"}),
+    (
+        ["--model", "3d", "--asymmetry", 0.01, "--placement-along", 1e-4],
+        {"model": "3d", "lateral_asymmetry": 0.01, "placement_along": 1e-4},
+    ),
+    (
+        ["--model", "3d", "--placement-across", 1e-4, "--push-error", 0.01, "--placement-seed", 3],
+        {"model": "3d", "placement_across": 1e-4, "push_error": 0.01, "asymmetry_seed": 3},
+    ),
+    (
+        ["--shape", "box", "--rounding", 1e-4, "--young", 1e9, "--normal-law", "hertz"],
+        {"shape": "box", "rounding": 1e-4, "young": 1e9, "normal_law": "hertz"},
+    ),
+    (
+        ["--shape", "box", "--young", 1e9, "--normal-law", "hertz", "--poisson", 0.25],
+        {"shape": "box", "young": 1e9, "normal_law": "hertz", "poisson": 0.25},
+    ),
+    (
+        ["--shape", "box", "--restitution-dominoes", 0.8, "--restitution-floor", 0.7],
+        {"shape": "box", "restitution_dominoes": 0.8, "restitution_floor": 0.7},
+    ),
+]
+
+
+def test_the_cases_give_every_declared_field():
+    given = {name for _, fields in GIVEN for name in fields}
+    missing = set(SPECS) - given
+    assert not missing, f"give these new ChainParams fields a value in GIVEN: {missing}"
+
+
+@pytest.mark.parametrize(("args", "fields"), GIVEN, ids=lambda v: None)
+def test_a_value_given_reaches_chain_params(args, fields, built):
+    params, _ = built(*args)
+    for name, value in fields.items():
+        assert getattr(params, name) == value, name
+    untouched = {f.name for f in dataclasses.fields(ChainParams)} - set(fields)
+    for name in untouched - {"stiffness_ratio"}:  # (a stiffness given unsets the others')
+        assert getattr(params, name) == getattr(ChainParams(), name), name
+
+
+def test_no_option_given_is_the_default_chain_awake_or_asleep(built):
+    params, options = built()
+    assert params == ChainParams()
+    assert options["sleep"] is True
+    _, options = built("--no-sleep")
+    assert options["sleep"] is False
+    _, options = built("--sleep", "--shape", "box")
+    assert options["sleep"] is True
+
+
+def test_a_preset_takes_the_other_fields_given(built):
+    params, _ = built("--preset", "standard", "--gap", 0.01, "--floor", "felt", "--n", 5)
+    assert params == standard_domino(gap=0.01, floor="felt", n_dominoes=5)
+    assert params.model == "3d"
+    params, _ = built(
+        "--preset", "standard", "--gap", 0.01, "--floor", "felt", "--model", "2d", "--damping", 0.2
+    )
+    assert params == standard_domino(gap=0.01, floor="felt", model="2d", damping=0.2)
+
+
+@pytest.mark.parametrize(
+    ("args", "fragment"),
+    [
+        (["--height", "-0.05"], "height = -0.05 is outside the valid range (0, inf)"),
+        (["--g", "0"], "g = 0 is outside the valid range (0, inf)"),
+        (["--n", "1"], "n_dominoes = 1 is outside the valid range [2, 100000]"),
+        (["--kt-ratio", "0"], "kt_ratio = 0 is outside the valid range (0, inf]"),
+        (["--placement-seed", "-2"], "asymmetry_seed = -2 is outside the valid range [0, inf)"),
+        (["--model", "4d"], "model = '4d' is not one of '2d', '3d'"),
+        (["--base", "three"], "base = 'three' is not one of 'one', 'two'"),
+        (["--density", "heavy"], "Invalid value for '--density'"),
+        (
+            ["--preset", "standard", "--gap", "0.01", "--floor", "felt", "--height", "0.05"],
+            "--height: set by --preset standard from materials.toml, give not both",
+        ),
+        (
+            ["--preset", "standard", "--gap", "0.01", "--floor", "felt", "--kn", "10", "--n", "4"],
+            "--kn: set by --preset standard",
+        ),
+    ],
+    ids=lambda v: "_".join(v) if isinstance(v, list) else None,
+)
+def test_bad_input_is_one_line_naming_the_parameter(args, fragment, cli):
+    code, out, err = cli("chain", *args)
+    assert code == 2, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("dominowave: error: "), err
+    assert fragment in lines[0], lines[0]
+    assert out == ""
