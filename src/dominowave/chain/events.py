@@ -79,11 +79,25 @@ def _quat_matrices(q: np.ndarray) -> np.ndarray:
 def rotate_vectors(quat: np.ndarray, vectors: np.ndarray) -> np.ndarray:
     """Carry world vectors given at frame 0 along with each body's rotation.
 
-    ``quat`` (F, N, 4), ``vectors`` (N, 3) -> (F, N, 3): ``R(q_f) R(q_0)^T v``.
+    ``quat`` (F, N, 4) unit quaternions (w, x, y, z), ``vectors`` (N, 3) -> (F, N, 3):
+    ``R(q_f) R(q_0)^T v``.  The vectors are taken into the body frames once, ``u =
+    R(q_0)^T v``, and turned by each frame's quaternion with ``u + w t + q x t``, ``t = 2
+    q x u`` (q the vector part): a few operations per frame and body on (F, N) arrays,
+    where the rotation matrices of every frame would take nine such arrays and a
+    matrix product.
     """
-    r = _quat_matrices(np.asarray(quat, dtype=float))
-    rel = r @ np.swapaxes(r[0], -1, -2)[None]
-    return np.einsum("fnij,nj->fni", rel, vectors)
+    quat = np.asarray(quat, dtype=float)
+    body = np.einsum("nji,nj->ni", _quat_matrices(quat[0]), vectors)  # R(q_0)^T v, (N, 3)
+    w, x, y, z = np.moveaxis(quat, -1, 0)
+    u0, u1, u2 = body[:, 0], body[:, 1], body[:, 2]
+    t0 = 2.0 * (y * u2 - z * u1)
+    t1 = 2.0 * (z * u0 - x * u2)
+    t2 = 2.0 * (x * u1 - y * u0)
+    out = np.empty((*w.shape, 3))
+    out[..., 0] = u0 + w * t0 + (y * t2 - z * t1)
+    out[..., 1] = u1 + w * t1 + (z * t0 - x * t2)
+    out[..., 2] = u2 + w * t2 + (x * t1 - y * t0)
+    return out
 
 
 def forward_tilt(record: ChainRecord) -> np.ndarray:
@@ -235,9 +249,12 @@ def analyse_events(
     slip = base[..., 0] - base[0, :, 0]
     height = record.top_offset[:, 2] - record.base_offset[:, 2]
 
-    # velocities of base and top: v_com + omega x r
-    v_base = record.velocity + np.cross(record.angular_velocity, base_rel)
-    v_top = record.velocity + np.cross(record.angular_velocity, top_rel)
+    # velocities v_com + omega x r: of the top at every frame, of the base (along x) at
+    # one frame of each domino (written out: np.cross would copy the (F, N, 3) arrays)
+    v, w = record.velocity, record.angular_velocity
+    v_top = np.empty_like(top_rel)
+    for a, b, c in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+        v_top[..., a] = v[..., a] + (w[..., b] * top_rel[..., c] - w[..., c] * top_rel[..., b])
     top_speed = np.linalg.norm(v_top, axis=-1)
 
     arrival = np.full(n, np.nan)
@@ -278,7 +295,9 @@ def analyse_events(
             continue
         f = int(np.searchsorted(times, off[0]))
         if f < times.size:
-            mechanism[k] = _mechanism(v_base[f, k, 0], v_top[f, k, 0], slip_tol)
+            r = base_rel[f, k]
+            v_base = v[f, k, 0] + (w[f, k, 1] * r[2] - w[f, k, 2] * r[1])
+            mechanism[k] = _mechanism(v_base, v_top[f, k, 0], slip_tol)
 
     # at rest from the frame after the last moving one (NaN: still moving at the end)
     moving = top_speed >= rest_speed
