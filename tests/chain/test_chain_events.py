@@ -13,6 +13,7 @@ from dominowave.chain.events import (
     contact_intervals,
     critical_tilt,
     forward_tilt,
+    rotate_vectors,
 )
 from dominowave.theory import Regime
 
@@ -113,3 +114,23 @@ def test_merge_contacts_joins_chatter_into_collisions():
     np.testing.assert_allclose(m_on, [0.0, 1.0, 3.0])
     np.testing.assert_allclose(m_off, [0.5, 2.0, 3.5])
     np.testing.assert_allclose(merge_contacts(on, off, 0.0)[0], on)
+
+
+def test_validate_rotate_vectors_against_scipy_rotations():
+    """``rotate_vectors`` carries world vectors given at frame 0 with each body's rotation,
+    ``R(q_f) R(q_0)^T v``: checked against scipy's rotations of random unit quaternions
+    (an independent composition of rotations) for 50 frames of 7 bodies."""
+    from scipy.spatial.transform import Rotation
+
+    rng = np.random.default_rng(3)
+    quat = rng.normal(size=(50, 7, 4))
+    quat /= np.linalg.norm(quat, axis=-1, keepdims=True)
+    vectors = rng.normal(size=(7, 3))
+    expected = np.empty((50, 7, 3))
+    xyzw = np.roll(quat, -1, axis=-1)  # (scipy's order: scalar last)
+    for n in range(7):
+        start = Rotation.from_quat(xyzw[0, n])
+        for f in range(50):
+            turn = Rotation.from_quat(xyzw[f, n]) * start.inv()
+            expected[f, n] = turn.apply(vectors[n])
+    np.testing.assert_allclose(rotate_vectors(quat, vectors), expected, rtol=0, atol=1e-14)
