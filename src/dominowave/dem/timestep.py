@@ -159,10 +159,12 @@ def _box_omega2(bodies, boxes, walls, mats, impact_speed=0.0, gravity=0.0):
         return 1.5 * K * np.sqrt(max(impact, rest))
 
     omega2 = 0.0
+    # (the kinds of partner, each once: a long chain has one kind of box)
+    boxes_kinds = set(zip(boxes.material.tolist(), boxes.radius.tolist(), strict=True))
+    wall_kinds = set(walls.material.tolist())
     for x, b in enumerate(boxes.body):
         m, r = boxes.material[x], boxes.radius[x]
-        partners = list(zip(boxes.material, boxes.radius, strict=True))
-        partners += [(w, r) for w in walls.material]  # (a wall takes the box's radius)
+        partners = boxes_kinds | {(w, r) for w in wall_kinds}  # (a wall: the box's radius)
         k = max(
             max(
                 normal(m, r, pm, pr, bodies.mass[b]),

@@ -603,7 +603,8 @@ def _merge_coincident(out, n, base, close):
                 twin = c
                 break
         if twin < 0:
-            _copy_row(out, k, m)
+            if m < k:  # (a point before it was merged: move it up)
+                _copy_row(out, k, m)
             m += 1
             continue
         kept = key[twin]
