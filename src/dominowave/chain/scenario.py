@@ -240,13 +240,16 @@ BYTES_PER_FRAME_DOMINO = 13 * 8
 
 MAX_STEPS = 1e10
 """Most time steps a chain run may need (about a day of engine time at N = 300)."""
-SLEEP_SPEED = 1e-3
+SLEEP_SPEED = 1e-2
 """A box domino sleeps once every point of it has moved slower than this times
 ``sqrt(g l)`` for :data:`SLEEP_TIME` (``DominoChain(sleep=True)``, the default of box
-chains; ``dem.Scene.build``'s ``sleep_speed``): 0.7 mm/s for the standard domino, against
-front speeds of about ``sqrt(g l)``."""
-SLEEP_TIME = 1.0
-"""... for this times ``sqrt(l/g)``, the time scale of a domino's fall (70 ms for the
+chains; ``dem.Scene.build``'s ``sleep_speed``): 7 mm/s for the standard domino, against
+front speeds of about ``sqrt(g l)``.  Chosen by the measured error (docs/shape.md,
+"Sleeping dominoes"): it moves the front speed of the measured chains by at most 4e-4,
+within a twentieth of the fidelity's default tolerance, and a tenth of it (with the same
+time) moves it by at most 1.2e-4 for 1.3 times the cost."""
+SLEEP_TIME = 0.5
+"""... for this times ``sqrt(l/g)``, the time scale of a domino's fall (35 ms for the
 standard domino)."""
 
 
@@ -291,10 +294,12 @@ class DominoChain:
     ``contact`` the choice with its estimate (None where the setting does not apply).
 
     ``sleep`` (box chains): a domino that has come to rest is put to sleep, held again at
-    no cost until a moving body touches or drives it (:data:`SLEEP_SPEED`,
-    :data:`SLEEP_TIME`; ``dem.Scene.build``). It changes the standard chain's front speed
-    by 1e-4 and makes a 300-domino chain cost a third of its time awake
-    (docs/shape.md, "Sleeping dominoes"); ``sleep=False`` keeps every domino awake.
+    no cost until a moving body touches or drives it: once every point of it has moved
+    slower than ``sleep_speed sqrt(g l)`` for ``sleep_time sqrt(l/g)`` (defaults
+    :data:`SLEEP_SPEED`, :data:`SLEEP_TIME`; ``dem.Scene.build``). It changes the front
+    speeds of the measured chains by at most 4e-4 and makes a 300-domino chain cost a
+    fifth of its time awake (docs/shape.md, "Sleeping dominoes"); ``sleep=False`` keeps
+    every domino awake.
     """
 
     def __init__(
@@ -310,6 +315,8 @@ class DominoChain:
         safety: float | None = None,
         fidelity: Fidelity = None,
         sleep: bool = True,
+        sleep_speed: float = SLEEP_SPEED,
+        sleep_time: float = SLEEP_TIME,
     ):
         self.material_params = params
         self.contact = choose_contact(params, fidelity)
@@ -326,8 +333,12 @@ class DominoChain:
             "max_time": max_time,
             "tail_time": tail_time,
             "sleep": sleep,
+            "sleep_speed": sleep_speed,
+            "sleep_time": sleep_time,
         }
         self.sleep = bool(sleep)
+        self.sleep_speed = check_positive("sleep_speed", sleep_speed)
+        self.sleep_time = check_positive("sleep_time", sleep_time)
         if steps_per_collision is None:
             steps_per_collision = default_steps_per_collision(self.contact)
         check_in_range("steps_per_collision", steps_per_collision, 10, math.inf, lo_inclusive=True)
@@ -556,11 +567,11 @@ class DominoChain:
 
     def _sleep_settings(self) -> dict[str, float]:
         """The sleep criterion of a box chain (``dem.Scene.build``): every point slower than
-        ``SLEEP_SPEED sqrt(g l)`` for ``SLEEP_TIME sqrt(l/g)``."""
+        ``sleep_speed sqrt(g l)`` for ``sleep_time sqrt(l/g)``."""
         p = self.params
         return {
-            "sleep_speed": SLEEP_SPEED * math.sqrt(p.g * p.height),
-            "sleep_time": SLEEP_TIME * math.sqrt(p.height / p.g),
+            "sleep_speed": self.sleep_speed * math.sqrt(p.g * p.height),
+            "sleep_time": self.sleep_time * math.sqrt(p.height / p.g),
         }
 
     def initial_frame(self, sim, push: Push) -> dict[str, np.ndarray]:
