@@ -126,6 +126,8 @@ def test_validate_sobol_indices_of_a_known_function():
 
 
 def test_a_sample_runs_the_preset_chain_and_measures_from_fit_from():
+    """A sample's speed is that of the preset chain run in full (its run stops at the
+    last domino's touch: the arrivals are the same to the bit)."""
     from dominowave.chain.scenario import DominoChain
     from dominowave.chain.wave import speed_from
 
@@ -134,6 +136,20 @@ def test_a_sample_runs_the_preset_chain_and_measures_from_fit_from():
     run = DominoChain(cfg.params()).run()
     assert summary["speed"] == speed_from(run.arrival, run.positions, 2).speed
     assert summary["dominoes_toppled"] == 6
+
+
+def test_a_run_without_a_tail_stops_at_the_touch_of_the_last_domino():
+    """``tail_time=0``: the run ends in the step the wave touches the last domino, with the
+    arrivals of the full run to the bit; a negative tail is refused, naming it."""
+    from dominowave.chain.scenario import DominoChain
+
+    p = PredictSample(gap=0.012, floor="felt", friction_floor=0.7, **CHEAP).params()
+    full = DominoChain(p).run()
+    short = DominoChain(p, tail_time=0.0).run()
+    assert short.stop_reason == "touched" and short.n_steps < full.n_steps
+    np.testing.assert_array_equal(short.arrival, full.arrival)
+    with pytest.raises(ValueError, match="tail_time"):
+        DominoChain(p, tail_time=-1.0)
 
 
 def test_a_sample_runs_at_the_fidelity_and_reports_its_contact():

@@ -281,7 +281,8 @@ class DominoChain:
     the quiet time; a run that reaches it before the wave reaches the last domino is
     ``ChainRun.cut_short``),
     ``tail_time`` [s] run on after the wave reached the last domino, to record the
-    aftermath (default ``5 sqrt(l/g)``).  ``safety`` (instead of ``dt``): the step as
+    aftermath (default ``5 sqrt(l/g)``; 0: none, for a run that wants the arrivals
+    only).  ``safety`` (instead of ``dt``): the step as
     that fraction of the engine's critical estimate for the built scene
     (``dem.Scene.build``, timestep.py), e.g. for a Hertz chain (``normal_law =
     "hertz"``), whose collisions the linear theory's ``T_c`` does not describe.
@@ -351,8 +352,8 @@ class DominoChain:
         scale = math.sqrt(params.height / params.g)
         self.frame_interval = frame_interval or 0.01 * scale
         self.quiet_time = quiet_time or 10.0 * scale
-        self.tail_time = tail_time or 5.0 * scale
-        check_positive("tail_time", self.tail_time)
+        self.tail_time = 5.0 * scale if tail_time is None else tail_time
+        check_in_range("tail_time", self.tail_time, 0.0, math.inf, lo_inclusive=True)
         check_positive("frame_interval", self.frame_interval)
         check_positive("quiet_time", self.quiet_time)
         if max_time is None:
