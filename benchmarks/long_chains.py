@@ -1,0 +1,94 @@
+"""Where the time of a standard box chain goes as it grows: build, engine, analysis.
+
+The standard chain (40 standard dominoes of ``chain.presets.standard_domino``, 3D, gap
+9.38 mm, felt floor, friction 0.3 between the dominoes and with the floor, domino 0
+pushed with ``sqrt(g/l)``) at the package's defaults (fidelity 1 %, held until touched,
+asleep at rest), at several lengths.  For each length, ``--repeat`` runs with warm
+kernels (one warm-up first), and the median CPU time of each part of the run:
+
+* build: ``DominoChain(p)`` and its stepper (scene, time step estimate);
+* engine: ``stepper.advance`` to the end of the run (the DEM steps, the frames and the
+  contact events kept);
+* analysis: ``stepper.result()`` (the events of every domino from the frames, the wave
+  fit, the theory beside it);
+
+with the steps, the engine's CPU time per step and per domino, the dominoes awake on
+average over the run (sampled every 2000 steps) and the front speed fitted from domino 10
+on.  A cost per domino that does not grow with the chain is the aim; the dominoes awake
+behind the front set the cost of a step (docs/shape.md, "Sleeping dominoes").
+
+Run:  python benchmarks/long_chains.py [--n 30,100,300] [--repeat 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import time
+
+import numpy as np
+
+from dominowave.chain import DominoChain, Push
+from dominowave.chain.presets import standard_domino
+from dominowave.chain.wave import speed_from
+
+FIT_FROM = 10
+SAMPLE = 2000  # steps between counts of the dominoes awake
+
+
+def one_run(n: int) -> dict[str, float]:
+    """CPU times [s] of the parts of one run of the standard chain of ``n`` dominoes."""
+    p = standard_domino(
+        gap=0.00938, floor="felt", n_dominoes=n, friction_dominoes=0.3, friction_floor=0.3
+    )
+    t0 = time.process_time()
+    stepper = DominoChain(p).stepper(Push(omega=math.sqrt(p.g / p.height)))
+    t1 = time.process_time()
+    awake, engine = [], 0.0
+    while True:
+        start = time.process_time()
+        done = stepper.advance(SAMPLE)  # (in pieces: the same bits as in one)
+        engine += time.process_time() - start
+        awake.append(int(np.sum(stepper.sim.bodies.held == 0)))
+        if done:
+            break
+    t2 = time.process_time()
+    result = stepper.result()
+    t3 = time.process_time()
+    return {
+        "build": t1 - t0,
+        "engine": engine,
+        "analysis": t3 - t2,
+        "steps": stepper.steps,
+        "awake": float(np.mean(awake)),
+        "speed": speed_from(result.arrival, result.positions, FIT_FROM).speed,
+    }
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--n", default="30,100,300", help="chain lengths")
+    parser.add_argument("--repeat", type=int, default=3, help="runs per length")
+    args = parser.parse_args()
+    one_run(12)  # warm the kernels: compiling is not the run's time
+    print(
+        f"| dominoes | build [s] | engine [s] | analysis [s] | total [s] | steps | us/step"
+        f" | ns per domino-step | awake (mean) | speed [m/s] |  (median CPU of {args.repeat})"
+    )
+    print("|---" * 10 + "|")
+    for n in (int(x) for x in args.n.split(",")):
+        runs = [one_run(n) for _ in range(args.repeat)]
+        med = {k: statistics.median(r[k] for r in runs) for k in runs[0]}
+        total = med["build"] + med["engine"] + med["analysis"]
+        per_step = med["engine"] / med["steps"]
+        print(
+            f"| {n} | {med['build']:.3f} | {med['engine']:.3f} | {med['analysis']:.3f}"
+            f" | {total:.3f} | {med['steps']:.0f} | {per_step * 1e6:.1f}"
+            f" | {per_step / n * 1e9:.0f} | {med['awake']:.1f} | {med['speed']:.4f} |",
+            flush=True,
+        )
+
+
+if __name__ == "__main__":
+    main()
