@@ -116,3 +116,22 @@ def test_sleep_is_refused_in_a_scene_with_spheres():
     scene.add_sphere((0.1, 0.0, 0.1), 0.005, m)
     with pytest.raises(ValueError, match=r"sleep_speed = 0.001 .* boxes only"):
         scene.build(sleep_speed=1e-3)
+
+
+def test_the_contact_force_recorder_keeps_the_rows_of_sleeping_boxes():
+    """A box asleep on the floor still stands on it in the recorded contact forces: its
+    rows put aside appear in every frame with the force they had when it fell asleep,
+    whose vertical sum is its weight, on the box (``second``) from the floor (``first =
+    -1``)."""
+    sim = _lying_boxes()
+    sim.run(until=0.3)  # both asleep (the first test)
+    frames = sim.run(n_steps=400, trajectory_every=100, record_contact_forces=True)
+    cf = frames.contact_frames
+    weight = sim.bodies.mass[0] * G
+    for f in range(len(cf.start) - 1):
+        rows = slice(cf.start[f], cf.start[f + 1])
+        assert set(cf.first[rows]) == {-1}
+        for box in (0, 1):
+            on_box = cf.second[rows] == box
+            assert on_box.sum() >= 4
+            np.testing.assert_allclose(cf.force[rows][on_box, 2].sum(), weight, rtol=1e-3)

@@ -1124,7 +1124,10 @@ def rows_energies(rows, hertz, out):
 @njit(cache=True, error_model="numpy", _nrt=False)
 def box_contact_forces(boxes, first_id, first, second, point, force):
     """The contact forces of the last :func:`box_forces`, one row per contact row, in the
-    layout of contact.active_contact_forces (the engine's contact-force recorder).
+    layout of contact.active_contact_forces (the engine's contact-force recorder): the
+    rows of the pairs visited, then those of the pairs at rest put aside
+    (``boxes.dormant``: sleeping bodies), with the force they had when put aside, which
+    holds them where they rest.
 
     Shapes are numbered spheres first, then boxes: box x is shape ``first_id + x``
     (``first_id`` = the number of spheres).  Box-box row: ``first``, ``second`` the two
@@ -1135,7 +1138,15 @@ def box_contact_forces(boxes, first_id, first, second, point, force):
     impulse of a point that opened in the last drift is not a row.  Writes from row 0 on
     and returns the number of rows.
     """
-    rows = boxes.rows
+    n = _rows_contact_forces(boxes.rows, first_id, first, second, point, force)
+    return n + _rows_contact_forces(
+        boxes.dormant, first_id, first[n:], second[n:], point[n:], force[n:]
+    )
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _rows_contact_forces(rows, first_id, first, second, point, force):
+    """The recorder's rows of the contact rows ``rows`` (:func:`box_contact_forces`)."""
     for c in range(rows.n[0]):
         if rows.j[c] >= 0:  # (the force on the partner box)
             first[c] = first_id + rows.i[c]

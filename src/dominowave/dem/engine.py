@@ -711,7 +711,8 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
             cf_room = contacts.i.shape[0]
             if BOXES:
                 room += boxes.changes.shape[0]
-                cf_room += boxes.rows.i.shape[0] + boxes.sphere_rows.i.shape[0]
+                cf_room += boxes.rows.i.shape[0] + boxes.dormant.i.shape[0]
+                cf_room += boxes.sphere_rows.i.shape[0]
             if settings.record_pairs and rec.ev_time.shape[0] - rec.ev_n[0] < room:
                 return GROW_EVENTS, done
             step = rec.step[0]

@@ -134,7 +134,8 @@ class ContactFrames:
     ``second`` as applied at that step (``-force`` acts on ``first``).  Shapes are
     numbered spheres first (sphere id), then boxes (box x: ``n_spheres + x``).  Every
     active sphere-sphere and sphere-wall contact, then every box contact point (a planar
-    row: the sum of the points it stands for, boxes.box_contact_forces); the one-kick end
+    row: the sum of the points it stands for, boxes.box_contact_forces; those of sleeping
+    boxes with the force that holds them, as put aside when they fell asleep); the one-kick end
     impulse of a contact that opened in the last drift (contact.end_impulse) is not a row.
     """
 
@@ -596,7 +597,8 @@ class Simulation:
             )
         elif code == engine.GROW_CONTACT_FORCES:
             need = 2 * r.cf_first.shape[0] + self.contacts.i.shape[0]
-            need += self.boxes.rows.i.shape[0] + self.boxes.sphere_rows.i.shape[0]
+            need += self.boxes.rows.i.shape[0] + self.boxes.dormant.i.shape[0]
+            need += self.boxes.sphere_rows.i.shape[0]
             self.rec = r._replace(
                 **{
                     k: _grow_rows(getattr(r, k), need)
