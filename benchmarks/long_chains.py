@@ -1,6 +1,6 @@
 """Where the time of a standard box chain goes as it grows: build, engine, analysis.
 
-The standard chain (40 standard dominoes of ``chain.presets.standard_domino``, 3D, gap
+The standard chain (standard dominoes of ``chain.presets.standard_domino``, 3D, gap
 9.38 mm, felt floor, friction 0.3 between the dominoes and with the floor, domino 0
 pushed with ``sqrt(g/l)``) at the package's defaults (fidelity 1 %, held until touched,
 asleep at rest), at several lengths.  For each length, ``--repeat`` runs with warm

@@ -15,7 +15,7 @@ All quantities are SI inside the package; dimensionless groups appear only at
 the edges (plots, command-line tables).
 """
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 from dominowave.kernel_cache import install as _install_kernel_cache
 

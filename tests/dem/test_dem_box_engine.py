@@ -311,3 +311,43 @@ def test_validate_box_contact_events_at_the_free_fall_and_approach_times():
     res = sim.run(until=0.05)  # the boxes part again: one end event
     assert list(res.events.kind) == [0]
     assert sim.pairs.n_contacts[0, 1] == 1
+
+
+def test_box_time_step_estimate_takes_every_kind_of_partner():
+    """The boxes' frequency bound (timestep._box_omega2) looks at each kind of partner
+    (material and rounding; a wall with the box's rounding) once: it equals the bound
+    taken over every box and wall for every box, on a scene of two materials, two
+    roundings, two sizes and two walls of a third material."""
+    from dominowave.dem import timestep
+    from dominowave.dem.contact import pair_stiffness, particle_stiffness
+
+    scene = Scene(gravity=(0.0, 0.0, -9.81))
+    soft = scene.add_material(Material(density=900.0, kn=2e4, friction=0.3))
+    stiff = scene.add_material(Material(density=1500.0, kn=7e4, kt_ratio=0.6, friction=0.5))
+    wall = scene.add_material(Material(density=1000.0, kn=3e5, friction=0.8))
+    scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), wall)
+    scene.add_wall((-0.1, 0.0, 0.0), (1.0, 0.0, 0.0), wall)
+    for k, (m, r, size) in enumerate(
+        [(soft, 1e-4, 1.0), (stiff, 3e-4, 1.0), (soft, 3e-4, 2.0), (stiff, 1e-4, 0.5)]
+    ):
+        half = size * np.array([0.0025, 0.0125, 0.025])
+        scene.add_box((0.03 * k, 0.0, 0.05), half, r, m)
+    sim = scene.build()
+    bodies, boxes, walls, mats = sim.bodies, sim.boxes, sim.walls, sim.mats
+    rule = int(mats.rule[0])
+
+    def k_pair(ma, ra, mb, rb, kt):
+        ka = particle_stiffness(mats.stiffness[ma], ra, rule)
+        kb = particle_stiffness(mats.stiffness[mb], rb, rule)
+        if kt:
+            ka, kb = ka * mats.kt_ratio[ma], kb * mats.kt_ratio[mb]
+        return pair_stiffness(ka, kb, rule)
+
+    expected = 0.0
+    for x in range(boxes.body.size):
+        m, r = boxes.material[x], boxes.radius[x]
+        partners = [(boxes.material[y], boxes.radius[y]) for y in range(boxes.body.size)]
+        partners += [(w, r) for w in walls.material]
+        k = max(max(k_pair(m, r, pm, pr, False), k_pair(m, r, pm, pr, True)) for pm, pr in partners)
+        expected = max(expected, 4.0 * k * timestep._box_inverse_mass(bodies, boxes, x))
+    assert timestep._box_omega2(bodies, boxes, walls, mats) == expected

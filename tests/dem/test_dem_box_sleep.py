@@ -128,6 +128,7 @@ def test_the_contact_force_recorder_keeps_the_rows_of_sleeping_boxes():
     frames = sim.run(n_steps=400, trajectory_every=100, record_contact_forces=True)
     cf = frames.contact_frames
     weight = sim.bodies.mass[0] * G
+    assert len(cf.start) - 1 >= 4
     for f in range(len(cf.start) - 1):
         rows = slice(cf.start[f], cf.start[f + 1])
         assert set(cf.first[rows]) == {-1}

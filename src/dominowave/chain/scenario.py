@@ -245,9 +245,10 @@ SLEEP_SPEED = 1e-2
 ``sqrt(g l)`` for :data:`SLEEP_TIME` (``DominoChain(sleep=True)``, the default of box
 chains; ``dem.Scene.build``'s ``sleep_speed``): 7 mm/s for the standard domino, against
 front speeds of about ``sqrt(g l)``.  Chosen by the measured error (docs/shape.md,
-"Sleeping dominoes"): it moves the front speed of the measured chains by at most 4e-4,
-within a twentieth of the fidelity's default tolerance, and a tenth of it (with the same
-time) moves it by at most 1.2e-4 for 1.3 times the cost."""
+"Sleeping dominoes"): it moves the front speeds of the measured chains by at most 3.5e-4
+and their arrivals by at most 4e-4, a twenty-fifth of the fidelity's default tolerance;
+``3e-3`` (with the same time) moves them by at most 1.5e-4 for about 1.2 times the
+cost."""
 SLEEP_TIME = 0.5
 """... for this times ``sqrt(l/g)``, the time scale of a domino's fall (35 ms for the
 standard domino)."""
@@ -338,8 +339,8 @@ class DominoChain:
             "sleep_time": sleep_time,
         }
         self.sleep = bool(sleep)
-        self.sleep_speed = check_positive("sleep_speed", sleep_speed)
-        self.sleep_time = check_positive("sleep_time", sleep_time)
+        self.sleep_speed = check_in_range("sleep_speed", sleep_speed, 0.0, math.inf)
+        self.sleep_time = check_in_range("sleep_time", sleep_time, 0.0, math.inf)
         if steps_per_collision is None:
             steps_per_collision = default_steps_per_collision(self.contact)
         check_in_range("steps_per_collision", steps_per_collision, 10, math.inf, lo_inclusive=True)

@@ -268,8 +268,8 @@ def chain_command(
     sleep: Annotated[
         bool,
         typer.Option(
-            help="box chain: dominoes at rest are put to sleep (the speed changes by about"
-            " 1e-4, a long chain runs faster); --no-sleep keeps every box awake",
+            help="box chain: dominoes at rest are put to sleep (the speed changes by at most"
+            " 4e-4, a long chain runs faster); --no-sleep keeps every box awake",
             rich_help_panel="Numerics",
         ),
     ] = True,

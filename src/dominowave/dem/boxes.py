@@ -1126,8 +1126,8 @@ def box_contact_forces(boxes, first_id, first, second, point, force):
     """The contact forces of the last :func:`box_forces`, one row per contact row, in the
     layout of contact.active_contact_forces (the engine's contact-force recorder): the
     rows of the pairs visited, then those of the pairs at rest put aside
-    (``boxes.dormant``: sleeping bodies), with the force they had when put aside, which
-    holds them where they rest.
+    (``boxes.dormant``: held or sleeping boxes), with the force they had when put aside,
+    which holds them where they rest.
 
     Shapes are numbered spheres first, then boxes: box x is shape ``first_id + x``
     (``first_id`` = the number of spheres).  Box-box row: ``first``, ``second`` the two

@@ -131,11 +131,12 @@ class ContactFrames:
     Per row (K,): ``first`` shape id, or ``-(wall + 1)``; ``second`` shape id;
     ``point`` (K, 3) contact point [m] (midway through the overlap); ``force`` (K, 3) [N]
     total contact force (normal elastic + dashpot + tangential) acting on shape
-    ``second`` as applied at that step (``-force`` acts on ``first``).  Shapes are
+    ``second`` as applied at that step, or, for the rows of resting (held or sleeping)
+    boxes put aside, as when they were put aside (``-force`` acts on ``first``).  Shapes are
     numbered spheres first (sphere id), then boxes (box x: ``n_spheres + x``).  Every
     active sphere-sphere and sphere-wall contact, then every box contact point (a planar
-    row: the sum of the points it stands for, boxes.box_contact_forces; those of sleeping
-    boxes with the force that holds them, as put aside when they fell asleep); the one-kick end
+    row: the sum of the points it stands for, boxes.box_contact_forces; those of resting
+    boxes put aside with the force that holds them); the one-kick end
     impulse of a contact that opened in the last drift (contact.end_impulse) is not a row.
     """
 

@@ -346,7 +346,7 @@ ChainScenario = create_model(
         quantity(
             True,
             "",
-            "box chain: dominoes at rest are put to sleep (the speed changes by about 1e-4,"
+            "box chain: dominoes at rest are put to sleep (the speed changes by at most 4e-4,"
             " a long chain runs faster); false keeps every box awake (chain.scenario)",
         ),
     ),
