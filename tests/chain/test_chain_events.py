@@ -98,6 +98,21 @@ def test_validate_events_of_prescribed_motion():
     assert set(ev.table()) >= {"arrival", "mechanism"}
 
 
+@pytest.mark.parametrize("chunk", [1, 2])
+def test_the_events_do_not_depend_on_how_many_dominoes_are_analysed_at_a_time(chunk, monkeypatch):
+    """The motion is derived a few dominoes at a time (events.MOTION_CHUNK): one or two at
+    a time give the events of all three at once, to the bit."""
+    from dominowave.chain import events
+
+    rec = _record()
+    angle = critical_tilt(0.0025, L / 2)
+    whole = analyse_events(rec, critical_angle=angle)
+    monkeypatch.setattr(events, "MOTION_CHUNK", chunk)
+    pieces = analyse_events(rec, critical_angle=angle)
+    for name, value in whole.table().items():
+        np.testing.assert_array_equal(pieces.table()[name], value, err_msg=name)
+
+
 def test_validate_pure_rotation_and_backward_mechanisms():
     from dominowave.chain.events import _mechanism
 

@@ -219,6 +219,46 @@ def _mechanism(v_base: float, v_top: float, slip_tol: float) -> int:
     return int(Regime.BACKWARD_ROTATION_SLIP)
 
 
+MOTION_CHUNK = 8
+"""Dominoes whose motion :func:`_motion` derives at a time: arrays of (frames, 8) stay
+in the processor's cache, where arrays of every domino would be written to memory."""
+
+
+def _motion(record: ChainRecord, floor_tolerance, slip_tol, mechanism_frame):
+    """The motion of every domino from the frames, a few dominoes at a time
+    (:data:`MOTION_CHUNK`): the tilt ``theta``, the base's slip along x since frame 0,
+    whether the top is below ``floor_tolerance`` of the height, the speed of the top (each
+    (F, N)) and the mechanism class of each domino at ``mechanism_frame`` (N,) (-1: none;
+    :func:`_mechanism` from the horizontal velocities of base and top,
+    ``v_com + omega x r``)."""
+    frames, n = record.com.shape[:2]
+    theta, slip, top_speed = np.empty((frames, n)), np.empty((frames, n)), np.empty((frames, n))
+    below_floor = np.empty((frames, n), bool)
+    mechanism = np.zeros(n, int)
+    height = record.top_offset[:, 2] - record.base_offset[:, 2]
+    for lo in range(0, n, MOTION_CHUNK):
+        cols = slice(lo, min(n, lo + MOTION_CHUNK))
+        quat, com = record.quat[:, cols], record.com[:, cols]
+        axis = rotate_vectors(quat, record.axis[cols])
+        theta[:, cols] = np.arctan2(axis[..., 0], axis[..., 2])
+        base = com + rotate_vectors(quat, record.base_offset[cols])
+        slip[:, cols] = base[..., 0] - base[0, :, 0]
+        top_rel = rotate_vectors(quat, record.top_offset[cols])
+        below_floor[:, cols] = (com + top_rel)[..., 2] < floor_tolerance * height[None, cols]
+        v, w = record.velocity[:, cols], record.angular_velocity[:, cols]
+        v_top = np.empty_like(top_rel)
+        for a, b, c in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+            v_top[..., a] = v[..., a] + (w[..., b] * top_rel[..., c] - w[..., c] * top_rel[..., b])
+        top_speed[:, cols] = np.linalg.norm(v_top, axis=-1)
+        for k in range(cols.start, cols.stop):
+            f, j = mechanism_frame[k], k - lo
+            if f >= 0:
+                r = base[f, j] - com[f, j]
+                v_base = v[f, j, 0] + (w[f, j, 1] * r[2] - w[f, j, 2] * r[1])
+                mechanism[k] = _mechanism(v_base, v_top[f, j, 0], slip_tol)
+    return theta, slip, below_floor, top_speed, mechanism
+
+
 def analyse_events(
     record: ChainRecord,
     critical_angle: float,
@@ -241,21 +281,15 @@ def analyse_events(
     """
     times = np.asarray(record.times, dtype=float)
     n = record.com.shape[1]
-    theta = forward_tilt(record)
-    base = record.com + rotate_vectors(record.quat, record.base_offset)
-    top_rel = rotate_vectors(record.quat, record.top_offset)
-    top = record.com + top_rel
-    base_rel = base - record.com
-    slip = base[..., 0] - base[0, :, 0]
-    height = record.top_offset[:, 2] - record.base_offset[:, 2]
-
-    # velocities v_com + omega x r: of the top at every frame, of the base (along x) at
-    # one frame of each domino (written out: np.cross would copy the (F, N, 3) arrays)
-    v, w = record.velocity, record.angular_velocity
-    v_top = np.empty_like(top_rel)
-    for a, b, c in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
-        v_top[..., a] = v[..., a] + (w[..., b] * top_rel[..., c] - w[..., c] * top_rel[..., b])
-    top_speed = np.linalg.norm(v_top, axis=-1)
+    # the frame after the end of the first hit on each domino, where its mechanism is read
+    mechanism_frame = np.full(n, -1)
+    for k in range(1, n):
+        on, off = contact_intervals(record, k - 1, k)
+        if on.size:
+            f = int(np.searchsorted(times, off[0]))
+            mechanism_frame[k] = f if f < times.size else -1
+    motion = _motion(record, floor_tolerance, slip_tol, mechanism_frame)
+    theta, slip, below_floor, top_speed, mechanism = motion
 
     arrival = np.full(n, np.nan)
     arrival[0] = 0.0
@@ -266,7 +300,6 @@ def analyse_events(
     two_ahead = np.zeros(n, bool)
     first_end = np.full(n, np.nan)
     rebound = np.full(n, np.nan)
-    mechanism = np.zeros(n, int)
     body = (record.ev_i >= 0) & (record.ev_j >= 0) & (record.ev_kind == ONSET)
     for k in range(1, n):
         from_behind = body & (record.ev_j == k) & (record.ev_i < k)
@@ -288,17 +321,6 @@ def analyse_events(
                 rebound[k] = float(theta[window, k].min())
         if k + 2 < n:
             two_ahead[k] = bool(np.any(body & (record.ev_i == k) & (record.ev_j == k + 2)))
-    # mechanism: the first frame after the first hit on domino k ended
-    for k in range(1, n):
-        on, off = contact_intervals(record, k - 1, k)
-        if not on.size:
-            continue
-        f = int(np.searchsorted(times, off[0]))
-        if f < times.size:
-            r = base_rel[f, k]
-            v_base = v[f, k, 0] + (w[f, k, 1] * r[2] - w[f, k, 2] * r[1])
-            mechanism[k] = _mechanism(v_base, v_top[f, k, 0], slip_tol)
-
     # at rest from the frame after the last moving one (NaN: still moving at the end)
     moving = top_speed >= rest_speed
     after_last_moving = times.size - np.argmax(moving[::-1], axis=0)
@@ -316,7 +338,7 @@ def analyse_events(
         touched_two_ahead=two_ahead,
         first_hit_end=first_end,
         topple_time=_first_crossing(times, theta > critical_angle),
-        floor_time=_first_crossing(times, top[..., 2] < floor_tolerance * height[None]),
+        floor_time=_first_crossing(times, below_floor),
         rest_time=rest,
         slip_final=slip[-1],
         slip_max=slip[i_max, np.arange(n)],
