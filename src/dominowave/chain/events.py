@@ -102,8 +102,12 @@ def rotate_vectors(quat: np.ndarray, vectors: np.ndarray) -> np.ndarray:
 
 def forward_tilt(record: ChainRecord) -> np.ndarray:
     """Forward tilt ``theta`` (F, N) [rad] of each domino's long axis (see module doc)."""
-    a = rotate_vectors(record.quat, record.axis)
-    return np.arctan2(a[..., 0], a[..., 2])
+    return _tilt(rotate_vectors(record.quat, record.axis))
+
+
+def _tilt(axis: np.ndarray) -> np.ndarray:
+    """Forward tilt [rad] of long axes ``axis`` (..., 3): from the vertical towards +x."""
+    return np.arctan2(axis[..., 0], axis[..., 2])
 
 
 def contact_intervals(record: ChainRecord, i: int, j: int) -> tuple[np.ndarray, np.ndarray]:
@@ -239,8 +243,7 @@ def _motion(record: ChainRecord, floor_tolerance, slip_tol, mechanism_frame):
     for lo in range(0, n, MOTION_CHUNK):
         cols = slice(lo, min(n, lo + MOTION_CHUNK))
         quat, com = record.quat[:, cols], record.com[:, cols]
-        axis = rotate_vectors(quat, record.axis[cols])
-        theta[:, cols] = np.arctan2(axis[..., 0], axis[..., 2])
+        theta[:, cols] = _tilt(rotate_vectors(quat, record.axis[cols]))
         base = com + rotate_vectors(quat, record.base_offset[cols])
         slip[:, cols] = base[..., 0] - base[0, :, 0]
         top_rel = rotate_vectors(quat, record.top_offset[cols])
@@ -281,10 +284,12 @@ def analyse_events(
     """
     times = np.asarray(record.times, dtype=float)
     n = record.com.shape[1]
-    # the frame after the end of the first hit on each domino, where its mechanism is read
+    # the contacts of each domino with the next, and the frame after the end of the first
+    # hit on each domino, where its mechanism is read
+    intervals = [contact_intervals(record, k, k + 1) for k in range(n - 1)]
     mechanism_frame = np.full(n, -1)
     for k in range(1, n):
-        on, off = contact_intervals(record, k - 1, k)
+        on, off = intervals[k - 1]
         if on.size:
             f = int(np.searchsorted(times, off[0]))
             mechanism_frame[k] = f if f < times.size else -1
@@ -306,7 +311,7 @@ def analyse_events(
         if from_behind.any():
             arrival[k] = float(record.ev_time[from_behind].min())
     for k in range(n - 1):
-        on, off = contact_intervals(record, k, k + 1)
+        on, off = intervals[k]
         contacts_next[k] = on.size
         on, off = merge_contacts(on, off, min_gap)
         hits_next[k] = on.size
