@@ -31,12 +31,17 @@ overstate every phase in proportion: the table gives each phase's share of the c
 steps from the same state (median of --repeat), and the ratio of the instrumented wall
 time to that CPU time (``wall/cpu``: 1 on an idle machine, plus the counter reads).
 
+With ``--chain standard`` the standard 40-domino 3D chain (standard_chain_vs_mujoco.py) as
+the package's defaults build it is profiled instead.
+
 Run:  python benchmarks/box_phases.py [--n 30] [--model 2d] [--at 10000] [--steps 5000]
+      [--chain paper|standard]
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import statistics
 import time
 
@@ -47,7 +52,8 @@ from numba import njit, types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
-from dominowave.chain import ChainParams, DominoChain
+from dominowave.chain import ChainParams, DominoChain, Push
+from dominowave.chain.presets import standard_domino
 from dominowave.dem import box_sphere, boxes, contact, engine, integrate, planar
 from dominowave.dem.energy import E_GRAVITATIONAL, energies
 
@@ -283,6 +289,11 @@ def main():
     ap.add_argument("--at", type=int, nargs="+", default=[10000])
     ap.add_argument("--steps", type=int, default=5000)
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument(
+        "--chain", choices=("paper", "standard"), default="paper",
+        help="paper: the clump chain beside its box twin; standard: the standard 40-domino"
+        " 3D chain of standard_chain_vs_mujoco.py as the package's defaults build it",
+    )  # fmt: skip
     args = ap.parse_args()
     read = _read_cost(1000)
     _cycles_now()  # (compilation)
@@ -291,7 +302,8 @@ def main():
     rate = (_cycles_now() - c0) / (time.perf_counter() - t0)
     chain = DominoChain(ChainParams(n_dominoes=args.n, model=args.model, stiffness_ratio=1e4))
     push = chain.resolve(None)
-    print(f"N = {args.n}, model {args.model}; counter {rate / 1e9:.3f} GHz, one read "
+    what = "the standard chain" if args.chain == "standard" else f"N = {args.n}, model {args.model}"
+    print(f"{what}; counter {rate / 1e9:.3f} GHz, one read "
           f"{read:.0f} cycles; us per step (CPU, shares of the cycles; median of "
           f"{args.repeat} x {args.steps} steps)")  # fmt: skip
     cols = ["head", "list: spheres", "list: boxes", "spheres", "boxes: visit", "boxes: reach",
@@ -300,14 +312,29 @@ def main():
     print("| chain | step | moving | box rows | sphere contacts | " + " | ".join(cols) + " |")
     print("|---" * (5 + len(cols)) + "|")
     for at in args.at:
-        clump, _ = chain.build(push, record=False, track_energy=False)
-        box = box_chain(chain, push.omega, clump.dt)
-        for name, sim in (("clump", clump), ("box", box)):
+        if args.chain == "standard":
+            sims = (("standard", standard_chain()),)
+        else:
+            clump, _ = chain.build(push, record=False, track_energy=False)
+            sims = (("clump", clump), ("box", box_chain(chain, push.omega, clump.dt)))
+        for name, sim in sims:
             name, at_, moving, rows, nc, us = profile(
                 name, sim, at, args.steps, args.repeat, rate, read
             )
             vals = " | ".join(f"{us[c]:.2f}" for c in cols)
             print(f"| {name} | {at_} | {moving} | {rows} | {nc} | {vals} |", flush=True)
+
+
+def standard_chain():
+    """The standard 40-domino 3D chain (gap 9.38 mm, friction 0.3) as the package's
+    defaults build it (softened contact at T_c/20, dominoes held until touched), without
+    recorders; the profile does not put dominoes to sleep."""
+    p = standard_domino(
+        gap=0.00938, floor="felt", n_dominoes=40, friction_dominoes=0.3, friction_floor=0.3
+    )
+    chain = DominoChain(p)
+    sim, _ = chain.build(Push(omega=math.sqrt(p.g / p.height)), record=False, track_energy=False)
+    return sim
 
 
 @njit(cache=False, _nrt=False)

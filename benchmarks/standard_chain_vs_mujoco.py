@@ -13,6 +13,8 @@ reported with its speed:
 * the same until the wave touches the last domino (``tail_time=0``, no aftermath), where
   MuJoCo's loop stops too: the run that gives the speed and nothing else;
 * dominowave at the plastic's own stiffness (``fidelity="exact"``);
+* dominowave at a looser tolerance (``--tolerances``, default 5 %: the error of MuJoCo's
+  default run), whole and to the last touch: the comparison at the same accuracy;
 * dominowave with the stiffness set by ``stiffness_ratio`` (``--ratios``);
 * with ``--breakdown``, the defaults' settings taken away one at a time, to show where
   their time comes from: every domino free (``held=False``) and awake (``sleep=False``)
@@ -27,7 +29,8 @@ warm-up run first); of MuJoCo: its stepping loop (model build and settling exclu
 
 Usage::
 
-    python benchmarks/standard_chain_vs_mujoco.py [--repeat 3] [--ratios 1e4,1e5] [--breakdown]
+    python benchmarks/standard_chain_vs_mujoco.py [--repeat 3] [--tolerances 0.05]
+        [--ratios 1e4,1e5] [--breakdown]
 """
 
 from __future__ import annotations
@@ -75,6 +78,11 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3, help="interleaved rounds")
     parser.add_argument("--ratios", default="1e4,1e5", help="stiffness ratios k/k* to add")
     parser.add_argument(
+        "--tolerances",
+        default="0.05",
+        help="fidelity tolerances to add (a run each, whole and to the last touch)",
+    )
+    parser.add_argument(
         "--breakdown", action="store_true", help="add the defaults' settings one at a time"
     )
     args = parser.parse_args()
@@ -83,6 +91,11 @@ def main() -> None:
         "dominowave, defaults, to the last touch": lambda: dominowave_run(None, tail_time=0.0),
         "dominowave, fidelity exact": lambda: dominowave_run(None, "exact"),
     }
+    for tol in (float(t) for t in args.tolerances.split(",") if t):
+        configs[f"dominowave, fidelity {100 * tol:g} %"] = lambda f=tol: dominowave_run(None, f)
+        configs[f"dominowave, fidelity {100 * tol:g} %, to the last touch"] = lambda f=tol: (
+            dominowave_run(None, f, tail_time=0.0)
+        )
     if args.breakdown:
         awake = {"held": False, "sleep": False}
         configs.update({
