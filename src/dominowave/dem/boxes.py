@@ -1203,8 +1203,7 @@ _BOX_ARRAYS = (
 rows being built, the manifold of one pair, the visited pairs, the change list), written
 before it is read."""
 _SPHERE_LIST = ("sphere_cand", "n_sphere_cand", "sphere_cand_start")
-"""The box-sphere candidate list; a state without it restores none (every pair a
-candidate until the next build: the same forces)."""
+"""The box-sphere candidate list."""
 
 
 def box_state(boxes) -> dict[str, np.ndarray]:
@@ -1226,14 +1225,16 @@ def box_state(boxes) -> dict[str, np.ndarray]:
 def boxes_from_state(state: dict, n_spheres: int = 0) -> Boxes:
     """The :class:`Boxes` of a :func:`box_state` dict (keys without a prefix), with the
     row capacity of a freshly built scene of the same boxes and ``n_spheres`` spheres
-    (:func:`empty_boxes`)."""
+    (:func:`empty_boxes`).  Every key of :func:`box_state` must be there (a state of an
+    older layout is brought to the current one first: dem.simulation's ``_upgraded``)."""
+    missing = [k for k in box_state(empty_boxes()) if k not in state]
+    if missing:
+        raise ValueError(f"state is missing 'boxes.{missing[0]}'")
     boxes = empty_boxes(
         state["body"], state["half"], state["radius"], state["material"],
         int(np.asarray(state["normal_law"]).reshape(-1)[0]), n_spheres,
     )  # fmt: skip
     for group in ("rows", "sphere_rows", "dormant"):
-        if f"{group}.n" not in state:  # (box-sphere rows: a state of a scene without any)
-            continue
         n = int(np.asarray(state[f"{group}.n"]).reshape(-1)[0])
         rows = getattr(boxes, group)
         if n > rows.i.shape[0]:
@@ -1245,14 +1246,11 @@ def boxes_from_state(state: dict, n_spheres: int = 0) -> Boxes:
             if name != "n":
                 value[:n] = np.asarray(state[f"{group}.{name}"]).astype(value.dtype)
         rows.n[0] = n
-    if "n_sphere_cand" in state:
-        boxes = boxes._replace(
-            **{name: np.array(state[name], np.int64).reshape(-1) for name in _SPHERE_LIST}
-        )
+    boxes = boxes._replace(
+        **{name: np.array(state[name], np.int64).reshape(-1) for name in _SPHERE_LIST}
+    )
     cand = np.array(state["cand"], np.int64)
-    if "held_at_build" in state:  # (else every box counts as held at the build: a run
-        # in which one is free builds the list again at its start)
-        boxes.held_at_build[:] = np.asarray(state["held_at_build"], np.uint8)
+    boxes.held_at_build[:] = np.asarray(state["held_at_build"], np.uint8)
     return boxes._replace(
         cand=cand,
         n_cand=np.array(state["n_cand"], np.int64).reshape(1),

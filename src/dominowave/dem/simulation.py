@@ -52,16 +52,20 @@ STATE_FORMAT = 3
 """Version of the layout of :meth:`Simulation.get_state` (key ``state_format``).
 1 (files without the key): no ``settings.planar``, ``planar_kernels``,
 ``mats.shear_kinematics``, material-pair tables or Hertz tables, and the stiffness rule
-of materials giving k_n as the flag ``mats.given_kn``; 2: no sleeping boxes
-(``settings.sleep_speed``, ``settings.sleep_time``, ``bodies.calm_since``);
-:func:`_upgraded` reads both."""
+of materials giving k_n as the flag ``mats.given_kn``, and possibly no record of which
+boxes were held at the last list build or of the box-sphere list; 2: no sleeping boxes
+(``settings.sleep_speed``, ``settings.sleep_time``, ``bodies.calm_since``, the rows of
+resting pairs ``boxes.dormant.*``); :func:`_upgraded` reads both."""
 
 
 def _upgraded(state: dict, n_materials: int) -> dict:
     """``state`` in the layout of :data:`STATE_FORMAT`: an older state with the values its
     scene had implicitly (format 1: planar kernels allowed, the contact-point shear
-    kinematics, the min rule of the pair tables, linear contacts; formats 1 and 2: no
-    sleeping); a state of a newer format is refused."""
+    kinematics, the min rule of the pair tables, linear contacts, every box held at the
+    last list build -- a run in which one is free builds the list again at its start --
+    and no box-sphere list -- every pair a candidate until the next build, the same
+    forces; formats 1 and 2: no sleeping, no resting rows put aside); a state of a newer
+    format is refused."""
     version = int(np.asarray(state.get("state_format", 1)))
     if version == STATE_FORMAT:
         return state
@@ -87,6 +91,11 @@ def _upgraded(state: dict, n_materials: int) -> dict:
         **state,
         "state_format": np.array(STATE_FORMAT),
     }
+    if "boxes.body" in state:  # (what a freshly built scene of its boxes has)
+        law = int(np.asarray(state["boxes.normal_law"]).reshape(-1)[0])
+        shape = (state[f"boxes.{k}"] for k in ("body", "half", "radius", "material"))
+        built = empty_boxes(*shape, law)
+        state = {**{f"boxes.{k}": v for k, v in box_state(built).items()}, **state}
     given = np.asarray(state.pop("mats.given_kn", [0])).reshape(-1)
     if given.size and given[0] == 1:
         state["mats.rule"] = np.array([RULE_GIVEN], np.int64)
