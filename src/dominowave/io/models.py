@@ -37,6 +37,11 @@ class _HingedRun(ScenarioModel):
 
     PARAMS: ClassVar[type]
     """The parameter dataclass the physical fields are derived from."""
+    RECORDS_FRAMES: ClassVar = True
+    """Both kinds record frames of the dominoes' angles (the rods at the interval of
+    :func:`dominowave.sweep.run_rods.frame_schedule`)."""
+    EXAMPLE_STIFFNESS_RATIOS: ClassVar[tuple[float, ...]]
+    """The stiffness ratios k/k* of the kind's example sweep (:meth:`example_grid`)."""
     ALTERNATIVES: ClassVar = (("stiffness", "stiffness_ratio"),)
     """Groups of fields that give the same quantity: giving one unsets the others."""
     RENAMED: ClassVar = {
@@ -104,6 +109,11 @@ class _HingedRun(ScenarioModel):
         k, conv = self.contact_stiffness, getattr(self, "stiffness_convention", "paper")
         return theory.pair_regime_holds(beta, self.height, self.mass, k, self.g, conv)
 
+    @classmethod
+    def example_grid(cls) -> dict[str, list]:
+        """The example sweep: three spacing ratios d/l by the kind's stiffness ratios k/k*."""
+        return {"d_over_l": [0.2, 0.4, 0.6], "stiffness_ratio": list(cls.EXAMPLE_STIFFNESS_RATIOS)}
+
 
 _PUSH_OMEGA = (
     float,
@@ -111,28 +121,42 @@ _PUSH_OMEGA = (
 )
 
 
+def _hinged_scenario(name: str, base: type[_HingedRun], summary: str, **run_fields):
+    """The study model ``name`` of a hinged-chain kind (theory, rods).
+
+    Its fields: the physical ones, derived from ``base.PARAMS`` (names, defaults, SI units,
+    ranges), the push ``push_omega`` [rad/s], and ``run_fields`` (``name=(type, quantity)``:
+    how the kind's run is driven). Its docstring: ``summary``, then where the fields come
+    from.
+    """
+    params = base.PARAMS
+    extra = " and ".join(f"``{field}``" for field in ("push_omega", *run_fields))
+    return create_model(
+        name,
+        __base__=base,
+        __doc__=(
+            f"{summary}\n\nThe physical fields are those of"
+            f" :class:`{params.__module__}.{params.__qualname__}` (names, defaults, units,"
+            f" ranges), plus {extra}."
+        ),
+        __module__=__name__,
+        **fields_from_parameters(params),
+        push_omega=_PUSH_OMEGA,
+        **run_fields,
+    )
+
+
 class _TheoryRun(_HingedRun):
     kind: Literal["theory"] = "theory"
     PARAMS: ClassVar = TheoryParams
-    RECORDS_FRAMES: ClassVar = True
     RENAMED: ClassVar = {**_HingedRun.RENAMED, "friction": "friction_floor"}
-
-    @classmethod
-    def example_grid(cls) -> dict[str, list]:
-        return {"d_over_l": [0.2, 0.4, 0.6], "stiffness_ratio": [100.0, 1e4]}
+    EXAMPLE_STIFFNESS_RATIOS: ClassVar = (100.0, 1e4)
 
 
-TheoryScenario = create_model(
+TheoryScenario = _hinged_scenario(
     "TheoryScenario",
-    __base__=_TheoryRun,
-    __doc__=(
-        "Closed-form wave of the paper (EJ rigid limit + finite collision time, eqs 2-42)."
-        "\n\nThe physical fields are those of :class:`dominowave.chain.params.TheoryParams`"
-        " (names, defaults, units, ranges), plus ``push_omega`` and ``n_frames``."
-    ),
-    __module__=__name__,
-    **fields_from_parameters(TheoryParams),
-    push_omega=_PUSH_OMEGA,
+    _TheoryRun,
+    "Closed-form wave of the paper (EJ rigid limit + finite collision time, eqs 2-42).",
     n_frames=(
         int,
         quantity(
@@ -149,29 +173,18 @@ TheoryScenario = create_model(
 class _RodsRun(_HingedRun):
     kind: Literal["rods"] = "rods"
     PARAMS: ClassVar = RodsParams
-    RECORDS_FRAMES: ClassVar = True  # interval: dominowave.sweep.run_rods.frame_schedule
     RENAMED: ClassVar = {
         **_HingedRun.RENAMED,
         "contact_friction": "friction_dominoes",
         "floor_restitution": "restitution_floor",
     }
-
-    @classmethod
-    def example_grid(cls) -> dict[str, list]:
-        return {"d_over_l": [0.2, 0.4, 0.6], "stiffness_ratio": [1e3, 1e4]}
+    EXAMPLE_STIFFNESS_RATIOS: ClassVar = (1e3, 1e4)
 
 
-RodsScenario = create_model(
+RodsScenario = _hinged_scenario(
     "RodsScenario",
-    __base__=_RodsRun,
-    __doc__=(
-        "Hinged compliant dominoes simulated with Newton's laws (dominowave.rods)."
-        "\n\nThe physical fields are those of :class:`dominowave.chain.params.RodsParams`"
-        " (names, defaults, units, ranges), plus ``push_omega`` and ``steps_per_contact``."
-    ),
-    __module__=__name__,
-    **fields_from_parameters(RodsParams),
-    push_omega=_PUSH_OMEGA,
+    _RodsRun,
+    "Hinged compliant dominoes simulated with Newton's laws (dominowave.rods).",
     steps_per_contact=(
         float,
         quantity(50.0, "", "time steps per shortest possible contact (>= 50 is standard)", ge=20),

@@ -177,18 +177,13 @@ def run_fig6(
     preset order) and returns what the sweep stored.
     """
     out_dir = Path(out_dir)
-
-    def on_point(config, outcome):
-        if progress is not None and outcome.status == "ok":
-            progress(outcome.result.summary)
-
     done = run_preset(
         fig6_points(preset),
         out_dir,
         workers=workers or min(2, os.cpu_count() or 1),
         scheduler=scheduler,
         client=client,
-        on_point=on_point,
+        progress=progress,
     )
     rows = sorted(
         (s for s in done.summaries if s is not None),

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from operator import attrgetter
 from pathlib import Path
 
 from dominowave import signals
@@ -38,6 +39,11 @@ __all__ = [
 ]
 
 
+def _of_stepper(name: str, doc: str) -> property:
+    """A read-only property that reads ``name`` of the wrapped stepper ``self.stepper``."""
+    return property(attrgetter(f"stepper.{name}"), doc=doc)
+
+
 class ScenarioStepper:
     """A scenario's stepper that wraps a simulation's own stepper (``self.stepper``).
 
@@ -48,21 +54,10 @@ class ScenarioStepper:
 
     stepper = None  # the simulation's stepper, set by the subclass
 
-    @property
-    def time(self) -> float:
-        return self.stepper.time
-
-    @property
-    def end_time(self) -> float:
-        return self.stepper.end_time
-
-    @property
-    def steps(self) -> int:
-        return self.stepper.steps
-
-    @property
-    def toppled(self) -> int:
-        return self.stepper.toppled
+    time = _of_stepper("time", "Simulated time so far [s].")
+    end_time = _of_stepper("end_time", "Simulated time at which the run ends [s].")
+    steps = _of_stepper("steps", "Time steps taken so far.")
+    toppled = _of_stepper("toppled", "Dominoes toppled so far.")
 
     @property
     def dominoes(self) -> int:

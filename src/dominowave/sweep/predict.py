@@ -310,18 +310,13 @@ def predict(
         fidelity=fidelity,
     )
     out_dir = Path(out_dir)
-
-    def on_point(config, outcome):
-        if progress is not None and outcome.status == "ok":
-            progress(outcome.result.summary)
-
     done = run_preset(
         points,
         out_dir,
         workers=workers or min(2, os.cpu_count() or 1),
         scheduler=scheduler,
         client=client,
-        on_point=on_point,
+        progress=progress,
     )
     speed = _summary_column(done.summaries, "speed")
     prediction = _analyse(gap, floor, problem, x, speed, fixed, done)

@@ -62,17 +62,22 @@ def run_preset(
     scheduler: str | None = None,
     client=None,
     quiet: bool = True,
-    on_point: Callable | None = None,
+    progress: Callable[[dict], None] | None = None,
     with_events: bool = False,
 ) -> PresetRun:
     """Run (or resume) the points in the sweep folder ``out``; read them back in order.
 
     ``workers``: processes of the LocalCluster (ignored with ``scheduler`` or
-    ``client``); ``on_point(config, outcome)`` is called after each point run now;
-    ``with_events`` also reads each point's ``events.csv``.
+    ``client``); ``progress(summary)`` is called with the summary of each point that
+    ran now without failing; ``with_events`` also reads each point's ``events.csv``.
     """
     if not points:
         raise ValueError("the preset has no points")
+
+    def on_point(config, outcome):
+        if progress is not None and outcome.status == "ok":
+            progress(outcome.result.summary)
+
     report = run_sweep(
         preset_study(points, out),
         out,
