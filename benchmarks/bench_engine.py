@@ -33,18 +33,14 @@ import numpy as np
 from numba import njit
 
 from dominowave.dem import Material, Scene
-from dominowave.dem.contact import (
-    SHEAR_CONTACT_POINT,
-    build_verlet_list,
-    compute_forces,
-    needs_rebuild,
-)
+from dominowave.dem.contact import build_verlet_list, compute_forces, needs_rebuild
 from dominowave.dem.integrate import (
     drift,
     kick,
     update_listed_sphere_positions,
     update_sphere_positions,
 )
+from dominowave.dem.laws.tangential import SHEAR_CONTACT_POINT
 from dominowave.dem.planar import compute_forces_planar
 from dominowave.kernel_cache import install
 

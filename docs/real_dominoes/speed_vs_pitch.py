@@ -121,8 +121,8 @@ def theory_curve(floor, gaps) -> list[dict]:
 def restitution_damping_ratio(e: float | None) -> float:
     """Dashpot ratio ``zeta`` of a linear contact with restitution ``e`` (None: elastic),
     the DEM's rule ``e = exp(-zeta pi / sqrt(1 - zeta^2))``: ``c = 2 zeta sqrt(m k)``
-    of ``dem.contact.viscous_coefficient`` at ``m = k = 1``."""
-    from dominowave.dem.contact import viscous_coefficient
+    of ``dem.laws.linear.viscous_coefficient`` at ``m = k = 1``."""
+    from dominowave.dem.laws.linear import viscous_coefficient
 
     return 0.0 if e is None else float(viscous_coefficient(e, 1.0, 1.0)) / 2.0
 

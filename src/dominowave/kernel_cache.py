@@ -5,7 +5,7 @@ function on disk and loads it while the function's *own* source file is unchange
 content hash, or its modification time in older numba).  A compiled kernel also holds
 the code of every function it calls, inlined or not, and the values of the globals it
 reads, from other files: the DEM time loop (``dem/engine.py``) contains the contact
-geometry (``dem/shapes``), the contact law (``dem/point_law.py``) and the integrator.
+geometry (``dem/shapes``), the contact law (``dem/laws/point.py``) and the integrator.
 With numba's own stamp an edit of the contact law in an editable install would leave the
 cached time loop running the old law, with no sign of it.  :func:`install` gives every
 cached function of the package a stamp that includes a hash of every source file its

@@ -61,7 +61,7 @@ def test_validate_recorded_impulse_equals_the_momentum_change(planar):
     """Recorded every step, the forces on box 1 summed times dt equal its momentum change
     m (v_after - v_before) to round-off (the Hertz law: its force vanishes at zero
     overlap, so no end impulse of the linear law's onset/end averaging, which is not a
-    row, contact.end_impulse, is missing); the torque about its centre from the recorded
+    row, laws.linear.end_impulse, is missing); the torque about its centre from the recorded
     points likewise equals the change of its angular momentum; the peak normal force of
     the pair is the largest recorded normal force of one point."""
     sim = _collision(planar)

@@ -35,7 +35,7 @@ SCENES = {
     "chain2d_free": (dict(n_dominoes=10, model="2d", held=False), 6000),
 }
 HERTZ_STEPS = 13000
-HERTZ_ALPHA = 0.3588733627771574  # hertz.hertz_damping_ratio(0.6) where the arrays were written
+HERTZ_ALPHA = 0.3588733627771574  # hertz_damping_ratio(0.6) where the arrays were written
 
 
 def _chain(fields):
@@ -63,7 +63,7 @@ def _hertz_chain():
         scene.add_box(centre, half, r, mat, velocity=v, angular_velocity=w, held=n > 0)
     sim = scene.build(dt=2e-6, track_energy=True, record_pairs=True, impact_speed=0.5)
     # the Tsuji ratio of e = 0.6 as on the machine that wrote the arrays: the ratio is the
-    # root of an ODE solution (hertz.hertz_damping_ratio), found to ~1e-12, and its last
+    # root of an ODE solution (laws.hertz.hertz_damping_ratio), found to ~1e-12, and its last
     # digits follow the BLAS kernel NumPy picks for the processor
     assert sim.mats.hertz_damping[0, 0] == pytest.approx(HERTZ_ALPHA, rel=1e-10)
     sim.mats.hertz_damping[0, 0] = HERTZ_ALPHA

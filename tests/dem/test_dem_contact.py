@@ -9,11 +9,10 @@ from dominowave.dem.contact import (
     RULE_GIVEN,
     RULE_PAPER,
     RULE_YADE,
-    end_impulse,
     pair_stiffness,
     particle_stiffness,
-    viscous_coefficient,
 )
+from dominowave.dem.laws.linear import end_impulse, viscous_coefficient
 
 G = 9.81
 
@@ -132,7 +131,7 @@ def test_validate_sphere_sphere_friction_rolling_free_of_slip():
 
 def test_validate_collision_restitution_error_order(two_sphere_scene):
     """Elastic collision across the kink of the linear law at zero overlap: with the
-    onset/end corrections (contact.onset_averaged_overlap, contact.end_impulse) the
+    onset/end corrections (laws.linear.onset_averaged_overlap, laws.linear.end_impulse) the
     restitution error of one collision is below 0.5 (omega dt)^4 for every impact phase
     (fourth order; the plain midpoint rule gives ~0.1 (omega dt)^2)."""
     m_r = sphere_mass() / 2.0
@@ -175,7 +174,7 @@ def test_validate_closed_contact_near_zero_overlap_is_not_modified():
 
 
 def test_validate_end_impulse_is_the_missed_linear_impulse():
-    """contact.end_impulse against the exact impulse of a linearly opening contact: the
+    """laws.linear.end_impulse against the exact impulse of a linearly opening contact: the
     kick of the last step in contact plus the end kick carry k * integral of the overlap
     from t_n - dt/2 on, and c * (overlap at t_n - dt/2) for the dashpot."""
     kn, cn, dt, v = 3e3, 2.0, 1e-5, 0.2

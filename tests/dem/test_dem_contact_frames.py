@@ -52,7 +52,7 @@ def test_validate_resting_sphere_carries_its_weight():
 def test_validate_head_on_force_is_kn_times_overlap(two_sphere_scene):
     """Head-on elastic collision recorded every step: force on the second sphere is
     ``k_n (2R - |x2 - x1|)`` along +x from the recorded positions; at the onset frame it
-    is k_n times the overlap averaged over the kick interval (contact.onset_averaged_overlap,
+    is k_n times the overlap averaged over the kick interval (laws.linear.onset_averaged_overlap,
     with the free-flight approach speed 2 v)."""
     v, kn = 0.1, 1e4
     sim = two_sphere_scene(velocity=v, kn=kn).build()

@@ -1,4 +1,4 @@
-"""Hertz normal law of the box contacts (dem/hertz.py, ``Scene(normal_law="hertz")``):
+"""Hertz normal law of the box contacts (dem/laws/hertz.py, ``Scene(normal_law="hertz")``):
 impacts against the closed forms of Hertz's theory, the Tsuji dashpot against the set
 restitution and an energy integral, resting contacts, the step estimate, bad input."""
 
@@ -10,7 +10,7 @@ from scipy.integrate import quad
 from scipy.spatial.transform import Rotation
 
 from dominowave.dem import Material, Scene
-from dominowave.dem.hertz import (
+from dominowave.dem.laws.hertz import (
     hertz_coefficient,
     hertz_damping_ratio,
     hertz_modulus,

@@ -211,7 +211,7 @@ def test_validate_sphere_slides_over_a_sphere_with_the_friction_of_its_pair():
 
 def test_sphere_pair_properties_take_the_pair_values_and_the_min_rule_elsewhere():
     """pair_properties: the set pair's mu, the min rule for the pairs not set, and the
-    dashpot of the set restitution (contact.viscous_coefficient with the reduced mass)."""
+    dashpot of the set restitution (laws.linear.viscous_coefficient with the reduced mass)."""
     scene = Scene()
     a = scene.add_material(Material(density=RHO, kn=1e5, friction=0.5, restitution=0.9))
     b = scene.add_material(Material(density=RHO, kn=1e5, friction=0.3, restitution=0.8))

@@ -7,7 +7,7 @@ import pytest
 from dem_scenes import RHO, R, sphere_mass
 
 from dominowave.dem import Material, Scene, Simulation
-from dominowave.dem.contact import yade_shear_velocity
+from dominowave.dem.laws.tangential import yade_shear_velocity
 
 G = 9.81
 KINEMATICS = ("contact_point", "yade")
@@ -47,7 +47,7 @@ def test_validate_sphere_slides_then_rolls(kinematics, direction, planar):
     ``t* = s0 / (mu g (1 + 5 rho^2/(2 R^2)))`` (= 2 (v0 - R w0) / (7 mu g) for rho = R);
     afterwards it rolls at ``v0 - mu g t*`` (= (5 v0 + 2 R w0) / 7).  Both shear
     kinematics obey it: they differ only while the contact sticks (test below), and the
-    rolling condition ``s = 0`` is the same for both (contact.yade_shear_velocity).  In the
+    rolling condition ``s = 0`` is the same for both (laws.tangential.yade_shear_velocity).  In the
     xz plane (planar kernels) and along a diagonal in 3D (general kernels)."""
     mu, v0, w0 = 0.3, 0.2, -10.0
     sim, delta, e, spin_axis = _sliding_sphere(kinematics, direction, mu, v0, w0, planar=planar)

@@ -71,7 +71,7 @@ nothing but the cost (docs/shape.md, "Holding a box until it is touched"); the c
 **Hertz contacts** (``normal_law = "hertz"``, box only, with ``young`` and ``poisson``): every
 contact point of a box pushes with Hertz's ``F = K delta^{3/2}``, ``K = 4/3 E* sqrt(r)``,
 ``1/E* = 2 (1 - nu^2) / E`` (two bodies of the same material; the floor is given the
-dominoes' material), the rounding ``r`` as the radius of curvature (``dem.hertz``), and the
+dominoes' material), the rounding ``r`` as the radius of curvature (``dem.laws.hertz``), and the
 Tsuji dashpot of the pair's restitution.  The tangential spring stays the linear rule's
 (``kt_ratio`` times ``pi r E / 2``, eq 24 with ``R = r``): ``contact_stiffness`` is that spring,
 and the theory's estimates (time step, travel time) use it.  A box stands at its Hertz sink:

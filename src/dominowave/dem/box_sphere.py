@@ -5,9 +5,9 @@ Each step :func:`box_sphere_forces` visits every (box, sphere) pair of different
 within reach and applies to its contact point (``shapes.cuboid.box_sphere``, or
 ``shapes.rectangle.rect_sphere`` in a planar scene: the centre of the sphere against the
 core box, overlap ``r_box + R - distance``; face, edge or vertex region implicit) the law
-of the box-box points, through the same code (boxes._point_row, point_law.point_law):
+of the box-box points, through the same code (boxes._point_row, laws.point.point_law):
 linear normal force ``k_n delta - c_n v_n`` with the onset average of the overlap and
-the end impulse (contact.onset_averaged_overlap, contact.end_impulse); Cundall-Strack
+the end impulse (laws.linear.onset_averaged_overlap, laws.linear.end_impulse); Cundall-Strack
 friction with one shear history per pair; the dashpot from the pair's restitution and
 the effective mass at the contact point (boxes.inverse_mass_at); stiffness, friction and
 restitution of the material pair (boxes.material_pair: the rounding and the sphere's

@@ -6,19 +6,20 @@ in its principal frame and rounding radius ``r``.  Each step :func:`box_forces` 
 contact manifold of every box-box and box-wall pair within reach (``shapes.cuboid`` in 3D,
 ``shapes.rectangle`` in a planar scene, each of whose points counts twice: the two ends
 of a cuboid edge along y) and applies to every point the contact law of the spheres
-(point_law.point_law, one pure per-point function, built from the per-pair functions
+(laws.point.point_law, one pure per-point function, built from the per-pair functions
 of contact.py; box_sphere.py applies it to the box-sphere points):
 
 * normal ``F_n = k_n delta - c_n v_n`` (linear), with the onset average of the overlap
-  (contact.onset_averaged_overlap) and the end impulse (contact.end_impulse); or, in a
-  scene with ``normal_law="hertz"``, ``K delta^{3/2} - c_n delta^{1/4} v_n`` (hertz.py:
-  the rounding radius as curvature, the Tsuji dashpot);
-* tangential Cundall-Strack (contact.rotate_shear, contact.cundall_strack), one shear
-  history per contact point, carried from step to step by the point's feature key (a
-  touching point with a new key continues the nearest unmatched old point of its pair, so
-  that a contact keeps its history when its touching feature pair changes);
+  (laws.linear.onset_averaged_overlap) and the end impulse (laws.linear.end_impulse); or,
+  in a scene with ``normal_law="hertz"``, ``K delta^{3/2} - c_n delta^{1/4} v_n``
+  (laws/hertz.py: the rounding radius as curvature, the Tsuji dashpot);
+* tangential Cundall-Strack (laws.tangential.rotate_shear,
+  laws.tangential.cundall_strack), one shear history per contact point, carried from
+  step to step by the point's feature key (a touching point with a new key continues the
+  nearest unmatched old point of its pair, so that a contact keeps its history when its
+  touching feature pair changes);
 * the dashpot ``c_n`` from the pair's restitution (contact.pair_friction_restitution: its own
-  value, or ``min(e_i, e_j)``; contact.viscous_coefficient)
+  value, or ``min(e_i, e_j)``; laws.linear.viscous_coefficient)
   and the effective mass AT THE CONTACT POINT along the normal,
   ``1/m_eff = 1/m_i + 1/m_j + (r_i x n) . I_i^-1 (r_i x n) + (r_j x n) . I_j^-1 (r_j x n)``
   (the impulse-response of two rigid bodies at a point, e.g. Brach, Mechanical Impact
@@ -57,20 +58,20 @@ from dominowave.dem.contact import (
     _candidate_pairs,
     _scan_walls,
     apply_at_lever,
-    end_impulse,
     pair_friction_restitution,
     pair_stiffness,
     particle_stiffness,
 )
 from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
-from dominowave.dem.hertz import (
+from dominowave.dem.integrate import ROT_AXIS, ROT_FREE, ROT_ISOTROPIC
+from dominowave.dem.laws.hertz import (
     LAW_HERTZ,
     LAW_LINEAR,
     hertz_coefficient,
     hertz_modulus,
 )
-from dominowave.dem.integrate import ROT_AXIS, ROT_FREE, ROT_ISOTROPIC
-from dominowave.dem.point_law import onset_dashpot, point_law
+from dominowave.dem.laws.linear import end_impulse
+from dominowave.dem.laws.point import onset_dashpot, point_law
 from dominowave.dem.shapes.cuboid import MAX_POINTS, box_box, box_plane, faces_separate
 from dominowave.dem.shapes.rectangle import (
     PLANAR_MULTIPLICITY,
@@ -108,7 +109,7 @@ Boxes = namedtuple(
         "half",  # (nx, 3) core half-extents in the body frame [m]
         "radius",  # (nx,) rounding radius [m]
         "material",  # (nx,) int material id
-        "normal_law",  # (1,) int: hertz.LAW_LINEAR or hertz.LAW_HERTZ
+        "normal_law",  # (1,) int: laws.hertz.LAW_LINEAR or LAW_HERTZ
         "rows",  # BoxContacts of the last step
         "next",  # BoxContacts being built (scratch)
         "m_normal",  # (MAX_POINTS, 3) scratch: the manifold of one pair (shapes.cuboid)
@@ -194,7 +195,7 @@ def _empty_rows(capacity):
 
 def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR, n_spheres=0):
     """The box state of a scene (no box: zero-length arrays); ``normal_law`` one of
-    hertz.NORMAL_LAWS' values; ``n_spheres`` the scene's spheres (the box-sphere rows
+    laws.hertz.NORMAL_LAWS' values; ``n_spheres`` the scene's spheres (the box-sphere rows
     hold one contact of every sphere with each of up to 6 boxes: a box lying on a bed of
     spheres touches many of them)."""
     body = np.asarray(body, np.int64).reshape(-1)
@@ -646,7 +647,7 @@ def material_pair(mats, ma, ra, mb, rb, out):
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _hertz_radius(ra, rb, wall):
-    """R* [m] of a Hertz contact point (hertz.py): ``r_a`` on a wall, ``2 r_a r_b / (r_a +
+    """R* [m] of a Hertz contact point (laws/hertz.py): ``r_a`` on a wall, ``2 r_a r_b / (r_a +
     r_b)`` between two boxes (= r for equal radii: a rounded vertex on a face, or two
     rounded edges crossing at a right angle)."""
     if wall:
@@ -728,7 +729,7 @@ def _relative_velocity(bodies, vel, omega, bi, bj, wall, p):
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _end(bodies, old, q, gap, dt, bi, bj, wall, ledger, hertz):
     """Old row q opened in the last drift (now ``gap <= 0``): the end impulse the last kick
-    missed (contact.end_impulse; none for the Hertz law, whose force vanishes smoothly),
+    missed (laws.linear.end_impulse; none for the Hertz law, whose force vanishes smoothly),
     and the release of its shear spring."""
     f_el, f_visc = 0.0, 0.0
     if not hertz:
@@ -781,7 +782,7 @@ def _open_row(new, c, a, j, key, mult, normal, point):
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _point_row(bodies, old, new, c, q, props, ba, bj, wall, overlap, dt, first_step, hertz, ledger):
-    """The contact law (point_law.point_law) at the point of row c of ``new`` between body
+    """The contact law (laws.point.point_law) at the point of row c of ``new`` between body
     ``ba`` (the box) and its partner (body ``bj``, or a wall), shared by box_forces and
     box_sphere.box_sphere_forces.  The row's pair, key, multiplicity, normal and point are
     written; it continues old row q, or is a fresh point (q < 0) with the constants
@@ -817,8 +818,8 @@ def _point_row(bodies, old, new, c, q, props, ba, bj, wall, overlap, dt, first_s
     dv0, dv1, dv2 = _relative_velocity(bodies, bodies.vel, bodies.omega, ba, bj, wall, p)
     spin = _spin(bodies.omega, ba, bj, wall, n0, n1, n2)
     fn, fn_viscous, vn, u0, u1, u2, released, f0, f1, f2 = point_law(
-        overlap, n0, n1, n2, dv0, dv1, dv2, spin, u0, u1, u2, vn_old, fresh,
-        new.kn[c], new.kt[c], new.mu[c], new.cn[c], dt, first_step, hertz,
+        overlap, n0, n1, n2, dv0, dv1, dv2, dv0, dv1, dv2, 0.5 * spin * dt, u0, u1, u2,
+        vn_old, fresh, new.kn[c], new.kt[c], new.mu[c], new.cn[c], dt, first_step, hertz,
     )  # fmt: skip
     new.shear[c, 0], new.shear[c, 1], new.shear[c, 2] = u0, u1, u2
     ledger[LEDGER_FRICTION] += mult * released

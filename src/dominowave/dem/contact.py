@@ -1,37 +1,13 @@
-"""Contact detection and contact laws.
+"""Sphere contacts: the Verlet list, the pair geometry and the force driver.
 
-Each pair geometry and each contact law is a small pure function of one pair (jax-md
-style): :func:`sphere_sphere` and :func:`sphere_wall` (normal and overlap),
-:func:`contact_point`; :func:`linear_normal_force` (with :func:`onset_averaged_overlap` and
-:func:`end_impulse`), :func:`rotate_shear`, :func:`yade_shear_velocity` and
-:func:`cundall_strack`.  The drivers :func:`compute_forces`, :func:`contact_power` and
-:func:`active_contact_forces` (and the planar ones of planar.py) map them over the Verlet
-list.
-
-Laws (Cundall & Strack 1979, Geotechnique 29:47; YADE's Law2_ScGeom_FrictPhys_CundallStrack):
-
-* normal: ``F_n = k_n * delta`` (linear spring, delta = overlap) plus an optional viscous
-  dashpot ``-c_n * v_n`` (:func:`linear_normal_force`);
-* tangential: elastic shear displacement ``u_s`` accumulated from the tangential relative
-  velocity, ``F_s = -k_t u_s``, Coulomb limit ``|F_s| <= mu k_n delta``; on sliding ``u_s`` is
-  shortened to the limit; the energy this dissipates (YADE's plasticDissipation ``(|F_trial|
-  - |F_s|) |F_s| / k_t`` in steady sliding) is booked as the work of the tangential forces
-  that the springs do not store (:func:`contact_power`).  When the contact frame moves,
-  ``u_s`` is projected onto the new tangent plane with its length kept, then turned about
-  the normal by the mean spin of the two bodies (as YADE's ScGeom::rotate, but norm preserving).
-
-Shear kinematics (the scene's ``shear_kinematics``, :func:`yade_shear_velocity`): the
-shear increment is the tangential relative velocity of the two material points at the
-contact point times dt (``SHEAR_CONTACT_POINT``, the default: Cundall & Strack 1979; the
-rate whose product with the contact force is the power the force does on the bodies), or
-YADE's "ratcheting-free" rate (``SHEAR_YADE``: Ig2_Sphere_Sphere_ScGeom's
-avoidGranularRatcheting and Ig2_Wall_Sphere_ScGeom's noRatch, both on by default; McNamara,
-Garcia-Rojo & Herrmann, Phys. Rev. E 77, 031304 (2008)), which scales the relative
-velocity of the sphere centres by ``alpha = (R_i + R_j) / (R_i + R_j - delta)`` and turns
-the spins on the full radii.  For two equal spheres and a sphere on a wall the YADE rate is
-``alpha`` times the contact-point rate: the same rolling condition, the same force while
-sliding, but a tangential spring ``alpha`` times stiffer while sticking.  docs/dem.md gives
-the comparison with YADE.
+Each pair geometry is a small pure function of one pair (jax-md style):
+:func:`sphere_sphere` and :func:`sphere_wall` (normal and overlap), :func:`contact_point`.
+The driver :func:`compute_forces` maps them over the Verlet list and hands each contact
+point to the one law of every contact point of the engine (laws/point.py: the linear
+spring-dashpot of laws/linear.py with the Coulomb-limited shear spring of
+laws/tangential.py); :func:`contact_power` and :func:`active_contact_forces` read the
+contacts back (the planar kernels of planar.py are the same for a planar scene).  The
+pair properties (stiffness rule, friction and restitution per material pair) are here too.
 
 Sign convention: the unit normal ``n`` points from sphere ``i`` to its partner ``j``; the
 returned force acts on ``j`` (``-F`` on ``i``).
@@ -45,13 +21,14 @@ import numpy as np
 from numba import njit
 
 from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
+from dominowave.dem.laws.linear import end_impulse, viscous_coefficient
+from dominowave.dem.laws.point import point_law
+from dominowave.dem.laws.tangential import SHEAR_YADE, yade_shear_velocity
 
 __all__ = [
     "RULE_GIVEN",
     "RULE_PAPER",
     "RULE_YADE",
-    "SHEAR_CONTACT_POINT",
-    "SHEAR_YADE",
     "active_contact_forces",
     "apply_at_lever",
     "begin_contact",
@@ -59,35 +36,22 @@ __all__ = [
     "compute_forces",
     "contact_point",
     "contact_power",
-    "cundall_strack",
-    "dashpot_velocity",
     "end_contact",
-    "end_impulse",
     "idle_pair",
     "lever_arm",
-    "linear_normal_force",
     "log_change",
     "needs_rebuild",
-    "onset_averaged_overlap",
     "pair_friction_restitution",
     "pair_stiffness",
     "point_velocity",
-    "rotate_shear",
     "sphere_sphere",
     "sphere_wall",
-    "store_normal_force",
-    "viscous_coefficient",
-    "yade_shear_velocity",
 ]
 
 # the rule that turns the materials' stiffness into a contact's k_n (MaterialTable.rule)
 RULE_PAPER = 0  # Young's moduli, the paper's pi R E per particle in series
 RULE_YADE = 1  # Young's moduli, YADE's E R per particle
 RULE_GIVEN = 2  # contact stiffnesses k_n given per material
-
-# shear kinematics: what drives the shear displacement (module docstring)
-SHEAR_CONTACT_POINT = 0  # relative velocity of the material points at the contact point
-SHEAR_YADE = 1  # YADE's avoidGranularRatcheting / noRatch rate (yade_shear_velocity)
 
 ONSET = 1
 END = 0
@@ -141,23 +105,6 @@ def pair_friction_restitution(mats, m1, m2):
     if math.isnan(e):
         e = min(mats.restitution[m1], mats.restitution[m2])
     return mu, e
-
-
-@njit(cache=True, error_model="numpy")
-def viscous_coefficient(restitution, m_eff, kn):
-    """Dashpot coefficient c_n [N s/m] giving restitution ``e`` for a linear spring-dashpot.
-
-    Damped oscillator ``m x'' + c x' + k x = 0`` released at zero overlap, contact ended when
-    the overlap returns to zero: ``e = exp(-zeta pi / sqrt(1 - zeta^2))`` with
-    ``zeta = c / (2 sqrt(m k))``, i.e. ``zeta = -ln e / sqrt(pi^2 + ln^2 e)``
-    (e.g. Schwager & Poeschel, Phys. Rev. E 75, 051304 (2007), eq. 2-5; Antypov & Elliott,
-    EPL 94, 50004 (2011)).
-    """
-    if restitution >= 1.0:
-        return 0.0
-    log_e = math.log(restitution)
-    zeta = -log_e / math.sqrt(math.pi * math.pi + log_e * log_e)
-    return 2.0 * zeta * math.sqrt(m_eff * kn)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -678,148 +625,6 @@ def point_velocity(vel, omega, b, rx, ry, rz):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def rotate_shear(u0, u1, u2, n0, n1, n2, spin):
-    """The shear displacement ``u`` carried into the new tangent plane (normal ``n``, norm
-    kept), then turned about the normal by the angle ``spin`` [rad] (mean rotation of the
-    two bodies about it).  Returns the new ``u`` [m]."""
-    un = u0 * n0 + u1 * n1 + u2 * n2
-    if un != 0.0:  # (at an axis-aligned wall the shear stays exactly in its plane: un == 0)
-        old2 = u0 * u0 + u1 * u1 + u2 * u2
-        u0 -= un * n0
-        u1 -= un * n1
-        u2 -= un * n2
-        new2 = u0 * u0 + u1 * u1 + u2 * u2
-        if new2 > 0.0:
-            scale = math.sqrt(old2 / new2)
-            u0 *= scale
-            u1 *= scale
-            u2 *= scale
-    if spin != 0.0:
-        # Rodrigues for a vector perpendicular to n: u cos + (n x u) sin, with the Cayley
-        # (rational) cos/sin of the small angle: an exact rotation (norm kept) by
-        # 2 atan(spin/2) = spin (1 - spin^2/12 + ...), without trigonometric calls
-        h = 0.25 * spin * spin
-        cos_ = (1.0 - h) / (1.0 + h)
-        sin_ = spin / (1.0 + h)
-        x = n1 * u2 - n2 * u1
-        y = n2 * u0 - n0 * u2
-        z = n0 * u1 - n1 * u0
-        u0 = u0 * cos_ + x * sin_
-        u1 = u1 * cos_ + y * sin_
-        u2 = u2 * cos_ + z * sin_
-    return u0, u1, u2
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def yade_shear_velocity(dc0, dc1, dc2, a0, a1, a2, n0, n1, n2, rsum, overlap):
-    """YADE's relative velocity for the shear increment (its normal part is removed by the
-    caller), j minus i [m/s]: ``alpha (v_cj - v_ci) - (R_i w_i + R_j w_j) x n`` with
-    ``alpha = (R_i + R_j) / (R_i + R_j - delta)`` (ScGeom::getIncidentVel with
-    avoidGranularRatcheting; McNamara et al., Phys. Rev. E 77, 031304 (2008)).
-
-    ``dc`` = ``v_cj - v_ci`` the relative velocity of the two sphere *centres* (a clump
-    member's centre moves with ``v + w x (x_s - x_b)``), ``a`` = ``R_i w_i + R_j w_j``
-    [m rad/s], ``n`` the unit normal from i to j, ``rsum`` = ``R_i + R_j`` [m] (a wall
-    takes the sphere's radius: ``2 R_i``), ``overlap`` = delta [m].
-
-    The material points at the contact point move with ``v_ci + w_i x (R_i - delta/2) n``
-    and ``v_cj - w_j x (R_j - delta/2) n``; for ``R_i = R_j`` (and a wall) the YADE rate is
-    exactly ``alpha`` times their relative velocity.
-    """
-    alpha = rsum / (rsum - overlap)
-    return (
-        alpha * dc0 - (a1 * n2 - a2 * n1),
-        alpha * dc1 - (a2 * n0 - a0 * n2),
-        alpha * dc2 - (a0 * n1 - a1 * n0),
-    )
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def onset_averaged_overlap(overlap, vn, dt, new_contact):
-    """Contact onset inside a kick interval: the overlap averaged over the interval.
-
-    Leapfrog applies the force at t_n for the whole interval [t_n - dt/2, t_n + dt/2].
-    When a contact starts inside it, the force law has a kink (elastic) or a jump
-    (dashpot) there and the midpoint rule errs by O(dt^2) resp. O(dt) per collision.
-    With the overlap linear in time, ``delta(t) = delta_n + |vn| (t - t_n)`` (``vn < 0``
-    approaching), the part of the interval spent in contact is ``w = 1/2 + delta_n / (|vn|
-    dt)``, including the part of the preceding interval whose step saw no overlap, and the
-    average elastic overlap is ``|vn| dt w^2 / 2``.  Returns ``(w, averaged overlap)``.
-
-    Only a *new* contact that approaches is modified: a contact that has been closed
-    before is never changed while it stays closed (it may turn around near zero overlap
-    without opening); its end is corrected afterwards, see :func:`end_impulse`.
-    """
-    ramp = -vn * dt
-    if not new_contact or overlap >= ramp:  # (also every vn >= 0: ramp <= 0 < overlap)
-        return 1.0, overlap
-    w = 0.5 + overlap / ramp
-    return w, 0.5 * ramp * w * w
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def linear_normal_force(kn, cn, overlap, vn, weight):
-    """Normal force [N] of the linear spring-dashpot on partner j along ``n`` (minus on
-    i), as its elastic part ``k_n delta`` and its dashpot part ``-c_n v_n w``.
-
-    ``kn`` [N/m] the contact stiffness (:func:`pair_stiffness`, the paper's eqs. 22-24),
-    ``cn`` [N s/m] the dashpot (:func:`viscous_coefficient`), ``overlap`` delta [m] the
-    overlap acting over the kick (at an onset its average over the kick interval,
-    :func:`onset_averaged_overlap`), ``vn`` [m/s] the normal relative velocity (j minus i,
-    < 0 approaching), ``weight`` w the fraction of the kick interval in contact (1 but at
-    an onset).  Cundall & Strack (1979), Geotechnique 29:47; YADE's
-    Law2_ScGeom_FrictPhys_CundallStrack with a viscous dashpot.  Returns ``(elastic,
-    dashpot)``.
-    """
-    return kn * overlap, -cn * vn * weight
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def end_impulse(last_overlap, gap, kn, cn, dt):
-    """Normal force [N] for one kick that supplies the impulse missed when a contact ended.
-
-    Called at the first step ``n+1`` that sees no overlap (``gap = delta_{n+1} <= 0``)
-    after the overlap ``delta_n > 0`` of step ``n``.  The overlap fell linearly,
-    ``delta(t) = delta_n - v (t - t_n)`` with ``v = (delta_n - delta_{n+1}) / dt``, and
-    reached zero at ``t_n + r dt``, ``r = delta_n / (v dt)`` in (0, 1].  The exact
-    elastic impulse from ``t_n - dt/2`` on is ``kn v dt^2 (r + 1/2)^2 / 2``; the kick of
-    step n applied ``kn delta_n dt``; the difference ``kn v dt^2 (r - 1/2)^2 / 2 >= 0`` is
-    applied now.  The dashpot (``-cn v`` while in contact) missed ``-cn v dt (r - 1/2)``.
-    Returns ``(elastic force, dashpot force)`` = missed impulses / dt.  The impulse
-    arrives one kick late, which leaves the momentum transfer of the collision exact to
-    the order of the linear overlap model (the restitution error stays fourth order).
-    """
-    ramp = last_overlap - gap
-    if ramp <= 0.0 or last_overlap <= 0.0:
-        return 0.0, 0.0
-    r = last_overlap / ramp
-    return 0.5 * kn * ramp * (r - 0.5) ** 2, -cn * ramp / dt * (r - 0.5)
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def cundall_strack(u0, u1, u2, kt, mu, fn_elastic):
-    """Coulomb limit of the tangential spring: the shear displacement after this step.
-
-    ``u`` [m] is the trial displacement ``t`` (last step's displacement carried into the
-    new tangent plane plus this step's tangential increment); while ``kt |t| <= mu
-    fn_elastic`` it sticks and is returned unchanged, otherwise it slides and is shortened
-    to ``b = t mu fn_elastic / (kt |t|)`` (YADE's Law2_ScGeom_FrictPhys_CundallStrack).  The
-    tangential force on partner j is ``-kt u``.
-
-    The energy this removes is booked by the driver as the work of the tangential forces
-    that is not stored in the springs (see :func:`contact_power`), not as YADE's plastic
-    work ``(|t| - |b|) kt |b|`` per step: the latter pairs the force of one instant with a
-    displacement over the step and lets the balance drift at first order in dt.
-    """
-    tt = u0 * u0 + u1 * u1 + u2 * u2
-    limit = mu * fn_elastic  # (>= 0)
-    if kt * kt * tt > limit * limit:  # |trial force| > limit, without a sqrt when sticking
-        s = limit / (kt * math.sqrt(tt))
-        return u0 * s, u1 * s, u2 * s
-    return u0, u1, u2
-
-
-@njit(cache=True, error_model="numpy", inline="always")
 def apply_at_lever(bodies, b, rx, ry, rz, f0, f1, f2, sign):
     """Add ``sign f`` acting at lever arm ``r`` to the force and torque of body b."""
     bodies.force[b, 0] += sign * f0
@@ -892,26 +697,6 @@ def begin_contact(contacts, c):
         contacts.shear[c, d] = 0.0
 
 
-@njit(cache=True, error_model="numpy", inline="always")
-def dashpot_velocity(contacts, c, vn, new_contact):
-    """The normal velocity [m/s] for the dashpot of contact c at t_n, extrapolated from the
-    last two half steps (``vn`` this one's, stored for the next step)."""
-    vn_dashpot = vn if new_contact else 1.5 * vn - 0.5 * contacts.vn[c]
-    contacts.vn[c] = vn
-    return vn_dashpot
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def store_normal_force(contacts, c, overlap, fn_elastic, fn_viscous):
-    """Store the overlap [m] and the normal force [N] of contact c and its dashpot part;
-    returns the normal force."""
-    fn = fn_elastic + fn_viscous
-    contacts.overlap[c] = overlap
-    contacts.fn[c] = fn
-    contacts.fn_viscous[c] = fn_viscous
-    return fn
-
-
 @njit(cache=True, error_model="numpy", _nrt=False)
 def compute_forces(
     bodies, spheres, walls, contacts, dt, ledger, changes, first_step, shear_kinematics
@@ -923,7 +708,7 @@ def compute_forces(
     :func:`contact_power` with the full-step velocities).  Every contact that
     starts or ends is appended to ``changes`` as ``(c, kind)`` rows; returns their count.
     ``first_step``: the initial configuration, no shear increment (no previous step).
-    ``shear_kinematics``: SHEAR_CONTACT_POINT or SHEAR_YADE (module docstring).
+    ``shear_kinematics``: SHEAR_CONTACT_POINT or SHEAR_YADE (laws/tangential.py).
     """
     bodies.force[:, :] = 0.0
     bodies.torque[:, :] = 0.0
@@ -988,9 +773,8 @@ def compute_forces(
             spin += 0.5 * n1 * om[bi, 1]
             spin += 0.5 * n2 * om[bi, 2]
         dv0, dv1, dv2 = vj0 - vi0, vj1 - vi1, vj2 - vi2
-        vn = dv0 * n0 + dv1 * n1 + dv2 * n2
-        # the relative velocity that drives the shear (module docstring)
-        s0, s1, s2, sn = dv0, dv1, dv2, vn
+        # the relative velocity that drives the shear (laws/tangential.py)
+        s0, s1, s2 = dv0, dv1, dv2
         if shear_kinematics == SHEAR_YADE:
             ci0, ci1, ci2 = lever_arm(bodies.pos, bi, pos[i, 0], pos[i, 1], pos[i, 2])
             ci0, ci1, ci2 = point_velocity(bodies.vel, om, bi, ci0, ci1, ci2)
@@ -1007,31 +791,20 @@ def compute_forces(
             s0, s1, s2 = yade_shear_velocity(
                 cj0 - ci0, cj1 - ci1, cj2 - ci2, a0, a1, a2, n0, n1, n2, rsum, overlap
             )
-            sn = s0 * n0 + s1 * n1 + s2 * n2
-        # tangential: rotate history, add the tangential relative displacement of this step
-        u0, u1, u2 = contacts.shear[c, 0], contacts.shear[c, 1], contacts.shear[c, 2]
-        stored = u0 * u0 + u1 * u1 + u2 * u2
-        u0, u1, u2 = rotate_shear(u0, u1, u2, n0, n1, n2, spin * dt)
-        # (none at the first step: the initial positions have no previous step)
-        increment = 0.0 if first_step else dt
-        u0 += (s0 - sn * n0) * increment
-        u1 += (s1 - sn * n1) * increment
-        u2 += (s2 - sn * n2) * increment
-        # normal: the linear spring-dashpot, averaged over the kick at an onset
-        weight, overlap_kick = onset_averaged_overlap(overlap, vn, dt, new_contact)
-        vn_dashpot = dashpot_velocity(contacts, c, vn, new_contact)
-        kt = contacts.kt[c]
-        fn_elastic, fn_viscous = linear_normal_force(
-            contacts.kn[c], contacts.cn[c], overlap_kick, vn_dashpot, weight
-        )
-        u0, u1, u2 = cundall_strack(u0, u1, u2, kt, contacts.mu[c], fn_elastic)
+        # the contact point's law (a new contact: no shear history, begin_contact)
+        fn, fn_viscous, vn, u0, u1, u2, released, f0, f1, f2 = point_law(
+            overlap, n0, n1, n2, dv0, dv1, dv2, s0, s1, s2, spin * dt,
+            contacts.shear[c, 0], contacts.shear[c, 1], contacts.shear[c, 2], contacts.vn[c],
+            new_contact, contacts.kn[c], contacts.kt[c], contacts.mu[c], contacts.cn[c], dt,
+            first_step, False,
+        )  # fmt: skip
         contacts.shear[c, 0], contacts.shear[c, 1], contacts.shear[c, 2] = u0, u1, u2
+        contacts.vn[c] = vn
+        contacts.overlap[c] = overlap
+        contacts.fn[c] = fn
+        contacts.fn_viscous[c] = fn_viscous
         # friction ledger, part 1: minus the change of the energy stored in the spring
-        stored -= u0 * u0 + u1 * u1 + u2 * u2
-        ledger[LEDGER_FRICTION] += 0.5 * kt * stored
-        fn = store_normal_force(contacts, c, overlap, fn_elastic, fn_viscous)
-        # normal force plus the tangential spring force -kt u, on j (minus on i)
-        f0, f1, f2 = fn * n0 + -kt * u0, fn * n1 + -kt * u1, fn * n2 + -kt * u2
+        ledger[LEDGER_FRICTION] += released
         if not wall:
             apply_at_lever(bodies, bj, rj0, rj1, rj2, f0, f1, f2, 1.0)
         apply_at_lever(bodies, bi, ri0, ri1, ri2, f0, f1, f2, -1.0)

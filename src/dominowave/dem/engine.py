@@ -310,7 +310,7 @@ def event_time(contacts, c, t, dt, onset, first_step):
 
     The overlap is taken linear over the drift ``[t - dt, t]``: an onset seen at ``t``
     with overlap ``delta`` and approach speed ``|vn|`` happened at ``t - delta / |vn|``;
-    an end seen at ``t`` with gap ``|g|`` and separation speed ``v`` (contact.end_impulse)
+    an end seen at ``t`` with gap ``|g|`` and separation speed ``v`` (laws.linear.end_impulse)
     at ``t - |g| / v``.  Clipped to ``[t - dt, t]``; ``t`` for the contacts of the
     initial configuration and for an onset without approach.
     """

@@ -14,12 +14,12 @@ spheres at their body's ``y`` exactly (integrate._place_spheres), moves the bodi
 integrate.kick_body_planar / drift_body_planar / advance_body_planar, and maps
 :func:`compute_forces_planar` over the Verlet list instead of contact.compute_forces.
 
-:func:`compute_forces_planar` is the general contact law (the same per-pair geometry
-and laws of contact.py, rotate_shear without spin, in the same order) with the y
-components passed as zero and dropped from the results: the components that are exactly
-zero, and the round-off that the general kernel carries in them (sphere centres ~1e-17 m
-off the plane, from the y row of R(q); the normal's ~1e-15 y component; a spin about the
-normal of ~1e-19 rad per step).  That
+:func:`compute_forces_planar` is the general contact driver (the same per-pair geometry
+of contact.py and the same law of a contact point, laws/point.py, without spin about the
+normal) with the y components passed as zero and dropped from the results: the
+components that are exactly zero, and the round-off that the general kernel carries in
+them (sphere centres ~1e-17 m off the plane, from the y row of R(q); the normal's ~1e-15
+y component; a spin about the normal of ~1e-19 rad per step).  That
 round-off is far below the last bit of every in-plane quantity: in every scene compared
 (whole 2D chains with frictionless and frictional dominoes, damping, floor friction 0.3
 and 0.6, with and without the energy ledger; the scenes of tests/dem/test_dem_planar.py;
@@ -40,24 +40,18 @@ from numba import njit
 from dominowave.dem.contact import (
     END,
     ONSET,
-    SHEAR_YADE,
     begin_contact,
     contact_point,
-    cundall_strack,
-    dashpot_velocity,
     end_contact,
     idle_pair,
-    linear_normal_force,
     log_change,
-    onset_averaged_overlap,
-    rotate_shear,
     sphere_sphere,
     sphere_wall,
-    store_normal_force,
-    yade_shear_velocity,
 )
 from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
 from dominowave.dem.integrate import ROT_AXIS, ROT_ISOTROPIC, ROT_NONE
+from dominowave.dem.laws.point import point_law
+from dominowave.dem.laws.tangential import SHEAR_YADE, yade_shear_velocity
 
 __all__ = ["compute_forces_planar", "contact_power_planar", "planar_violation"]
 
@@ -183,10 +177,9 @@ def compute_forces_planar(
             wj = omega[bj, 1]
             dv0 += vel[bj, 0] + wj * rj2
             dv2 += vel[bj, 2] - wj * rj0
-        vn = dv0 * n0 + dv2 * n2
-        # the relative velocity that drives the shear (contact module docstring); sphere
-        # centres move with (v_x + w r_z, v_z - w r_x), r = centre - centre of mass
-        s0, s2, sn = dv0, dv2, vn
+        # the relative velocity that drives the shear (laws/tangential.py); sphere centres
+        # move with (v_x + w r_z, v_z - w r_x), r = centre - centre of mass
+        s0, s2 = dv0, dv2
         if shear_kinematics == SHEAR_YADE:
             ci0 = vel[bi, 0] + wi * (pos[i, 2] - body_pos[bi, 2])
             ci2 = vel[bi, 2] - wi * (pos[i, 0] - body_pos[bi, 0])
@@ -201,30 +194,19 @@ def compute_forces_planar(
             s0, _, s2 = yade_shear_velocity(
                 cj0 - ci0, 0.0, cj2 - ci2, 0.0, a1, 0.0, n0, 0.0, n2, rsum, overlap
             )
-            sn = s0 * n0 + s2 * n2
-        # tangential: the general law on the in-plane shear (no spin about the normal),
-        # plus this step's tangential relative displacement (none at the first step)
-        u0, u2 = u[c, 0], u[c, 2]
-        stored = u0 * u0 + u2 * u2
-        u0, _, u2 = rotate_shear(u0, 0.0, u2, n0, 0.0, n2, 0.0)
-        increment = 0.0 if first_step else dt
-        u0 += (s0 - sn * n0) * increment
-        u2 += (s2 - sn * n2) * increment
-        # normal: the linear spring-dashpot, averaged over the kick at an onset
-        weight, overlap_kick = onset_averaged_overlap(overlap, vn, dt, new_contact)
-        vn_dashpot = dashpot_velocity(contacts, c, vn, new_contact)
-        kt = contacts.kt[c]
-        fn_elastic, fn_viscous = linear_normal_force(
-            contacts.kn[c], contacts.cn[c], overlap_kick, vn_dashpot, weight
-        )
-        u0, _, u2 = cundall_strack(u0, 0.0, u2, kt, contacts.mu[c], fn_elastic)
+        # the contact point's law with the y components zero (no spin about the normal)
+        fn, fn_viscous, vn, u0, _, u2, released, f0, _, f2 = point_law(
+            overlap, n0, 0.0, n2, dv0, 0.0, dv2, s0, 0.0, s2, 0.0, u[c, 0], 0.0, u[c, 2],
+            contacts.vn[c], new_contact, contacts.kn[c], contacts.kt[c], contacts.mu[c],
+            contacts.cn[c], dt, first_step, False,
+        )  # fmt: skip
         u[c, 0], u[c, 1], u[c, 2] = u0, 0.0, u2
+        contacts.vn[c] = vn
+        contacts.overlap[c] = overlap
+        contacts.fn[c] = fn
+        contacts.fn_viscous[c] = fn_viscous
         # friction ledger, part 1: minus the change of the energy stored in the spring
-        stored -= u0 * u0 + u2 * u2
-        ledger[LEDGER_FRICTION] += 0.5 * kt * stored
-        fn = store_normal_force(contacts, c, overlap, fn_elastic, fn_viscous)
-        # normal force plus the tangential spring force -kt u, on j (minus on i)
-        f0, f2 = fn * n0 + -kt * u0, fn * n2 + -kt * u2
+        ledger[LEDGER_FRICTION] += released
         if not wall:
             _apply_planar(bodies, bj, rj0, rj2, f0, f2, 1.0)
         _apply_planar(bodies, bi, ri0, ri2, f0, f2, -1.0)

@@ -8,14 +8,7 @@ import numpy as np
 
 from dominowave.checks import check_finite, check_in_range, check_nonnegative, check_positive
 from dominowave.dem.boxes import empty_boxes
-from dominowave.dem.contact import (
-    RULE_GIVEN,
-    RULE_PAPER,
-    RULE_YADE,
-    SHEAR_CONTACT_POINT,
-    SHEAR_YADE,
-)
-from dominowave.dem.hertz import LAW_HERTZ, NORMAL_LAWS, hertz_damping_table
+from dominowave.dem.contact import RULE_GIVEN, RULE_PAPER, RULE_YADE
 from dominowave.dem.integrate import (
     ROT_AXIS,
     ROT_FREE,
@@ -23,6 +16,8 @@ from dominowave.dem.integrate import (
     ROT_NONE,
     check_blocked_spin,
 )
+from dominowave.dem.laws.hertz import LAW_HERTZ, NORMAL_LAWS, hertz_damping_table
+from dominowave.dem.laws.tangential import SHEAR_CONTACT_POINT, SHEAR_YADE
 from dominowave.dem.simulation import Simulation
 from dominowave.dem.state import (
     Bodies,
@@ -81,7 +76,7 @@ class Scene:
     normal_law : normal force of the box contacts: "linear" (default) ``k_n delta`` with
         the stiffness rule above, or "hertz" ``4/3 E* sqrt(R*) delta^{3/2}`` with the
         rounding radius as curvature and a Tsuji dashpot that gives the restitution set
-        (hertz.py); "hertz" needs every material to give ``young`` and a scene of boxes
+        (laws/hertz.py); "hertz" needs every material to give ``young`` and a scene of boxes
         and walls (sphere contacts are linear).
     """
 

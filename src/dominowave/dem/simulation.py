@@ -19,15 +19,11 @@ from dominowave.dem.boxes import (
     boxes_from_state,
     empty_boxes,
 )
-from dominowave.dem.contact import (
-    RULE_GIVEN,
-    SHEAR_CONTACT_POINT,
-    build_verlet_list,
-    compute_forces,
-)
+from dominowave.dem.contact import RULE_GIVEN, build_verlet_list, compute_forces
 from dominowave.dem.energy import E_TOTAL, ENERGY_NAMES, N_ENERGIES, N_MECHANICAL, energies
 from dominowave.dem.engine import Recorder, SceneKind, Settings, time_loop
 from dominowave.dem.integrate import update_sphere_positions
+from dominowave.dem.laws.tangential import SHEAR_CONTACT_POINT
 from dominowave.dem.planar import compute_forces_planar, planar_violation
 from dominowave.dem.state import Bodies, Contacts, Material, MaterialTable, Spheres, Walls
 
@@ -146,7 +142,7 @@ class ContactFrames:
     active sphere-sphere and sphere-wall contact, then every box contact point (a planar
     row: the sum of the points it stands for, boxes.box_contact_forces; those of resting
     boxes put aside with the force that holds them); the one-kick end
-    impulse of a contact that opened in the last drift (contact.end_impulse) is not a row.
+    impulse of a contact that opened in the last drift (laws.linear.end_impulse) is not a row.
     """
 
     start: np.ndarray

@@ -50,8 +50,8 @@ from __future__ import annotations
 import numpy as np
 
 from dominowave.dem.contact import pair_stiffness, particle_stiffness
-from dominowave.dem.hertz import LAW_HERTZ, hertz_coefficient, hertz_modulus
 from dominowave.dem.integrate import ROT_AXIS, ROT_NONE
+from dominowave.dem.laws.hertz import LAW_HERTZ, hertz_coefficient, hertz_modulus
 
 __all__ = ["critical_timestep"]
 
@@ -136,7 +136,7 @@ def _box_omega2(bodies, boxes, walls, mats, impact_speed=0.0, gravity=0.0):
     point stiffness the box can form (another box's material or a wall's), ``rho`` its
     outer half-diagonal and ``I`` its smallest moment (planar: about the axis).
 
-    A Hertz point (hertz.py) has the tangent stiffness ``3/2 K delta^{1/2}``, largest at
+    A Hertz point (laws/hertz.py) has the tangent stiffness ``3/2 K delta^{1/2}``, largest at
     the largest overlap: that of an impact at ``impact_speed`` v with the box's whole
     mass, ``(5 m v^2 / (4 K))^{2/5}``, or of resting on 4 points, ``(m g / (4 K))^{2/3}``.
     """

@@ -29,7 +29,7 @@ free of v, m_eff and K: the restitution ``e = -x'(tau_end)`` depends on ``alpha`
 (a velocity-independent restitution, the reason for the 1/4 power).
 :func:`hertz_damping_ratio` finds ``alpha(e)`` by integrating this equation.  Force and
 dashpot vanish at zero overlap, so the law needs no onset or end corrections (the linear
-law's contact.onset_averaged_overlap and contact.end_impulse).
+law's laws.linear.onset_averaged_overlap and laws.linear.end_impulse).
 
 Closed forms of an elastic impact at speed v (tests): the largest overlap
 ``delta_max = (5 m_eff v^2 / (4 K))^{2/5} = (15 m_eff v^2 / (16 E* sqrt(R*)))^{2/5}``, the
