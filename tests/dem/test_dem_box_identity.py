@@ -6,8 +6,7 @@ arithmetic of every contact and every body must stay the same.  Each scene below
 fixed number of steps and its final state (positions, orientations, velocities, the
 contact rows with their shear histories, the energy ledger, the event log) is compared
 bit for bit with ``data/box_identity.npz``, computed by this module at the commit that
-introduced it (``python tests/dem/test_dem_box_identity.py --write``; regenerate only
-for a change that is meant to alter the arithmetic, and say so in the commit).
+introduced it (``python tests/dem/test_dem_box_identity.py --write``; stored_runs.py).
 
 Scenes: the 2D and the 3D (lateral asymmetry) chain of 10 boxes, held until touched,
 with the event log and the energy ledger on; the 2D chain without held boxes; a 3D
@@ -17,11 +16,11 @@ first collisions, onsets and ends of contacts and releases of held boxes.
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from stored_runs import assert_as_stored, bodies_and_events, named, run_in_pieces, write_main
 
 from dominowave.chain import ChainParams, DominoChain, Push
 from dominowave.dem import Material, Scene
@@ -70,29 +69,12 @@ def _hertz_chain():
     return sim
 
 
-def _state(sim):
-    """The arrays compared: bodies, box contact rows, ledger, event log."""
-    b, rows, rec = sim.bodies, sim.boxes.rows, sim.rec
-    n, e = int(rows.n[0]), int(rec.ev_n[0])
-    return {
-        "pos": b.pos,
-        "quat": b.quat,
-        "vel": b.vel,
-        "omega": b.omega,
-        "angmom": b.angmom,
-        "held": b.held,
-        "rows_i": rows.i[:n],
-        "rows_j": rows.j[:n],
-        "rows_key": rows.key[:n],
-        "rows_shear": rows.shear[:n],
-        "rows_overlap": rows.overlap[:n],
-        "rows_fn": rows.fn[:n],
-        "ledger": rec.ledger,
-        "ev_time": rec.ev_time[:e],
-        "ev_i": rec.ev_i[:e],
-        "ev_j": rec.ev_j[:e],
-        "ev_kind": rec.ev_kind[:e],
-    }
+def _rows(sim):
+    """The box contact rows compared (their used part)."""
+    rows = sim.boxes.rows
+    n = int(rows.n[0])
+    fields = ("i", "j", "key", "shear", "overlap", "fn")
+    return {f"rows_{k}": getattr(rows, k)[:n] for k in fields}
 
 
 def _run(name):
@@ -101,10 +83,8 @@ def _run(name):
     else:
         fields, steps = SCENES[name]
         sim = _chain(fields)
-    # (in pieces: each return to Python and re-entry must not change the result either)
-    sim.run(n_steps=steps // 3)
-    sim.run(n_steps=steps - steps // 3)
-    return {f"{name}/{k}": np.array(v, copy=True) for k, v in _state(sim).items()}
+    run_in_pieces(sim, steps)
+    return named(name, {**bodies_and_events(sim), **_rows(sim)})
 
 
 NAMES = [*SCENES, "hertz3d"]
@@ -112,19 +92,8 @@ NAMES = [*SCENES, "hertz3d"]
 
 @pytest.mark.parametrize("name", NAMES)
 def test_box_chain_bit_identical_to_reference(name):
-    ref = np.load(DATA)
-    got = _run(name)
-    assert int(got[f"{name}/ev_time"].size) > 0  # the scene has contact events
-    for key, value in got.items():
-        np.testing.assert_array_equal(value, ref[key], err_msg=key, strict=True)
+    assert_as_stored(DATA, name, _run(name))
 
 
 if __name__ == "__main__":
-    if sys.argv[1:] != ["--write"]:
-        raise SystemExit("usage: python tests/dem/test_dem_box_identity.py --write")
-    arrays = {}
-    for name in NAMES:
-        arrays.update(_run(name))
-    DATA.parent.mkdir(exist_ok=True)
-    np.savez_compressed(DATA, **arrays)
-    print(f"wrote {DATA}: {len(arrays)} arrays")
+    write_main(DATA, NAMES, _run)
