@@ -25,10 +25,13 @@ def run_in_pieces(sim, steps: int) -> None:
 
 
 def bodies_and_events(sim) -> dict[str, np.ndarray]:
-    """The bodies' arrays (:data:`BODY_ARRAYS`), the energy ledger and the event log."""
+    """The bodies' arrays (:data:`BODY_ARRAYS`), the energies of the last step (stored
+    in the springs, dissipated: dem.energy.ENERGY_NAMES), the energy ledger and the event
+    log."""
     rec = sim.rec
     e = int(rec.ev_n[0])
     out = {name: getattr(sim.bodies, name) for name in BODY_ARRAYS}
+    out["energy"] = rec.energy_now
     out["ledger"] = rec.ledger
     out.update({k: getattr(rec, k)[:e] for k in ("ev_time", "ev_i", "ev_j", "ev_kind")})
     return out

@@ -62,7 +62,14 @@ from dominowave.dem.contact import (
     pair_stiffness,
     particle_stiffness,
 )
-from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
+from dominowave.dem.energy import (
+    E_ELASTIC_NORMAL,
+    E_ELASTIC_TANGENTIAL,
+    E_TOTAL,
+    LEDGER_FRICTION,
+    POWER_FRICTION,
+    POWER_VISCOUS,
+)
 from dominowave.dem.integrate import ROT_AXIS, ROT_FREE, ROT_ISOTROPIC
 from dominowave.dem.laws.hertz import (
     LAW_HERTZ,
@@ -71,7 +78,7 @@ from dominowave.dem.laws.hertz import (
     hertz_modulus,
 )
 from dominowave.dem.laws.linear import end_impulse
-from dominowave.dem.laws.point import onset_dashpot, point_law
+from dominowave.dem.laws.point import onset_dashpot, point_energy, point_law, point_power
 from dominowave.dem.shapes.cuboid import MAX_POINTS, box_box, box_plane, faces_separate
 from dominowave.dem.shapes.rectangle import (
     PLANAR_MULTIPLICITY,
@@ -1089,9 +1096,11 @@ def rows_power(bodies, rows, box_body, partner_body, out):
         )
         n = rows.normal[c]
         u = rows.shear[c]
-        m = rows.mult[c]
-        out[POWER_VISCOUS] += m * rows.fn_viscous[c] * (n[0] * dv0 + n[1] * dv1 + n[2] * dv2)
-        out[POWER_FRICTION] -= m * rows.kt[c] * (u[0] * dv0 + u[1] * dv1 + u[2] * dv2)
+        viscous, friction = point_power(
+            rows.fn_viscous[c], n[0], n[1], n[2], dv0, dv1, dv2, rows.kt[c], u[0], u[1], u[2]
+        )
+        out[POWER_VISCOUS] += rows.mult[c] * viscous
+        out[POWER_FRICTION] += rows.mult[c] * friction
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -1112,14 +1121,14 @@ def rows_energies(rows, hertz, out):
     es = 0.0
     for c in range(rows.n[0]):
         u = rows.shear[c]
-        if hertz:  # 2/5 K delta^{5/2}
-            en += 0.4 * rows.mult[c] * rows.kn[c] * rows.overlap[c] ** 2.5
-        else:
-            en += 0.5 * rows.mult[c] * rows.kn[c] * rows.overlap[c] ** 2
-        es += 0.5 * rows.mult[c] * rows.kt[c] * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
-    out[3] += en
-    out[4] += es
-    out[8] += en + es
+        normal, tangential = point_energy(
+            rows.kn[c], rows.kt[c], rows.overlap[c], u[0], u[1], u[2], hertz
+        )
+        en += rows.mult[c] * normal
+        es += rows.mult[c] * tangential
+    out[E_ELASTIC_NORMAL] += en
+    out[E_ELASTIC_TANGENTIAL] += es
+    out[E_TOTAL] += en + es
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)

@@ -22,7 +22,7 @@ from numba import njit
 
 from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
 from dominowave.dem.laws.linear import end_impulse, viscous_coefficient
-from dominowave.dem.laws.point import point_law
+from dominowave.dem.laws.point import point_law, point_power
 from dominowave.dem.laws.tangential import SHEAR_YADE, yade_shear_velocity
 
 __all__ = [
@@ -861,10 +861,12 @@ def contact_power(bodies, spheres, walls, contacts, out):
             vj0, vj1, vj2 = point_velocity(vel, omega, bj, rj0, rj1, rj2)
         else:
             vj0 = vj1 = vj2 = 0.0
-        kt = contacts.kt[c]
         dv0, dv1, dv2 = vj0 - vi0, vj1 - vi1, vj2 - vi2
-        p_viscous += fd * (n0 * dv0 + n1 * dv1 + n2 * dv2)
-        p_friction -= kt * (u[c, 0] * dv0 + u[c, 1] * dv1 + u[c, 2] * dv2)
+        viscous, friction = point_power(
+            fd, n0, n1, n2, dv0, dv1, dv2, contacts.kt[c], u[c, 0], u[c, 1], u[c, 2]
+        )
+        p_viscous += viscous
+        p_friction += friction
     out[POWER_VISCOUS] = p_viscous
     out[POWER_FRICTION] = p_friction
 

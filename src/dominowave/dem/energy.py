@@ -16,6 +16,8 @@ from __future__ import annotations
 
 from numba import njit
 
+from dominowave.dem.laws.point import point_energy
+
 __all__ = ["ENERGY_NAMES", "energies"]
 
 ENERGY_NAMES = (
@@ -84,9 +86,12 @@ def energies(bodies, contacts, gravity, ledger, out):
     es = 0.0
     for c in range(contacts.n[0]):
         if contacts.active[c]:
-            en += 0.5 * contacts.kn[c] * contacts.overlap[c] ** 2
             u = contacts.shear[c]
-            es += 0.5 * contacts.kt[c] * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+            normal, tangential = point_energy(
+                contacts.kn[c], contacts.kt[c], contacts.overlap[c], u[0], u[1], u[2], False
+            )
+            en += normal
+            es += tangential
     out[E_GRAVITATIONAL] = eg
     out[E_ELASTIC_NORMAL] = en
     out[E_ELASTIC_TANGENTIAL] = es

@@ -50,7 +50,7 @@ from dominowave.dem.contact import (
 )
 from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
 from dominowave.dem.integrate import ROT_AXIS, ROT_ISOTROPIC, ROT_NONE
-from dominowave.dem.laws.point import point_law
+from dominowave.dem.laws.point import point_law, point_power
 from dominowave.dem.laws.tangential import SHEAR_YADE, yade_shear_velocity
 
 __all__ = ["compute_forces_planar", "contact_power_planar", "planar_violation"]
@@ -250,7 +250,10 @@ def contact_power_planar(bodies, spheres, walls, contacts, out):
             rj0, rj2 = p0 - body_pos[bj, 0], p2 - body_pos[bj, 2]
             dv0 += vel[bj, 0] + omega[bj, 1] * rj2
             dv2 += vel[bj, 2] - omega[bj, 1] * rj0
-        p_viscous += fd * (n0 * dv0 + n2 * dv2)
-        p_friction -= contacts.kt[c] * (u[c, 0] * dv0 + u[c, 2] * dv2)
+        viscous, friction = point_power(
+            fd, n0, 0.0, n2, dv0, 0.0, dv2, contacts.kt[c], u[c, 0], 0.0, u[c, 2]
+        )
+        p_viscous += viscous
+        p_friction += friction
     out[POWER_VISCOUS] = p_viscous
     out[POWER_FRICTION] = p_friction

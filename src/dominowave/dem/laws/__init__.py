@@ -8,5 +8,7 @@ rounded cuboids) find the contact points and their kinematics and call
 * linear.py: the linear spring-dashpot normal law, with its onset and end corrections;
 * hertz.py: the Hertz normal law with the Tsuji dashpot;
 * tangential.py: the Coulomb-limited shear spring and the shear kinematics;
-* point.py: the law of one contact point, normal and tangential together.
+* point.py: the law of one contact point, normal and tangential together, and the
+  energy its springs store and the power of its forces (the energy ledger of every
+  driver).
 """

@@ -48,7 +48,7 @@ from dominowave.dem.laws.linear import (
 )
 from dominowave.dem.laws.tangential import cundall_strack, rotate_shear
 
-__all__ = ["onset_dashpot", "point_law"]
+__all__ = ["onset_dashpot", "point_energy", "point_law", "point_power"]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -105,3 +105,25 @@ def point_law(
         fn, fn_viscous, vn, u0, u1, u2, 0.5 * kt * stored,
         fn * n0 - kt * u0, fn * n1 - kt * u1, fn * n2 - kt * u2,
     )  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def point_energy(kn, kt, overlap, u0, u1, u2, hertz):
+    """Elastic energies [J] stored at a contact point of overlap ``delta`` [m] > 0 and
+    shear ``u`` [m]: the normal spring's, ``k_n delta^2 / 2`` (linear) or ``2/5 K
+    delta^{5/2}`` (Hertz, ``kn`` = K; laws/hertz.py), and the tangential spring's,
+    ``k_t |u|^2 / 2``."""
+    if hertz:
+        normal = 0.4 * kn * overlap**2.5
+    else:
+        normal = 0.5 * kn * overlap**2
+    return normal, 0.5 * kt * (u0 * u0 + u1 * u1 + u2 * u2)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def point_power(fd, n0, n1, n2, dv0, dv1, dv2, kt, u0, u1, u2):
+    """Power [W] of the forces on the bodies at a contact point whose relative velocity
+    (j minus i) is ``dv`` [m/s]: of the dashpot force ``F_d n`` (``fd`` [N], unit normal
+    ``n``), ``F_d n . dv``, and of the tangential force ``-k_t u`` (``kt`` [N/m], shear
+    ``u`` [m]), ``-k_t u . dv``.  Returns ``(viscous, friction)``."""
+    return fd * (n0 * dv0 + n1 * dv1 + n2 * dv2), -kt * (u0 * dv0 + u1 * dv1 + u2 * dv2)
