@@ -319,7 +319,7 @@ def test_box_time_step_estimate_takes_every_kind_of_partner():
     taken over every box and wall for every box, on a scene of two materials, two
     roundings, two sizes and two walls of a third material."""
     from dominowave.dem import timestep
-    from dominowave.dem.contact import pair_stiffness, particle_stiffness
+    from dominowave.dem.material_pairs import pair_stiffness, particle_stiffness
 
     scene = Scene(gravity=(0.0, 0.0, -9.81))
     soft = scene.add_material(Material(density=900.0, kn=2e4, friction=0.3))

@@ -5,14 +5,14 @@ import pytest
 from dem_scenes import RHO, R, column, sphere_mass
 
 from dominowave.dem import ONSET, Material, Scene
-from dominowave.dem.contact import (
+from dominowave.dem.laws.linear import end_impulse, viscous_coefficient
+from dominowave.dem.material_pairs import (
     RULE_GIVEN,
     RULE_PAPER,
     RULE_YADE,
     pair_stiffness,
     particle_stiffness,
 )
-from dominowave.dem.laws.linear import end_impulse, viscous_coefficient
 
 G = 9.81
 

@@ -1,4 +1,5 @@
-"""Friction and restitution per material pair (Scene.set_pair, contact.pair_friction_restitution):
+"""Friction and restitution per material pair (Scene.set_pair,
+material_pairs.pair_friction_restitution):
 each contact -- floor or another body, sphere or box -- has the value set for its own pair,
 measured against closed forms (sliding deceleration, the velocity ratio of an impact)."""
 
@@ -315,7 +316,7 @@ def test_materials_giving_kn_are_the_rule_given_and_older_files_still_load():
     """Materials giving k_n set the stiffness rule RULE_GIVEN once (whatever
     ``stiffness_rule`` says); a state saved with the per-material flag of older files
     (``mats.given_kn``, rule 0) loads with that rule and runs bit-identically."""
-    from dominowave.dem.contact import RULE_GIVEN, RULE_YADE
+    from dominowave.dem.material_pairs import RULE_GIVEN, RULE_YADE
 
     def build(rule):
         scene = Scene(stiffness_rule=rule)

@@ -10,7 +10,7 @@ linear normal force ``k_n delta - c_n v_n`` with the onset average of the overla
 the end impulse (laws.linear.onset_averaged_overlap, laws.linear.end_impulse); Cundall-Strack
 friction with one shear history per pair; the dashpot from the pair's restitution and
 the effective mass at the contact point (boxes.inverse_mass_at); stiffness, friction and
-restitution of the material pair (boxes.material_pair: the rounding and the sphere's
+restitution of the material pair (material_pairs.material_pair: the rounding and the sphere's
 radius).  Energies, power and the contact-force recorder are those of the box rows
 (boxes.rows_energies, boxes.rows_power, boxes.row_force) with multiplicity 1.
 A sphere touches a convex box at one point, so the pair is its own key, and a planar row
@@ -44,12 +44,12 @@ from dominowave.dem.boxes import (
     _reach_of,
     _release,
     box_contact_forces,
-    material_pair,
     row_force,
     rows_energies,
     rows_power,
 )
 from dominowave.dem.contact import END, ONSET, _candidate_pairs
+from dominowave.dem.material_pairs import material_pair
 from dominowave.dem.shapes.cuboid import box_sphere
 from dominowave.dem.shapes.rectangle import rect_sphere
 from dominowave.dem.state import Spheres

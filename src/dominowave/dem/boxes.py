@@ -18,16 +18,15 @@ of contact.py; box_sphere.py applies it to the box-sphere points):
   step to step by the point's feature key (a touching point with a new key continues the
   nearest unmatched old point of its pair, so that a contact keeps its history when its
   touching feature pair changes);
-* the dashpot ``c_n`` from the pair's restitution (contact.pair_friction_restitution: its own
-  value, or ``min(e_i, e_j)``; laws.linear.viscous_coefficient)
-  and the effective mass AT THE CONTACT POINT along the normal,
+* the dashpot ``c_n`` from the pair's restitution (material_pairs.material_pair: its own
+  value, or ``min(e_i, e_j)``; laws.linear.viscous_coefficient) and the effective mass
+  AT THE CONTACT POINT along the normal,
   ``1/m_eff = 1/m_i + 1/m_j + (r_i x n) . I_i^-1 (r_i x n) + (r_j x n) . I_j^-1 (r_j x n)``
   (the impulse-response of two rigid bodies at a point, e.g. Brach, Mechanical Impact
   Dynamics (1991); Stronge, Impact Mechanics (2000) ch. 5), fixed at the point's onset;
   so a single-point impact has the restitution set, eccentric or not;
-* stiffness from the materials as for spheres, with the rounding radius as the sphere
-  radius (contact.particle_stiffness, contact.pair_stiffness); friction the pair's own
-  value or ``min(mu_i, mu_j)`` (contact.pair_friction_restitution).
+* stiffness, friction and restitution from the materials as for spheres, with the
+  rounding radius as the sphere radius (material_pairs.material_pair).
 
 Contact rows are kept in pair order (box i, then partner: boxes j > i, then walls) and
 rebuilt every step.  Pairs within reach are found in two stages, as for spheres: a
@@ -52,16 +51,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from dominowave.dem.contact import (
-    END,
-    ONSET,
-    _candidate_pairs,
-    _scan_walls,
-    apply_at_lever,
-    pair_friction_restitution,
-    pair_stiffness,
-    particle_stiffness,
-)
+from dominowave.dem.contact import END, ONSET, _candidate_pairs, _scan_walls, apply_at_lever
 from dominowave.dem.energy import (
     E_ELASTIC_NORMAL,
     E_ELASTIC_TANGENTIAL,
@@ -79,6 +69,7 @@ from dominowave.dem.laws.hertz import (
 )
 from dominowave.dem.laws.linear import end_impulse
 from dominowave.dem.laws.point import onset_dashpot, point_energy, point_law, point_power
+from dominowave.dem.material_pairs import material_pair
 from dominowave.dem.shapes.cuboid import MAX_POINTS, box_box, box_plane, faces_separate
 from dominowave.dem.shapes.rectangle import (
     PLANAR_MULTIPLICITY,
@@ -635,21 +626,6 @@ def _point_properties(bodies, boxes, walls, mats, a, j, out):
         )
         out[0] = hertz_coefficient(modulus, _hertz_radius(ra, rb, j < 0))
         out[4] = mats.hertz_damping[ma, mb]
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def material_pair(mats, ma, ra, mb, rb, out):
-    """kn, kt, mu, restitution of a linear contact point of a body of material ``ma`` and
-    rounding (or sphere) radius ``ra`` [m] with one of ``mb``, ``rb`` into ``out[0:4]``:
-    stiffnesses by the scene's rule (contact.particle_stiffness,
-    contact.pair_stiffness), friction and restitution of the material pair
-    (contact.pair_friction_restitution)."""
-    rule = mats.rule[0]
-    ka = particle_stiffness(mats.stiffness[ma], ra, rule)
-    kb = particle_stiffness(mats.stiffness[mb], rb, rule)
-    out[0] = pair_stiffness(ka, kb, rule)
-    out[1] = pair_stiffness(ka * mats.kt_ratio[ma], kb * mats.kt_ratio[mb], rule)
-    out[2], out[3] = pair_friction_restitution(mats, ma, mb)
 
 
 @njit(cache=True, error_model="numpy", inline="always")

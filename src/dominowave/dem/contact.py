@@ -24,11 +24,9 @@ from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
 from dominowave.dem.laws.linear import end_impulse, viscous_coefficient
 from dominowave.dem.laws.point import point_law, point_power
 from dominowave.dem.laws.tangential import SHEAR_YADE, yade_shear_velocity
+from dominowave.dem.material_pairs import material_pair
 
 __all__ = [
-    "RULE_GIVEN",
-    "RULE_PAPER",
-    "RULE_YADE",
     "active_contact_forces",
     "apply_at_lever",
     "begin_contact",
@@ -41,17 +39,11 @@ __all__ = [
     "lever_arm",
     "log_change",
     "needs_rebuild",
-    "pair_friction_restitution",
-    "pair_stiffness",
     "point_velocity",
     "sphere_sphere",
     "sphere_wall",
 ]
 
-# the rule that turns the materials' stiffness into a contact's k_n (MaterialTable.rule)
-RULE_PAPER = 0  # Young's moduli, the paper's pi R E per particle in series
-RULE_YADE = 1  # Young's moduli, YADE's E R per particle
-RULE_GIVEN = 2  # contact stiffnesses k_n given per material
 
 ONSET = 1
 END = 0
@@ -62,55 +54,11 @@ CHANGE_CONTACT = 0  # the contact's row in ``contacts``
 CHANGE_KIND = 1  # ONSET or END
 
 
-@njit(cache=True, error_model="numpy")
-def particle_stiffness(modulus, radius, rule):
-    """Stiffness of one particle [N/m] from its material's ``stiffness`` (``modulus``, E
-    [Pa] or k_n [N/m]) and radius [m]: pi R E (RULE_PAPER, eq. 23), E R (RULE_YADE) or
-    the k_n given (RULE_GIVEN)."""
-    if rule == RULE_GIVEN:
-        return modulus
-    if rule == RULE_PAPER:
-        return math.pi * radius * modulus
-    return modulus * radius
-
-
-@njit(cache=True, error_model="numpy")
-def pair_stiffness(k1, k2, rule):
-    """Contact stiffness of two particles [N/m].
-
-    RULE_PAPER: springs in series ``k1 k2 / (k1 + k2)`` (eq. 22; equal spheres: pi R E / 2,
-    eq. 24); RULE_YADE and RULE_GIVEN: ``2 k1 k2 / (k1 + k2)``
-    (Ip2_FrictMat_FrictMat_FrictPhys; equal given k_n: that k_n).
-    """
-    if k1 <= 0.0 or k2 <= 0.0:
-        return 0.0
-    series = k1 * k2 / (k1 + k2)
-    if rule == RULE_PAPER:
-        return series
-    return 2.0 * series
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def pair_friction_restitution(mats, m1, m2):
-    """Friction coefficient and restitution of a contact between materials m1 and m2.
-
-    The pair's own values where set (``Scene.set_pair``, e.g. domino-domino apart from
-    domino-floor), otherwise the min rule ``min(mu_1, mu_2)`` (paper, section 3) and
-    ``min(e_1, e_2)``; a table entry of nan means "not set".
-    """
-    mu = mats.pair_friction[m1, m2]
-    if math.isnan(mu):
-        mu = min(mats.friction[m1], mats.friction[m2])
-    e = mats.pair_restitution[m1, m2]
-    if math.isnan(e):
-        e = min(mats.restitution[m1], mats.restitution[m2])
-    return mu, e
-
-
 @njit(cache=True, error_model="numpy", _nrt=False)
 def pair_properties(si, sj_or_wall, spheres, walls, bodies, mats, out):
-    """kn, kt, mu, cn of a candidate pair into ``out[0:4]``."""
-    rule = mats.rule[0]
+    """kn, kt, mu, cn of a candidate pair into ``out[0:4]``: the properties of its
+    material pair (material_pairs.material_pair) and the dashpot of the restitution for
+    the two bodies' reduced mass (laws.linear.viscous_coefficient)."""
     mi = spheres.material[si]
     Ri = spheres.radius[si]
     bi = spheres.body[si]
@@ -123,15 +71,8 @@ def pair_properties(si, sj_or_wall, spheres, walls, bodies, mats, out):
         mj = walls.material[-sj_or_wall - 1]
         Rj = Ri  # a wall takes the radius of the sphere touching it
         m_eff = bodies.mass[bi]
-    ki = particle_stiffness(mats.stiffness[mi], Ri, rule)
-    kj = particle_stiffness(mats.stiffness[mj], Rj, rule)
-    kn = pair_stiffness(ki, kj, rule)
-    kt = pair_stiffness(ki * mats.kt_ratio[mi], kj * mats.kt_ratio[mj], rule)
-    mu, e = pair_friction_restitution(mats, mi, mj)
-    out[0] = kn
-    out[1] = kt
-    out[2] = mu
-    out[3] = viscous_coefficient(e, m_eff, kn)
+    material_pair(mats, mi, Ri, mj, Rj, out)
+    out[3] = viscous_coefficient(out[3], m_eff, out[0])
 
 
 # --------------------------------------------------------------------------- neighbours

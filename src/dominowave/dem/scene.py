@@ -8,7 +8,6 @@ import numpy as np
 
 from dominowave.checks import check_finite, check_in_range, check_nonnegative, check_positive
 from dominowave.dem.boxes import empty_boxes
-from dominowave.dem.contact import RULE_GIVEN, RULE_PAPER, RULE_YADE
 from dominowave.dem.integrate import (
     ROT_AXIS,
     ROT_FREE,
@@ -18,6 +17,7 @@ from dominowave.dem.integrate import (
 )
 from dominowave.dem.laws.hertz import LAW_HERTZ, NORMAL_LAWS, hertz_damping_table
 from dominowave.dem.laws.tangential import SHEAR_CONTACT_POINT, SHEAR_YADE
+from dominowave.dem.material_pairs import RULE_GIVEN, RULE_PAPER, RULE_YADE
 from dominowave.dem.simulation import Simulation
 from dominowave.dem.state import (
     Bodies,
@@ -313,7 +313,7 @@ class Scene:
                     "normal_law = 'hertz' needs Young's moduli: give every material young, not kn"
                 )
             # the dashpot ratio of each pair's restitution (its own, else the min rule,
-            # as contact.pair_friction_restitution)
+            # as material_pairs.pair_friction_restitution)
             e = np.where(
                 np.isnan(pair["restitution"]),
                 np.minimum.outer(restitution, restitution),

@@ -95,7 +95,7 @@ MaterialTable = namedtuple(
         "pair_restitution",  # (nm, nm) symmetric: a pair's own e, nan: min rule
         "poisson",  # (nm,) Poisson ratio (Hertz law)
         "hertz_damping",  # (nm, nm) Tsuji ratio alpha of each pair's restitution (laws/hertz.py)
-        "rule",  # (1,) int: how `stiffness` gives k_n: contact.RULE_PAPER, _YADE, _GIVEN
+        "rule",  # (1,) int: how `stiffness` gives k_n: material_pairs.RULE_PAPER, _YADE, _GIVEN
         "shear_kinematics",  # (1,) int: 0 contact point, 1 yade (laws/tangential.py)
     ],
 )

@@ -49,9 +49,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from dominowave.dem.contact import pair_stiffness, particle_stiffness
 from dominowave.dem.integrate import ROT_AXIS, ROT_NONE
 from dominowave.dem.laws.hertz import LAW_HERTZ, hertz_coefficient, hertz_modulus
+from dominowave.dem.material_pairs import pair_stiffness, particle_stiffness
 
 __all__ = ["critical_timestep"]
 
@@ -196,8 +196,8 @@ def _box_sphere_omega2(bodies, spheres, boxes, mats):
     ``max(k_n (w_x + w_s^n), k_t (w_x + w_s^t))`` over every box x and sphere s of the
     scene, ``w_x`` the box's bound (:func:`_box_inverse_mass`), ``w_s`` that of the
     sphere's body along (n) and across (t) the normal, ``k_n``, ``k_t`` the pair's
-    stiffnesses (contact.particle_stiffness with the box's rounding and the sphere's
-    radius, contact.pair_stiffness, as boxes.material_pair)."""
+    stiffnesses (material_pairs.particle_stiffness with the box's rounding and the sphere's
+    radius, material_pairs.pair_stiffness, as material_pairs.material_pair)."""
     rule = int(mats.rule[0])
 
     def particle(material, radius, tangential):
