@@ -43,9 +43,10 @@ def named(name: str, arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
 
 
 def assert_as_stored(path: Path, name: str, got: dict[str, np.ndarray]) -> None:
-    """Every array of scene ``name`` in ``got`` equals the stored one to the bit; the
-    scene has contact events."""
+    """The arrays of scene ``name`` in ``got`` are the stored ones, every one, equal
+    to the bit; the scene has contact events."""
     ref = np.load(path)
+    assert sorted(got) == sorted(k for k in ref.files if k.startswith(f"{name}/"))
     assert int(got[f"{name}/ev_time"].size) > 0
     for key, value in got.items():
         np.testing.assert_array_equal(value, ref[key], err_msg=key, strict=True)

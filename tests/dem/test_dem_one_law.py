@@ -8,7 +8,10 @@ box-box) and ``box_sphere.box_sphere_forces`` (box-sphere).  The moving body sli
 a fixed overlap (its height and its rotations blocked, no gravity) until the tangential
 spring reaches the Coulomb limit; against a plane the force is then known in closed form:
 ``k_n delta`` along the normal and ``mu k_n delta`` against the sliding direction
-(Cundall & Strack, Geotechnique 29, 47 (1979)).
+(Cundall & Strack, Geotechnique 29, 47 (1979)).  And step by step: the same point
+striking a plane while it slides and spins about the normal -- the onset, the dashpot,
+the sticking spring turned by the spin -- gets the same force at every step through the
+sphere-wall, box-wall and box-box drivers.
 """
 
 from __future__ import annotations
@@ -95,3 +98,55 @@ def test_a_point_on_a_sphere_gets_the_same_force_from_both_drivers():
     fn = sim.contacts.fn[c]
     assert np.linalg.norm(on_sphere) == pytest.approx(fn * np.hypot(1.0, MU), rel=1e-9)
     np.testing.assert_allclose(on_box, on_sphere, rtol=1e-9, atol=1e-12)
+
+
+def _striking(partner, moving_shape):
+    """Force [N] (F, 3) on a point striking the plane z = 0 (a wall, or a fixed box's
+    face) at every step, sliding and spinning about the normal, and the simulation.  The
+    box stands on a corner right below its centre (a body diagonal vertical), so that a
+    force at the point has no torque about the normal, as on the sphere."""
+    scene = Scene(gravity=(0.0, 0.0, 0.0))
+    density = MASS / (4.0 / 3.0 * np.pi * R**3)
+    mat = scene.add_material(Material(density=density, kn=KN, friction=MU, restitution=0.5))
+    if partner == "wall":
+        scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), mat)
+    else:
+        scene.add_box((0.0, 0.0, -0.01), (0.05, 0.05, 0.01), R, mat, blocked="x y z rx ry rz")
+    at = np.array([0.0, 0.0, R + 1e-6])  # (a micrometre above: the onset within a step)
+    options = {
+        "velocity": (0.03, 0.04, -0.2), "angular_velocity": (0.0, 0.0, 20.0),
+        "blocked": "rx ry",
+    }  # fmt: skip
+    if moving_shape == "sphere":
+        b = scene.add_sphere(at, R, mat, **options)
+    else:
+        diagonal = (HALF - R) / np.linalg.norm(HALF - R)
+        down, _ = Rotation.align_vectors([[0.0, 0.0, -1.0]], [diagonal])
+        centre = at + np.array([0.0, 0.0, np.linalg.norm(HALF - R)])
+        b = scene.add_box(centre, HALF, R, mat, orientation=down.as_matrix(), mass=MASS, **options)
+    sim = scene.build(dt=DT)
+    sim.planar_kernels = False
+    forces = []
+    for _ in range(150):
+        sim.run(n_steps=1)
+        forces.append(sim.bodies.force[b].copy())
+    return np.array(forces), sim
+
+
+@pytest.mark.parametrize("partner", ["wall", "box"])
+def test_a_striking_spinning_point_gets_the_same_force_at_every_step(partner):
+    """On a wall: contact.compute_forces (sphere) and boxes.box_forces (box); on a fixed
+    box's face, whose mass enters the dashpot: box_sphere.box_sphere_forces (sphere) and
+    boxes.box_forces (box)."""
+    on_sphere, sim = _striking(partner, "sphere")
+    on_box, _ = _striking(partner, "box")
+    # the run holds an onset, the dashpot and a shear spring turned by the spin
+    touching = np.flatnonzero(on_sphere[:, 2] > 0.0)
+    assert 0 < touching[0] < 5 and touching.size == on_sphere.shape[0] - touching[0]
+    rows = sim.contacts if partner == "wall" else sim.boxes.sphere_rows
+    assert np.any(rows.fn_viscous[: rows.n[0]] != 0.0)
+    first, last = on_sphere[touching[0], :2], on_sphere[-1, :2]
+    turn = np.arctan2(first[0] * last[1] - first[1] * last[0], first @ last)
+    assert abs(turn) > 1e-3
+    scale = np.abs(on_sphere).max()
+    np.testing.assert_allclose(on_box, on_sphere, rtol=1e-9, atol=1e-12 * scale)
