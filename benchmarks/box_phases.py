@@ -325,14 +325,19 @@ def main():
             print(f"| {name} | {at_} | {moving} | {rows} | {nc} | {vals} |", flush=True)
 
 
+GAP, FRICTION, N = 0.00938, 0.3, 40
+"""The standard chain of standard_chain_vs_mujoco.py (which needs MuJoCo to import)."""
+
+
 def standard_chain():
-    """The standard 40-domino 3D chain (gap 9.38 mm, friction 0.3) as the package's
+    """The standard 40-domino 3D chain of standard_chain_vs_mujoco.py as the package's
     defaults build it (softened contact at T_c/20, dominoes held until touched), without
-    recorders; the profile does not put dominoes to sleep."""
+    recorders and without sleep (the timed loop has none, and the CPU time it is scaled
+    to must be of the same steps)."""
     p = standard_domino(
-        gap=0.00938, floor="felt", n_dominoes=40, friction_dominoes=0.3, friction_floor=0.3
+        gap=GAP, floor="felt", n_dominoes=N, friction_dominoes=FRICTION, friction_floor=FRICTION
     )
-    chain = DominoChain(p)
+    chain = DominoChain(p, sleep=False)
     sim, _ = chain.build(Push(omega=math.sqrt(p.g / p.height)), record=False, track_energy=False)
     return sim
 

@@ -1075,6 +1075,7 @@ def rows_power(bodies, rows, box_body, partner_body, out):
         viscous, friction = point_power(
             rows.fn_viscous[c], n[0], n[1], n[2], dv0, dv1, dv2, rows.kt[c], u[0], u[1], u[2]
         )
+        # (mult 1 or 2: exact scaling, as in rows_energies)
         out[POWER_VISCOUS] += rows.mult[c] * viscous
         out[POWER_FRICTION] += rows.mult[c] * friction
 
@@ -1095,6 +1096,8 @@ def rows_energies(rows, hertz, out):
     vector; each row ``mult`` times its point's: :func:`box_energies`)."""
     en = 0.0
     es = 0.0
+    # (mult is 1 or 2, PLANAR_MULTIPLICITY: scaling by it commutes with the rounding of
+    # the point's products, so the sums are those of the rows' own products)
     for c in range(rows.n[0]):
         u = rows.shear[c]
         normal, tangential = point_energy(

@@ -6,8 +6,9 @@ The driver :func:`compute_forces` maps them over the Verlet list and hands each 
 point to the one law of every contact point of the engine (laws/point.py: the linear
 spring-dashpot of laws/linear.py with the Coulomb-limited shear spring of
 laws/tangential.py); :func:`contact_power` and :func:`active_contact_forces` read the
-contacts back (the planar kernels of planar.py are the same for a planar scene).  The
-pair properties (stiffness rule, friction and restitution per material pair) are here too.
+contacts back (the planar kernels of planar.py are the same for a planar scene).  A
+listed pair's constants come from its materials (:func:`pair_properties`, by
+material_pairs.material_pair).
 
 Sign convention: the unit normal ``n`` points from sphere ``i`` to its partner ``j``; the
 returned force acts on ``j`` (``-F`` on ``i``).

@@ -16,7 +16,8 @@ integrate.kick_body_planar / drift_body_planar / advance_body_planar, and maps
 
 :func:`compute_forces_planar` is the general contact driver (the same per-pair geometry
 of contact.py and the same law of a contact point, laws/point.py, without spin about the
-normal) with the y components passed as zero and dropped from the results: the
+normal; the zeros it passes change at most the sign of an exact zero) with the y
+components passed as zero and dropped from the results: the
 components that are exactly zero, and the round-off that the general kernel carries in
 them (sphere centres ~1e-17 m off the plane, from the y row of R(q); the normal's ~1e-15
 y component; a spin about the normal of ~1e-19 rad per step).  That

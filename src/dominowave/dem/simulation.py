@@ -88,7 +88,8 @@ def _upgraded(state: dict, n_materials: int) -> dict:
         **state,
         "state_format": np.array(STATE_FORMAT),
     }
-    if "boxes.body" in state:  # (what a freshly built scene of its boxes has)
+    if "boxes.body" in state:  # (what a freshly built scene of its boxes has; the row
+        # capacity for its spheres is set by boxes_from_state, only the defaults count)
         law = int(np.asarray(state["boxes.normal_law"]).reshape(-1)[0])
         shape = (state[f"boxes.{k}"] for k in ("body", "half", "radius", "material"))
         built = empty_boxes(*shape, law)

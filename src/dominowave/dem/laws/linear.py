@@ -65,7 +65,7 @@ def linear_normal_force(kn, cn, overlap, vn, weight):
     """Normal force [N] of the linear spring-dashpot on partner j along ``n`` (minus on
     i), as its elastic part ``k_n delta`` and its dashpot part ``-c_n v_n w``.
 
-    ``kn`` [N/m] the contact stiffness (:func:`pair_stiffness`, the paper's eqs. 22-24),
+    ``kn`` [N/m] the contact stiffness (material_pairs.pair_stiffness, the paper's eqs. 22-24),
     ``cn`` [N s/m] the dashpot (:func:`viscous_coefficient`), ``overlap`` delta [m] the
     overlap acting over the kick (at an onset its average over the kick interval,
     :func:`onset_averaged_overlap`), ``vn`` [m/s] the normal relative velocity (j minus i,
