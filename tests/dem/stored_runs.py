@@ -37,6 +37,13 @@ def bodies_and_events(sim) -> dict[str, np.ndarray]:
     return out
 
 
+def used_rows(table, prefix: str, fields) -> dict[str, np.ndarray]:
+    """The used part (``table.n[0]`` rows) of the ``fields`` of a contact table (the
+    spheres' ``sim.contacts``, the boxes' ``sim.boxes.rows``), keyed ``prefix_field``."""
+    n = int(table.n[0])
+    return {f"{prefix}_{k}": getattr(table, k)[:n] for k in fields}
+
+
 def named(name: str, arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     """``arrays`` copied, their keys prefixed with the scene's ``name``."""
     return {f"{name}/{k}": np.array(v, copy=True) for k, v in arrays.items()}

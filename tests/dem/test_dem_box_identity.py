@@ -21,7 +21,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from stored_runs import assert_as_stored, bodies_and_events, named, run_in_pieces, write_main
+from stored_runs import (
+    assert_as_stored,
+    bodies_and_events,
+    named,
+    run_in_pieces,
+    used_rows,
+    write_main,
+)
 
 from dominowave.chain import ChainParams, DominoChain, Push
 from dominowave.dem import Material, Scene
@@ -70,12 +77,8 @@ def _hertz_chain():
     return sim
 
 
-def _rows(sim):
-    """The box contact rows compared (their used part)."""
-    rows = sim.boxes.rows
-    n = int(rows.n[0])
-    fields = ("i", "j", "key", "shear", "overlap", "fn")
-    return {f"rows_{k}": getattr(rows, k)[:n] for k in fields}
+ROW_FIELDS = ("i", "j", "key", "shear", "overlap", "fn")
+"""The fields of the box contact rows compared."""
 
 
 def _run(name):
@@ -85,7 +88,8 @@ def _run(name):
         fields, steps = SCENES[name]
         sim = _chain(fields)
     run_in_pieces(sim, steps)
-    return named(name, {**bodies_and_events(sim), **_rows(sim)})
+    rows = used_rows(sim.boxes.rows, "rows", ROW_FIELDS)
+    return named(name, {**bodies_and_events(sim), **rows})
 
 
 NAMES = [*SCENES, "hertz3d"]

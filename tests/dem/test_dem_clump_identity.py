@@ -21,7 +21,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from stored_runs import assert_as_stored, bodies_and_events, named, run_in_pieces, write_main
+from stored_runs import (
+    assert_as_stored,
+    bodies_and_events,
+    named,
+    run_in_pieces,
+    used_rows,
+    write_main,
+)
 
 from dominowave.chain import ChainParams, DominoChain, Push
 from dominowave.dem import Material, Scene
@@ -70,12 +77,8 @@ def _spheres_in_a_box():
     return scene.build(safety=0.3, track_energy=True, record_pairs=True)
 
 
-def _contacts(sim):
-    """The sphere contacts compared (their used part)."""
-    c = sim.contacts
-    n = int(c.n[0])
-    fields = ("i", "j", "active", "shear", "overlap", "vn", "fn", "fn_viscous")
-    return {f"contacts_{k}": getattr(c, k)[:n] for k in fields}
+CONTACT_FIELDS = ("i", "j", "active", "shear", "overlap", "vn", "fn", "fn_viscous")
+"""The fields of the sphere contacts compared."""
 
 
 def _run(name):
@@ -87,7 +90,8 @@ def _run(name):
     sim.planar_kernels = name.startswith("clump2d")  # (else the general kernels)
     assert sim.planar == sim.planar_kernels  # (the 2D chains are planar, the others not)
     run_in_pieces(sim, steps)
-    return named(name, {**bodies_and_events(sim), **_contacts(sim)})
+    contacts = used_rows(sim.contacts, "contacts", CONTACT_FIELDS)
+    return named(name, {**bodies_and_events(sim), **contacts})
 
 
 NAMES = [*CHAINS, "spheres"]
