@@ -337,8 +337,8 @@ def test_box_time_step_estimate_takes_every_kind_of_partner():
     rule = int(mats.rule[0])
 
     def k_pair(ma, ra, mb, rb, kt):
-        ka = particle_stiffness(mats.stiffness[ma], ra, rule)
-        kb = particle_stiffness(mats.stiffness[mb], rb, rule)
+        ka = particle_stiffness(mats.young[ma], mats.kn[ma], ra, rule)
+        kb = particle_stiffness(mats.young[mb], mats.kn[mb], rb, rule)
         if kt:
             ka, kb = ka * mats.kt_ratio[ma], kb * mats.kt_ratio[mb]
         return pair_stiffness(ka, kb, rule)

@@ -1,5 +1,7 @@
 """Validation of the contact laws against analytic two-body results."""
 
+import math
+
 import numpy as np
 import pytest
 from dem_scenes import RHO, R, column, sphere_mass
@@ -68,18 +70,17 @@ def test_validate_stiffness_rules():
     yade: 2 E1 R1 E2 R2 / (E1 R1 + E2 R2)."""
     E1, R1, E2, R2 = 2e7, 0.004, 5e7, 0.006
     k1, k2 = np.pi * R1 * E1, np.pi * R2 * E2
-    paper = pair_stiffness(
-        particle_stiffness(E1, R1, RULE_PAPER), particle_stiffness(E2, R2, RULE_PAPER), RULE_PAPER
-    )
+
+    def particle(E, R, rule):
+        return particle_stiffness(E, math.nan, R, rule)  # (a material giving E: no k_n)
+
+    paper = pair_stiffness(particle(E1, R1, RULE_PAPER), particle(E2, R2, RULE_PAPER), RULE_PAPER)
     assert paper == pytest.approx(k1 * k2 / (k1 + k2), rel=1e-14)
-    same = pair_stiffness(
-        particle_stiffness(E1, R1, RULE_PAPER), particle_stiffness(E1, R1, RULE_PAPER), RULE_PAPER
-    )
+    same = pair_stiffness(particle(E1, R1, RULE_PAPER), particle(E1, R1, RULE_PAPER), RULE_PAPER)
     assert same == pytest.approx(np.pi * R1 * E1 / 2, rel=1e-14)
-    yade = pair_stiffness(
-        particle_stiffness(E1, R1, RULE_YADE), particle_stiffness(E2, R2, RULE_YADE), RULE_YADE
-    )
+    yade = pair_stiffness(particle(E1, R1, RULE_YADE), particle(E2, R2, RULE_YADE), RULE_YADE)
     assert yade == pytest.approx(2 * E1 * R1 * E2 * R2 / (E1 * R1 + E2 * R2), rel=1e-14)
+    assert particle_stiffness(math.nan, 3e3, R1, RULE_GIVEN) == 3e3  # (the k_n given)
     assert pair_stiffness(3e3, 3e3, RULE_GIVEN) == pytest.approx(3e3, rel=1e-14)
 
 

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from older_states import older_state
 from scipy.spatial.transform import Rotation
 
 from dominowave.dem import Material, Scene, Simulation
@@ -281,9 +282,7 @@ def test_pair_tables_survive_a_state_round_trip_and_older_files_load_with_the_mi
     state = sim.get_state()
     restored = Simulation.from_state(state)
     np.testing.assert_array_equal(restored.mats.pair_restitution, sim.mats.pair_restitution)
-    older = {  # (a format-1 file: no version, no pair tables)
-        k: v for k, v in state.items() if not k.startswith("mats.pair_") and k != "state_format"
-    }
+    older = older_state(state, 1)  # (no version, no pair tables)
     restored = Simulation.from_state(older)
     assert np.isnan(restored.mats.pair_friction).all()
     assert restored.mats.pair_restitution.shape == (2, 2)
@@ -331,9 +330,8 @@ def test_materials_giving_kn_are_the_rule_given_and_older_files_still_load():
     young.add_sphere((0.0, 0.0, 0.0), 0.005, 0)
     assert young.build().mats.rule[0] == RULE_YADE
     sim = build("paper")
-    older = {k: v for k, v in sim.get_state().items() if k != "state_format"}  # (format 1)
-    older["mats.rule"] = np.array([0], np.int64)  # the paper rule, overridden by the flag
-    older["mats.given_kn"] = np.ones(1, np.uint8)
+    older = older_state(sim.get_state(), 1)
+    assert older["mats.given_kn"][0] == 1  # (the paper rule, overridden by the flag)
     restored = Simulation.from_state(older)
     assert restored.mats.rule[0] == RULE_GIVEN
     sim.run(n_steps=3000)

@@ -5,6 +5,7 @@ general ones to the bit."""
 import numpy as np
 import pytest
 from dem_scenes import RHO, R, column
+from older_states import older_state
 
 from dominowave.dem import ONSET, Material, Scene, Simulation
 from dominowave.dem.engine import _advance_bodies
@@ -175,12 +176,7 @@ def test_state_saved_without_the_planar_setting_loads(tmp_path):
     """Checkpoints written before settings.planar existed still load and run."""
     sim = _planar_scene()
     sim.run(n_steps=100)
-    state = {
-        k: v
-        for k, v in sim.get_state().items()
-        if k not in ("settings.planar", "planar_kernels", "state_format")  # (format 1)
-    }
-    restored = Simulation.from_state(state)
+    restored = Simulation.from_state(older_state(sim.get_state(), 1))
     assert restored.planar_kernels
     restored.run(n_steps=100)
     sim.run(n_steps=100)

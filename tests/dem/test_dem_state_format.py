@@ -3,41 +3,22 @@
 A state of the current format round-trips as it is; a format-1 state (written before the
 key existed, without the planar switch, the shear kinematics, the material-pair tables
 and the Hertz tables, and possibly without the boxes' held flags at the list build and
-the box-sphere list) and a format-2 state (without the sleep settings and the rows of
-resting boxes) are read with the values their scene had implicitly and resume bit for
-bit; a state of a newer format, or of the current one with a key missing, is refused in
-one line.
+the box-sphere list), a format-2 state (without the sleep settings and the rows of
+resting boxes) and a format-3 state (one stiffness column for E or k_n) are read with the
+values their scene had implicitly and resume bit for bit (the older layouts:
+older_states.py); a state of a newer format, or of the current one with a key missing,
+is refused in one line.
 """
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from older_states import older_state
 
 from dominowave.dem import Material, Scene, Simulation
+from dominowave.dem.material_pairs import RULE_GIVEN
 from dominowave.dem.simulation import STATE_FORMAT
-
-FORMAT_2_KEYS = (
-    "state_format",
-    "settings.planar",
-    "planar_kernels",
-    "mats.shear_kinematics",
-    "mats.pair_friction",
-    "mats.pair_restitution",
-    "mats.poisson",
-    "mats.hertz_damping",
-)
-"""The keys a format-1 state lacks (with :data:`FORMAT_3_KEYS`)."""
-FORMAT_3_KEYS = ("settings.sleep_speed", "settings.sleep_time", "bodies.calm_since")
-"""The keys a format-2 state lacks (and those of the rows of resting boxes,
-``boxes.dormant.*``)."""
-FORMAT_1_BOX_KEYS = (
-    "boxes.held_at_build",
-    "boxes.sphere_cand",
-    "boxes.n_sphere_cand",
-    "boxes.sphere_cand_start",
-)
-"""Box keys a format-1 state may lack."""
 
 
 def _bouncing_ball():
@@ -56,12 +37,17 @@ def test_a_state_carries_its_format():
     assert int(restored.get_state()["state_format"]) == STATE_FORMAT
 
 
-def test_a_format_1_state_resumes_bit_identically():
+@pytest.mark.parametrize("version", [1, 2, 3])
+def test_an_older_state_resumes_bit_identically(version):
     sim = _bouncing_ball()
     sim.run(n_steps=500)
-    old = {k: v for k, v in sim.get_state().items() if k not in FORMAT_2_KEYS + FORMAT_3_KEYS}
-    restored = Simulation.from_state(old)
+    restored = Simulation.from_state(older_state(sim.get_state(), version))
     assert restored.planar_kernels
+    assert restored.mats.rule[0] == RULE_GIVEN  # (format 1: the flag mats.given_kn)
+    np.testing.assert_array_equal(restored.mats.kn, sim.mats.kn)
+    assert np.isnan(restored.mats.young).all()
+    if version <= 2:
+        assert restored.settings.sleep_speed == 0.0  # (never sleeps)
     sim.run(n_steps=3000)
     restored.run(n_steps=3000)
     for name in ("pos", "vel", "quat", "omega"):
@@ -69,17 +55,17 @@ def test_a_format_1_state_resumes_bit_identically():
     assert sim.bodies.vel_full[0, 2] > 0  # it bounced
 
 
-def test_a_format_2_state_resumes_bit_identically_and_never_sleeps():
-    sim = _bouncing_ball()
-    sim.run(n_steps=500)
-    old = {k: v for k, v in sim.get_state().items() if k not in FORMAT_3_KEYS}
-    old["state_format"] = np.array(2)
+def test_a_format_3_state_of_young_moduli_gets_its_modulus_column():
+    scene = Scene(stiffness_rule="yade")
+    m = scene.add_material(Material(density=1000.0, young=2e7, restitution=0.5))
+    scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), m)
+    scene.add_sphere((0.0, 0.0, 0.0051), 0.005, m)
+    state = scene.build().get_state()
+    assert state["mats.young"][0] == 2e7 and np.isnan(state["mats.kn"]).all()
+    old = older_state(state, 3)
+    assert old["mats.stiffness"][0] == 2e7 and "mats.young" not in old
     restored = Simulation.from_state(old)
-    assert restored.settings.sleep_speed == 0.0
-    sim.run(n_steps=3000)
-    restored.run(n_steps=3000)
-    for name in ("pos", "vel", "quat", "omega"):
-        np.testing.assert_array_equal(getattr(restored.bodies, name), getattr(sim.bodies, name))
+    assert restored.mats.young[0] == 2e7 and np.isnan(restored.mats.kn).all()
 
 
 def _box_on_a_box():
@@ -103,17 +89,12 @@ def _resume_alike(sim, old):
         np.testing.assert_array_equal(getattr(restored.bodies, name), getattr(sim.bodies, name))
 
 
-@pytest.mark.parametrize("version", [1, 2])
+@pytest.mark.parametrize("version", [1, 2, 3])
 def test_an_older_box_state_resumes_bit_identically(version):
     sim = _box_on_a_box()
     sim.run(n_steps=1500)
     assert sim.boxes.rows.n[0] >= 2  # (lying on the floor, struck by the other)
-    state = sim.get_state()
-    lacks = FORMAT_3_KEYS + (FORMAT_2_KEYS + FORMAT_1_BOX_KEYS if version == 1 else ())
-    old = {k: v for k, v in state.items() if k not in lacks and not k.startswith("boxes.dormant.")}
-    if version == 2:
-        old["state_format"] = np.array(2)
-    _resume_alike(sim, old)
+    _resume_alike(sim, older_state(sim.get_state(), version))
 
 
 def test_a_box_state_missing_a_key_is_refused():

@@ -5,6 +5,7 @@ ratcheting-free rate; dem/contact.py)."""
 import numpy as np
 import pytest
 from dem_scenes import RHO, R, sphere_mass
+from older_states import older_state
 
 from dominowave.dem import Material, Scene, Simulation
 from dominowave.dem.laws.tangential import yade_shear_velocity
@@ -195,12 +196,7 @@ def test_state_saved_without_the_shear_kinematics_loads():
     """Checkpoints written before the option existed load with the default kinematics."""
     sim, *_ = _sliding_sphere("contact_point", (1.0, 0.0, 0.0), 0.3, 0.2, -10.0)
     sim.run(n_steps=50)
-    state = {  # (a format-1 file)
-        k: v
-        for k, v in sim.get_state().items()
-        if k not in ("mats.shear_kinematics", "state_format")
-    }
-    restored = Simulation.from_state(state)
+    restored = Simulation.from_state(older_state(sim.get_state(), 1))
     assert restored.mats.shear_kinematics[0] == sim.mats.shear_kinematics[0]
     restored.run(n_steps=50)
     sim.run(n_steps=50)

@@ -621,9 +621,7 @@ def _point_properties(bodies, boxes, walls, mats, a, j, out):
         rb = ra  # a wall takes the radius of the body touching it (as for spheres)
     material_pair(mats, ma, ra, mb, rb, out)
     if boxes.normal_law[0] == LAW_HERTZ:
-        modulus = hertz_modulus(
-            mats.stiffness[ma], mats.poisson[ma], mats.stiffness[mb], mats.poisson[mb]
-        )
+        modulus = hertz_modulus(mats.young[ma], mats.poisson[ma], mats.young[mb], mats.poisson[mb])
         out[0] = hertz_coefficient(modulus, _hertz_radius(ra, rb, j < 0))
         out[4] = mats.hertz_damping[ma, mb]
 

@@ -1,8 +1,9 @@
 """The properties of a contact between two materials (YADE's Ip2 functors).
 
 A material gives a stiffness (Young's modulus E [Pa], or the contact stiffness k_n
-[N/m] itself), a tangential-to-normal stiffness ratio, a friction coefficient and a
-restitution (state.Material, MaterialTable).  A contact point between a body of
+[N/m] itself: the columns ``young`` and ``kn`` of MaterialTable, the other one nan), a
+tangential-to-normal stiffness ratio, a friction coefficient and a restitution
+(state.Material, MaterialTable).  A contact point between a body of
 material a with rounding or sphere radius r_a and one of material b with r_b gets
 
 * the stiffness of each side by the scene's rule (:func:`particle_stiffness`): the
@@ -42,15 +43,15 @@ RULE_GIVEN = 2  # contact stiffnesses k_n given per material
 
 
 @njit(cache=True, error_model="numpy")
-def particle_stiffness(modulus, radius, rule):
-    """Stiffness of one particle [N/m] from its material's ``stiffness`` (``modulus``, E
-    [Pa] or k_n [N/m]) and radius [m]: pi R E (RULE_PAPER, eq. 23), E R (RULE_YADE) or
-    the k_n given (RULE_GIVEN)."""
+def particle_stiffness(young, kn, radius, rule):
+    """Stiffness of one particle [N/m] of radius [m] whose material gives ``young`` (E
+    [Pa]) or ``kn`` (k_n [N/m]; the other is nan): pi R E (RULE_PAPER, eq. 23), E R
+    (RULE_YADE) or the k_n given (RULE_GIVEN)."""
     if rule == RULE_GIVEN:
-        return modulus
+        return kn
     if rule == RULE_PAPER:
-        return math.pi * radius * modulus
-    return modulus * radius
+        return math.pi * radius * young
+    return young * radius
 
 
 @njit(cache=True, error_model="numpy")
@@ -94,8 +95,8 @@ def material_pair(mats, ma, ra, mb, rb, out):
     :func:`pair_stiffness`), friction and restitution of the material pair
     (:func:`pair_friction_restitution`)."""
     rule = mats.rule[0]
-    ka = particle_stiffness(mats.stiffness[ma], ra, rule)
-    kb = particle_stiffness(mats.stiffness[mb], rb, rule)
+    ka = particle_stiffness(mats.young[ma], mats.kn[ma], ra, rule)
+    kb = particle_stiffness(mats.young[mb], mats.kn[mb], rb, rule)
     out[0] = pair_stiffness(ka, kb, rule)
     out[1] = pair_stiffness(ka * mats.kt_ratio[ma], kb * mats.kt_ratio[mb], rule)
     out[2], out[3] = pair_friction_restitution(mats, ma, mb)

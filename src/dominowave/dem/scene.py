@@ -321,7 +321,8 @@ class Scene:
             )
             hertz_damping = hertz_damping_table(e)
         return MaterialTable(
-            stiffness=np.array([m.kn if m.kn is not None else m.young for m in self.materials]),
+            young=np.array([np.nan if m.young is None else m.young for m in self.materials], float),
+            kn=np.array([np.nan if m.kn is None else m.kn for m in self.materials], float),
             kt_ratio=np.array([m.kt_ratio for m in self.materials], float),
             friction=np.array([m.friction for m in self.materials], float),
             restitution=restitution,

@@ -45,14 +45,16 @@ STOP_REASONS = {
     engine.STOP_KINETIC: "kinetic",
 }
 
-STATE_FORMAT = 3
+STATE_FORMAT = 4
 """Version of the layout of :meth:`Simulation.get_state` (key ``state_format``).
 1 (files without the key): no ``settings.planar``, ``planar_kernels``,
 ``mats.shear_kinematics``, material-pair tables or Hertz tables, and the stiffness rule
 of materials giving k_n as the flag ``mats.given_kn``, and possibly no record of which
 boxes were held at the last list build or of the box-sphere list; 2: no sleeping boxes
 (``settings.sleep_speed``, ``settings.sleep_time``, ``bodies.calm_since``, the rows of
-resting pairs ``boxes.dormant.*``); :func:`_upgraded` reads both."""
+resting pairs ``boxes.dormant.*``); 1 to 3: one column ``mats.stiffness`` for E or k_n
+(by the rule) instead of ``mats.young`` and ``mats.kn``; :func:`_upgraded` reads them
+all."""
 
 
 def _upgraded(state: dict, n_materials: int) -> dict:
@@ -61,8 +63,9 @@ def _upgraded(state: dict, n_materials: int) -> dict:
     kinematics, the min rule of the pair tables, linear contacts, every box held at the
     last list build -- a run in which one is free builds the list again at its start --
     and no box-sphere list -- every pair a candidate until the next build, the same
-    forces; formats 1 and 2: no sleeping, no resting rows put aside); a state of a newer
-    format is refused."""
+    forces; formats 1 and 2: no sleeping, no resting rows put aside; formats 1 to 3: the
+    one stiffness column split into E and k_n by the rule); a state of a newer format is
+    refused."""
     version = int(np.asarray(state.get("state_format", 1)))
     if version == STATE_FORMAT:
         return state
@@ -97,6 +100,11 @@ def _upgraded(state: dict, n_materials: int) -> dict:
     given = np.asarray(state.pop("mats.given_kn", [0])).reshape(-1)
     if given.size and given[0] == 1:
         state["mats.rule"] = np.array([RULE_GIVEN], np.int64)
+    if "mats.stiffness" in state:  # (E or k_n, by the rule)
+        stiffness = np.asarray(state.pop("mats.stiffness"), float)
+        unset = np.full_like(stiffness, np.nan)
+        given = int(np.asarray(state["mats.rule"]).reshape(-1)[0]) == RULE_GIVEN
+        state["mats.young"], state["mats.kn"] = (unset, stiffness) if given else (stiffness, unset)
     return state
 
 

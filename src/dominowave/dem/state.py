@@ -87,7 +87,8 @@ Walls = namedtuple("Walls", ["point", "normal", "material"])
 MaterialTable = namedtuple(
     "MaterialTable",
     [
-        "stiffness",  # (nm,) E [Pa] (rules paper, yade) or k_n [N/m] (rule given)
+        "young",  # (nm,) Young's modulus E [Pa]; nan for a material given k_n
+        "kn",  # (nm,) contact stiffness k_n [N/m]; nan for a material given E
         "kt_ratio",  # (nm,)
         "friction",  # (nm,)
         "restitution",  # (nm,)  1 = elastic
@@ -95,7 +96,8 @@ MaterialTable = namedtuple(
         "pair_restitution",  # (nm, nm) symmetric: a pair's own e, nan: min rule
         "poisson",  # (nm,) Poisson ratio (Hertz law)
         "hertz_damping",  # (nm, nm) Tsuji ratio alpha of each pair's restitution (laws/hertz.py)
-        "rule",  # (1,) int: how `stiffness` gives k_n: material_pairs.RULE_PAPER, _YADE, _GIVEN
+        "rule",  # (1,) int: how a contact's k_n follows: material_pairs.RULE_PAPER, _YADE (from
+        # young), RULE_GIVEN (kn)
         "shear_kinematics",  # (1,) int: 0 contact point, 1 yade (laws/tangential.py)
     ],
 )

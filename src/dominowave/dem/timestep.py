@@ -72,27 +72,26 @@ def critical_timestep(bodies, spheres, walls, mats, boxes=None, impact_speed=0.0
         omega2_boxes = max(omega2_boxes, _box_sphere_omega2(bodies, spheres, boxes, mats))
         touching_boxes = _touching_box_spheres(bodies, spheres, boxes)
 
-    def particle(material, radius, tangential):
-        k = particle_stiffness(mats.stiffness[material], radius, rule)
-        return k * mats.kt_ratio[material] if tangential else k
-
     def stiffest(ma, ra, mb, rb):
         """The larger of the normal and tangential stiffness of a pair [N/m]."""
-        return max(pair_stiffness(particle(ma, ra, t), particle(mb, rb, t), rule) for t in (0, 1))
+        return max(_pair_stiffness(mats, ma, ra, mb, rb, t) for t in (0, 1))
 
     n_bodies = bodies.mass.shape[0]
     # one contact: the stiffest normal and tangential contact each body can form
     k_body = np.zeros((2, n_bodies))
     for t in (0, 1):
         k_sphere = np.array(
-            [particle(m, r, t) for m, r in zip(spheres.material, spheres.radius, strict=True)]
+            [
+                _particle_stiffness(mats, m, r, t)
+                for m, r in zip(spheres.material, spheres.radius, strict=True)
+            ]
         )
         k_partner = float(k_sphere.max())
         k_max = np.array([pair_stiffness(k, k_partner, rule) for k in k_sphere])
         for w_mat in walls.material:
             k_wall = np.array(
                 [
-                    pair_stiffness(k, particle(w_mat, r, t), rule)
+                    pair_stiffness(k, _particle_stiffness(mats, w_mat, r, t), rule)
                     for k, r in zip(k_sphere, spheres.radius, strict=True)
                 ]
             )
@@ -129,6 +128,24 @@ def critical_timestep(bodies, spheres, walls, mats, boxes=None, impact_speed=0.0
     return float(1.0 / np.sqrt(max(omega2.max(), omega2_boxes)))
 
 
+def _particle_stiffness(mats, material, radius, tangential):
+    """Normal (or, ``tangential``, tangential) stiffness [N/m] of one side of a contact
+    point of ``material`` at the sphere or rounding radius [m], as
+    material_pairs.material_pair takes it: particle_stiffness by the scene's rule, times
+    the material's kt_ratio for the tangential one."""
+    k = particle_stiffness(mats.young[material], mats.kn[material], radius, int(mats.rule[0]))
+    return k * mats.kt_ratio[material] if tangential else k
+
+
+def _pair_stiffness(mats, ma, ra, mb, rb, tangential):
+    """Normal (or tangential) stiffness [N/m] of a contact point between material ``ma``
+    at radius ``ra`` [m] and ``mb`` at ``rb``: its two sides (:func:`_particle_stiffness`)
+    combined by the scene's rule (material_pairs.pair_stiffness)."""
+    ka = _particle_stiffness(mats, ma, ra, tangential)
+    kb = _particle_stiffness(mats, mb, rb, tangential)
+    return pair_stiffness(ka, kb, int(mats.rule[0]))
+
+
 def _box_omega2(bodies, boxes, walls, mats, impact_speed=0.0, gravity=0.0):
     """Largest ``omega^2`` [1/s^2] of the rounded cuboids: a face resting on a face or
     wall, its 4 corners in contact at once (Gershgorin, as above:
@@ -142,17 +159,12 @@ def _box_omega2(bodies, boxes, walls, mats, impact_speed=0.0, gravity=0.0):
     """
     if boxes.body.size == 0:
         return 0.0
-    rule = int(mats.rule[0])
     hertz = boxes.normal_law[0] == LAW_HERTZ
-
-    def particle(material, radius, tangential):
-        k = particle_stiffness(mats.stiffness[material], radius, rule)
-        return k * mats.kt_ratio[material] if tangential else k
 
     def normal(m, r, pm, pr, mass):
         if not hertz:
-            return pair_stiffness(particle(m, r, False), particle(pm, pr, False), rule)
-        E = hertz_modulus(mats.stiffness[m], mats.poisson[m], mats.stiffness[pm], mats.poisson[pm])
+            return _pair_stiffness(mats, m, r, pm, pr, False)
+        E = hertz_modulus(mats.young[m], mats.poisson[m], mats.young[pm], mats.poisson[pm])
         K = hertz_coefficient(E, 2.0 * r * pr / (r + pr))  # (the largest R* of the pair)
         impact = (1.25 * mass * impact_speed**2 / K) ** 0.4
         rest = (0.25 * mass * gravity / K) ** (2.0 / 3.0)
@@ -168,7 +180,7 @@ def _box_omega2(bodies, boxes, walls, mats, impact_speed=0.0, gravity=0.0):
         k = max(
             max(
                 normal(m, r, pm, pr, bodies.mass[b]),
-                pair_stiffness(particle(m, r, True), particle(pm, pr, True), rule),
+                _pair_stiffness(mats, m, r, pm, pr, True),
             )
             for pm, pr in partners
         )
@@ -198,12 +210,6 @@ def _box_sphere_omega2(bodies, spheres, boxes, mats):
     sphere's body along (n) and across (t) the normal, ``k_n``, ``k_t`` the pair's
     stiffnesses (material_pairs.particle_stiffness with the box's rounding and the sphere's
     radius, material_pairs.pair_stiffness, as material_pairs.material_pair)."""
-    rule = int(mats.rule[0])
-
-    def particle(material, radius, tangential):
-        k = particle_stiffness(mats.stiffness[material], radius, rule)
-        return k * mats.kt_ratio[material] if tangential else k
-
     n_bodies = bodies.mass.shape[0]
     inv_mass = 1.0 / bodies.mass
     coupling = _rotational_coupling(bodies, spheres)
@@ -217,8 +223,8 @@ def _box_sphere_omega2(bodies, spheres, boxes, mats):
         wx = w_box[(boxes.material == mb) & (boxes.radius == rb)].max()
         for ms, rs in set(zip(spheres.material, spheres.radius, strict=True)):
             sel = (spheres.material == ms) & (spheres.radius == rs)
-            kn = pair_stiffness(particle(mb, rb, False), particle(ms, rs, False), rule)
-            kt = pair_stiffness(particle(mb, rb, True), particle(ms, rs, True), rule)
+            kn = _pair_stiffness(mats, mb, rb, ms, rs, False)
+            kt = _pair_stiffness(mats, mb, rb, ms, rs, True)
             omega2 = max(omega2, kn * (wx + along[sel].max()), kt * (wx + across[sel].max()))
     return omega2
 

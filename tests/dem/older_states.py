@@ -1,0 +1,60 @@
+"""A saved state as an older version of dominowave wrote it (dem.simulation.STATE_FORMAT).
+
+:func:`older_state` takes a state of the current format and gives it the layout of an
+older one: the keys that format lacked dropped, and those it had in another form written
+back in that form.  The tests of the readers of older files build their inputs with it,
+so each format is described once, here.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from dominowave.dem.material_pairs import RULE_GIVEN, RULE_PAPER
+
+FORMAT_2_KEYS = (
+    "state_format",
+    "settings.planar",
+    "planar_kernels",
+    "mats.shear_kinematics",
+    "mats.pair_friction",
+    "mats.pair_restitution",
+    "mats.poisson",
+    "mats.hertz_damping",
+)
+"""The keys a format-1 state lacks (with :data:`FORMAT_3_KEYS`)."""
+FORMAT_3_KEYS = ("settings.sleep_speed", "settings.sleep_time", "bodies.calm_since")
+"""The keys a format-2 state lacks (and those of the rows of resting boxes,
+``boxes.dormant.*``)."""
+FORMAT_1_BOX_KEYS = (
+    "boxes.held_at_build",
+    "boxes.sphere_cand",
+    "boxes.n_sphere_cand",
+    "boxes.sphere_cand_start",
+)
+"""Box keys a format-1 state may lack."""
+
+
+def older_state(state: dict, version: int) -> dict:
+    """``state`` (current format) in the layout of format ``version`` (1, 2 or 3):
+
+    * 1 to 3: one column ``mats.stiffness`` holding E, or k_n under RULE_GIVEN, instead
+      of ``mats.young`` and ``mats.kn``;
+    * 1 and 2: no sleep settings, no rows of resting boxes;
+    * 1: no version key, none of :data:`FORMAT_2_KEYS` and :data:`FORMAT_1_BOX_KEYS`,
+      and materials giving k_n flagged by ``mats.given_kn`` beside the paper's rule.
+    """
+    old = dict(state)
+    young, kn = old.pop("mats.young"), old.pop("mats.kn")
+    given = int(old["mats.rule"][0]) == RULE_GIVEN
+    old["mats.stiffness"] = kn if given else young
+    old["state_format"] = np.array(version)
+    if version <= 2:
+        old = {k: v for k, v in old.items() if k not in FORMAT_3_KEYS}
+        old = {k: v for k, v in old.items() if not k.startswith("boxes.dormant.")}
+    if version == 1:
+        old = {k: v for k, v in old.items() if k not in FORMAT_2_KEYS + FORMAT_1_BOX_KEYS}
+        if given:
+            old["mats.rule"] = np.array([RULE_PAPER], np.int64)
+            old["mats.given_kn"] = np.ones(1, np.uint8)
+    return old
