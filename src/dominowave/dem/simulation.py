@@ -11,21 +11,20 @@ import numpy as np
 
 from dominowave.checks import check_finite, check_in_range, check_positive
 from dominowave.dem import engine
-from dominowave.dem.box_sphere import box_sphere_energies, box_sphere_forces
+from dominowave.dem.box_sphere import box_sphere_energies
 from dominowave.dem.boxes import (
     box_energies,
-    box_forces,
     box_state,
     boxes_from_state,
     empty_boxes,
 )
-from dominowave.dem.contact import build_verlet_list, compute_forces
+from dominowave.dem.contact import build_verlet_list
 from dominowave.dem.energy import E_TOTAL, ENERGY_NAMES, N_ENERGIES, N_MECHANICAL, energies
 from dominowave.dem.engine import Recorder, SceneKind, Settings, time_loop
 from dominowave.dem.integrate import update_sphere_positions
 from dominowave.dem.laws.tangential import SHEAR_CONTACT_POINT
 from dominowave.dem.material_pairs import RULE_GIVEN
-from dominowave.dem.planar import compute_forces_planar, planar_violation
+from dominowave.dem.planar import planar_violation
 from dominowave.dem.state import Bodies, Contacts, Material, MaterialTable, Spheres, Walls
 
 __all__ = [
@@ -365,11 +364,12 @@ class Simulation:
     def _refresh_energy(self):
         """Energies of the current state into ``rec.energy_now``.
 
-        Before the first step the contacts of initially overlapping bodies are evaluated
-        on a copy (so their elastic energy counts from t = 0 and no state changes);
-        afterwards the contact state of the last step is used.
+        Before the first step the contacts of initially overlapping bodies are those the
+        engine's first step finds (:meth:`_first_step`, on a copy: their elastic energy
+        counts from t = 0 and no state changes); afterwards the contact state of the last
+        step is used.
         """
-        contacts = self.contacts
+        contacts, boxes = self.contacts, self.boxes
         if self.rec.step[0] == 0:
             while (
                 build_verlet_list(
@@ -380,35 +380,33 @@ class Simulation:
                 contacts = _grown_contacts(contacts)
             self.contacts = contacts
             self.rec = self.rec._replace(changes=np.zeros((contacts.i.shape[0], 2), np.int64))
-            contacts = copy.deepcopy(contacts)
-            bodies = copy.deepcopy(self.bodies)
-            # (the kernel the first step will use: only it needs compiling)
-            planar = self.planar_kernels and self.planar
-            (compute_forces_planar if planar else compute_forces)(
-                bodies,
-                self.spheres,
-                self.walls,
-                contacts,
-                self.dt,
-                np.zeros(3),
-                self.rec.changes.copy(),
-                True,
-                self.mats.shear_kinematics[0],
-            )
+            first = self._first_step()
+            contacts, boxes = first.contacts, first.boxes
         energies(self.bodies, contacts, self.settings.gravity, self.rec.ledger, self.rec.energy_now)
-        boxes = self.boxes
-        if self.rec.step[0] == 0 and boxes.body.size:  # (the box contacts at start, on a copy)
-            boxes = copy.deepcopy(boxes)
-            bodies, planar = copy.deepcopy(self.bodies), self.planar_kernels and self.planar
-            box_forces(
-                bodies, boxes, self.walls, self.mats, self.dt, np.zeros(3), True, planar,
-            )  # fmt: skip
-            box_sphere_forces(
-                bodies, self.spheres, boxes, self.mats, self.dt, np.zeros(3), True, planar
-            )
         if boxes.body.size:
             box_energies(boxes, self.rec.energy_now)
             box_sphere_energies(boxes, self.rec.energy_now)
+
+    def _first_step(self) -> Simulation:
+        """A copy of this simulation, at its first step, after that step: its sphere
+        contacts and box rows are those the step found in the initial configuration.  The
+        step is the time loop's own (no other kernel is compiled for it); the copy
+        records nothing (its recorder is a new one, without the pair tables)."""
+        first = copy.copy(self)
+        for name in ("bodies", "spheres", "contacts", "boxes"):  # (what a step writes)
+            setattr(first, name, copy.deepcopy(getattr(self, name)))
+        capacity = self.contacts.i.shape[0]
+        first.rec = _empty_recorder(self.n_bodies, self.walls.point.shape[0], capacity, False)
+        first.rec.clock[engine.CLOCK_TIME] = self.time
+        first.settings = self.settings._replace(record_pairs=False, record_peak_force=False)
+        first._start_run(0, 0, False)
+        stop = np.empty(4)
+        stop[engine.STOP_ARG_QUIET] = np.inf
+        stop[engine.STOP_ARG_TOUCHED_BODY] = -1
+        stop[engine.STOP_ARG_KINETIC_BELOW] = -1.0
+        stop[engine.STOP_ARG_RUN_START] = self.time
+        first._advance(1, np.inf, stop)
+        return first
 
     # ------------------------------------------------------------------ running
     def run(
@@ -471,7 +469,16 @@ class Simulation:
         remaining = np.iinfo(np.int64).max if n_steps is None else int(n_steps)
         t_end = np.inf if until is None else float(until)
         self._start_run(trajectory_every, energy_every, record_contact_forces)
-        planar = self.settings.planar
+        code, done = self._advance(remaining, t_end, stop_array)
+        if code >= engine.ABORT_NAN:
+            self._abort(code)
+        return self._result(STOP_REASONS[code], done)
+
+    def _advance(self, n_steps, t_end, stop_array):
+        """Run the time loop of the scene's kind (engine.time_loop) for up to ``n_steps``
+        steps, to ``t_end`` [s] or a stop condition (``stop_array``, engine.STOP_ARG_*),
+        growing a full buffer and going on; returns ``(code, steps done)`` with a code
+        of engine.DONE_*, STOP_* or ABORT_*."""
         run_loop = time_loop(self.kind)
         done_total = 0
         while True:
@@ -483,25 +490,21 @@ class Simulation:
                 self.contacts,
                 self.settings,
                 self.rec,
-                remaining,
+                n_steps - done_total,
                 t_end,
                 stop_array,
                 np.empty((2, 3)),  # scratch vectors of the loop
                 self.boxes,
             )
             done_total += done
-            remaining -= done
             # the loop moves only the spheres of the Verlet list: place all for Python
             # (not before the first step: the spheres still sit at the scene's centres,
             # which the first step uses, and which differ from the placed ones by round-off)
             if self.rec.step[0] > 0:
-                update_sphere_positions(self.bodies, self.spheres, planar)
-            if code in STOP_REASONS:
-                break
-            if code >= engine.ABORT_NAN:
-                self._abort(code)
+                update_sphere_positions(self.bodies, self.spheres, self.settings.planar)
+            if not engine.GROW_CONTACTS <= code < engine.ABORT_NAN:
+                return code, done_total
             self._grow(code)
-        return self._result(STOP_REASONS[code], done_total)
 
     @property
     def kind(self) -> SceneKind:
