@@ -16,6 +16,32 @@ from reference.sliding_contact import sliding_contact
 G = 9.81
 RHO = 1000.0
 
+# -------------------------------------------------------------------- initial contacts
+
+
+@pytest.mark.parametrize("planar", [True, False])
+def test_validate_a_box_pressed_into_the_floor_stores_its_springs_energy_from_the_start(planar):
+    """A box resting flat on the floor, pressed into it by delta, holds four compressed
+    corner springs when the scene is built: ``E_n = 4 k_n delta^2 / 2`` before any step
+    (the energies of a built scene come from its first step, done on a copy:
+    Simulation._first_step; planar: two corners, each standing for both ends of its
+    edge), no shear, and the scene itself not stepped."""
+    delta, half, rounding = 1e-4, np.array([0.01, 0.01, 0.005]), 0.001
+    scene = Scene(gravity=(0.0, 0.0, -G))
+    m = scene.add_material(Material(density=RHO, kn=1e4, friction=0.3))
+    scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), m)
+    scene.add_box(
+        (0.0, 0.0, half[2] - delta), half, rounding, m, blocked="y rx rz" if planar else ""
+    )
+    sim = scene.build()
+    assert sim.planar == planar
+    energy = sim.energy()
+    assert energy["elastic_normal"] == pytest.approx(4 * 0.5 * 1e4 * delta**2, rel=1e-12)
+    assert energy["elastic_tangential"] == 0.0
+    assert sim.rec.step[0] == 0 and sim.bodies.pos[0, 2] == half[2] - delta
+    assert sim.boxes.rows.n[0] == 0  # (the rows found by the copy's step stay there)
+
+
 # -------------------------------------------------------------------- feature changes
 
 KN, KT_RATIO, MU = 1e4, 0.8, 0.3

@@ -18,13 +18,13 @@ from dominowave.dem.boxes import (
     boxes_from_state,
     empty_boxes,
 )
-from dominowave.dem.contact import build_verlet_list
+from dominowave.dem.contact import build_verlet_list, compute_forces
 from dominowave.dem.energy import E_TOTAL, ENERGY_NAMES, N_ENERGIES, N_MECHANICAL, energies
 from dominowave.dem.engine import Recorder, SceneKind, Settings, time_loop
 from dominowave.dem.integrate import update_sphere_positions
 from dominowave.dem.laws.tangential import SHEAR_CONTACT_POINT
 from dominowave.dem.material_pairs import RULE_GIVEN
-from dominowave.dem.planar import planar_violation
+from dominowave.dem.planar import compute_forces_planar, planar_violation
 from dominowave.dem.state import Bodies, Contacts, Material, MaterialTable, Spheres, Walls
 
 __all__ = [
@@ -364,10 +364,15 @@ class Simulation:
     def _refresh_energy(self):
         """Energies of the current state into ``rec.energy_now``.
 
-        Before the first step the contacts of initially overlapping bodies are those the
-        engine's first step finds (:meth:`_first_step`, on a copy: their elastic energy
-        counts from t = 0 and no state changes); afterwards the contact state of the last
-        step is used.
+        Before the first step the contacts of initially overlapping bodies are evaluated
+        on a copy, so that their elastic energy counts from t = 0 and no state changes:
+        a scene with boxes takes them from the time loop's first step
+        (:meth:`_first_step`: box_forces is inlined into the loop, and a call from Python
+        would compile it a second time, 83 s of a 3D box chain's first run), a scene of
+        spheres from the sphere kernel its first step will use (compiled on its own
+        before the loop that calls it, which the README's main job finds 4-5 s faster
+        than compiling it within the loop: benchmarks/README.md, "First run");
+        afterwards the contact state of the last step is used.
         """
         contacts, boxes = self.contacts, self.boxes
         if self.rec.step[0] == 0:
@@ -380,8 +385,16 @@ class Simulation:
                 contacts = _grown_contacts(contacts)
             self.contacts = contacts
             self.rec = self.rec._replace(changes=np.zeros((contacts.i.shape[0], 2), np.int64))
-            first = self._first_step()
-            contacts, boxes = first.contacts, first.boxes
+            if boxes.body.size:
+                first = self._first_step()
+                contacts, boxes = first.contacts, first.boxes
+            else:
+                contacts = copy.deepcopy(contacts)
+                planar = self.planar_kernels and self.planar
+                (compute_forces_planar if planar else compute_forces)(
+                    copy.deepcopy(self.bodies), self.spheres, self.walls, contacts, self.dt,
+                    np.zeros(3), self.rec.changes.copy(), True, self.mats.shear_kinematics[0],
+                )  # fmt: skip
         energies(self.bodies, contacts, self.settings.gravity, self.rec.ledger, self.rec.energy_now)
         if boxes.body.size:
             box_energies(boxes, self.rec.energy_now)
