@@ -413,12 +413,7 @@ class Simulation:
         first.rec.clock[engine.CLOCK_TIME] = self.time
         first.settings = self.settings._replace(record_pairs=False, record_peak_force=False)
         first._start_run(0, 0, False)
-        stop = np.empty(4)
-        stop[engine.STOP_ARG_QUIET] = np.inf
-        stop[engine.STOP_ARG_TOUCHED_BODY] = -1
-        stop[engine.STOP_ARG_KINETIC_BELOW] = -1.0
-        stop[engine.STOP_ARG_RUN_START] = self.time
-        first._advance(1, np.inf, stop)
+        first._advance(1, np.inf, first._stop_array(StopCondition()))
         return first
 
     # ------------------------------------------------------------------ running
@@ -468,6 +463,18 @@ class Simulation:
             )
         if stop.kinetic_below is not None:
             check_positive("kinetic_below", stop.kinetic_below)
+        stop_array = self._stop_array(stop)
+        remaining = np.iinfo(np.int64).max if n_steps is None else int(n_steps)
+        t_end = np.inf if until is None else float(until)
+        self._start_run(trajectory_every, energy_every, record_contact_forces)
+        code, done = self._advance(remaining, t_end, stop_array)
+        if code >= engine.ABORT_NAN:
+            self._abort(code)
+        return self._result(STOP_REASONS[code], done)
+
+    def _stop_array(self, stop: StopCondition) -> np.ndarray:
+        """``stop`` as the time loop reads it (entries engine.STOP_ARG_*), the run starting
+        now."""
         stop_array = np.empty(4)
         stop_array[engine.STOP_ARG_QUIET] = (
             np.inf if stop.no_onset_for is None else stop.no_onset_for
@@ -479,13 +486,7 @@ class Simulation:
             -1.0 if stop.kinetic_below is None else stop.kinetic_below
         )
         stop_array[engine.STOP_ARG_RUN_START] = self.time
-        remaining = np.iinfo(np.int64).max if n_steps is None else int(n_steps)
-        t_end = np.inf if until is None else float(until)
-        self._start_run(trajectory_every, energy_every, record_contact_forces)
-        code, done = self._advance(remaining, t_end, stop_array)
-        if code >= engine.ABORT_NAN:
-            self._abort(code)
-        return self._result(STOP_REASONS[code], done)
+        return stop_array
 
     def _advance(self, n_steps, t_end, stop_array):
         """Run the time loop of the scene's kind (engine.time_loop) for up to ``n_steps``
