@@ -33,7 +33,12 @@ import numpy as np
 from numba import njit
 
 from dominowave.dem import Material, Scene
-from dominowave.dem.contact import build_verlet_list, compute_forces, needs_rebuild
+from dominowave.dem.contact import (
+    build_verlet_list,
+    compute_forces,
+    compute_forces_planar,
+    needs_rebuild,
+)
 from dominowave.dem.integrate import (
     drift,
     kick,
@@ -41,7 +46,6 @@ from dominowave.dem.integrate import (
     update_sphere_positions,
 )
 from dominowave.dem.laws.tangential import SHEAR_CONTACT_POINT
-from dominowave.dem.planar import compute_forces_planar
 from dominowave.kernel_cache import install
 
 # the cached kernels below inline the package's: stale with any change of it

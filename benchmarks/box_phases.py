@@ -54,7 +54,7 @@ from numba.extending import intrinsic
 
 from dominowave.chain import ChainParams, DominoChain, Push
 from dominowave.chain.presets import standard_domino
-from dominowave.dem import box_sphere, boxes, contact, engine, integrate, planar
+from dominowave.dem import box_sphere, boxes, contact, engine, integrate
 from dominowave.dem.energy import E_GRAVITATIONAL, energies
 
 PHASES = (
@@ -161,7 +161,7 @@ def _timed_steps(bodies, spheres, walls, mats, contacts, settings, rec, bx, n_st
             engine._zero_forces(bodies)
             n_changes = 0
         elif pl:
-            n_changes = planar.compute_forces_planar(
+            n_changes = contact.compute_forces_planar(
                 bodies, spheres, walls, contacts, dt, rec.ledger, rec.changes, step == 0,
                 mats.shear_kinematics[0],
             )  # fmt: skip

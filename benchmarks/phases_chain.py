@@ -25,7 +25,7 @@ import numpy as np
 from bench_chain import case
 from numba import njit
 
-from dominowave.dem import contact, engine, integrate, planar
+from dominowave.dem import contact, engine, integrate
 from dominowave.kernel_cache import install
 
 # the cached kernels below inline the package's: stale with any change of it
@@ -46,7 +46,7 @@ def _steps(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, force
             builds += 1
         if forces:
             if settings.planar:
-                planar.compute_forces_planar(
+                contact.compute_forces_planar(
                     bodies,
                     spheres,
                     walls,

@@ -16,44 +16,46 @@ import pytest
 from numba.core import analysis, compiler, ir
 
 from dominowave.chain import ChainParams, DominoChain, Push
-from dominowave.dem import SceneKind, Simulation
+from dominowave.dem import SceneKind, Simulation, contact, engine, integrate
 from dominowave.dem.engine import time_loop
 
 BOX_KERNELS = {"box_forces", "build_box_candidates", "_bookkeep_boxes", "box_power"}
 BOX_SPHERE_KERNELS = {"box_sphere_forces", "box_sphere_power"}
-GENERAL_KERNELS = {"compute_forces", "contact_power", "kick_general", "drift_general"}
-PLANAR_KERNELS = {"compute_forces_planar", "contact_power_planar", "kick_planar", "drift_planar"}
+# the kernels of one source compiled for each kind of plane (contact._sphere_driver,
+# engine._body_pass), and the integrator's
+GENERAL = {contact.compute_forces, contact.contact_power, engine._advance_general,
+           integrate.kick_general, integrate.drift_general}  # fmt: skip
+PLANAR = {contact.compute_forces_planar, contact.contact_power_planar, engine._advance_planar,
+          integrate.kick_planar, integrate.drift_planar}  # fmt: skip
 
 
-def _called_kernels(kind: SceneKind) -> set[str]:
-    """Names of the compiled functions the loop of ``kind`` calls once numba has pruned
-    the branches of its constants (the untyped IR that numba types next)."""
+def _called_kernels(kind: SceneKind) -> set:
+    """The compiled functions the loop of ``kind`` calls once numba has pruned the branches
+    of its constants (the untyped IR that numba types next)."""
     func_ir = compiler.run_frontend(time_loop(kind).py_func)
     analysis.dead_branch_prune(func_ir, ())
-    names = set()
+    kernels = set()
     for block in func_ir.blocks.values():
         for stmt in block.body:
             if isinstance(stmt, ir.Assign) and isinstance(stmt.value, (ir.Global, ir.FreeVar)):
                 if hasattr(stmt.value.value, "py_func"):
-                    names.add(stmt.value.value.py_func.__name__)
-    return names
+                    kernels.add(stmt.value.value)
+    return kernels
 
 
 @pytest.mark.parametrize("planar", [True, False])
 @pytest.mark.parametrize("boxes", [False, True])
 def test_a_kind_calls_only_its_own_kernels(planar, boxes):
     called = _called_kernels(SceneKind(planar, boxes))
-    assert "needs_rebuild" in called and "energies" in called  # (the IR was read)
-    own = PLANAR_KERNELS if planar else GENERAL_KERNELS
-    other = GENERAL_KERNELS if planar else PLANAR_KERNELS
-    assert not called & (other - own)
-    assert {"kick_planar" if planar else "kick_general"} <= called
-    sphere_law = "compute_forces_planar" if planar else "compute_forces"
-    assert {"build_verlet_list", "_bookkeep", sphere_law} <= called  # (in every kind)
+    names = {kernel.py_func.__name__ for kernel in called}
+    assert "needs_rebuild" in names and "energies" in names  # (the IR was read)
+    own, other = (PLANAR, GENERAL) if planar else (GENERAL, PLANAR)
+    assert own <= called and not called & other
+    assert {"build_verlet_list", "_bookkeep"} <= names  # (in every kind)
     if boxes:
-        assert BOX_KERNELS | BOX_SPHERE_KERNELS <= called
+        assert BOX_KERNELS | BOX_SPHERE_KERNELS <= names
     else:
-        assert not called & (BOX_KERNELS | BOX_SPHERE_KERNELS)
+        assert not names & (BOX_KERNELS | BOX_SPHERE_KERNELS)
 
 
 @pytest.mark.parametrize(

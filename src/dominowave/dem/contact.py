@@ -6,7 +6,8 @@ The driver :func:`compute_forces` maps them over the Verlet list and hands each 
 point to the one law of every contact point of the engine (laws/point.py: the linear
 spring-dashpot of laws/linear.py with the Coulomb-limited shear spring of
 laws/tangential.py); :func:`contact_power` and :func:`active_contact_forces` read the
-contacts back (the planar kernels of planar.py are the same for a planar scene).  A
+contacts back (:func:`compute_forces_planar` and :func:`contact_power_planar`, the same
+source compiled for a planar scene: :func:`_sphere_driver`).  A
 listed pair's constants come from its materials (:func:`pair_properties`, by
 material_pairs.material_pair).
 
@@ -30,11 +31,14 @@ from dominowave.dem.material_pairs import material_pair
 __all__ = [
     "active_contact_forces",
     "apply_at_lever",
+    "apply_in_plane",
     "begin_contact",
     "build_verlet_list",
     "compute_forces",
+    "compute_forces_planar",
     "contact_point",
     "contact_power",
+    "contact_power_planar",
     "end_contact",
     "idle_pair",
     "lever_arm",
@@ -489,7 +493,7 @@ def _list_spheres(spheres, contacts, seen):
 # the contact normal and overlap out; the drivers below map them over the Verlet list.
 # Vectors pass as scalar triples: kept in registers, whereas through a scratch array
 # every component is a store and a reload (the compiler cannot rule out that the
-# scratch array aliases the state arrays it reads).  The planar drivers (planar.py) pass
+# scratch array aliases the state arrays it reads).  The planar kernels (planar.py) pass
 # the components that are zero in the plane as 0.0 and drop those of the results.
 
 
@@ -578,7 +582,7 @@ def apply_at_lever(bodies, b, rx, ry, rz, f0, f1, f2, sign):
 
 
 # --------------------------------------------------------------------------- drivers
-# The per-contact bookkeeping of the drivers (here and planar.py): the state of contact
+# The per-contact bookkeeping of the drivers (here and boxes.py): the state of contact
 # c in ``contacts`` and the forces on the bodies.
 
 
@@ -639,178 +643,281 @@ def begin_contact(contacts, c):
         contacts.shear[c, d] = 0.0
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
-def compute_forces(
-    bodies, spheres, walls, contacts, dt, ledger, changes, first_step, shear_kinematics
-):
-    """Contact forces and torques on all bodies for the current positions.
+@njit(cache=True, error_model="numpy", inline="always")
+def apply_in_plane(bodies, b, rx, rz, f0, f2, sign):
+    """:func:`apply_at_lever` for a force and lever arm in the xz plane: the x and z force
+    and the torque about y (a planar scene reads nothing else)."""
+    bodies.force[b, 0] += sign * f0
+    bodies.force[b, 2] += sign * f2
+    bodies.torque[b, 1] += sign * (rz * f0 - rx * f2)
 
-    ``ledger[LEDGER_FRICTION]`` -= change of the energy stored in the tangential springs
-    (the work of the tangential and dashpot forces is booked after the kick, from
-    :func:`contact_power` with the full-step velocities).  Every contact that
-    starts or ends is appended to ``changes`` as ``(c, kind)`` rows; returns their count.
-    ``first_step``: the initial configuration, no shear increment (no previous step).
-    ``shear_kinematics``: SHEAR_CONTACT_POINT or SHEAR_YADE (laws/tangential.py).
-    """
-    bodies.force[:, :] = 0.0
-    bodies.torque[:, :] = 0.0
-    pos = spheres.pos
-    n_changes = 0
-    for c in range(contacts.n[0]):
-        # (unsigned indices: numba adds no negative-index wraparound to every access)
-        i = np.uint64(contacts.i[c])
-        j = contacts.j[c]
-        bi = np.uint64(spheres.body[i])
-        Ri = spheres.radius[i]
-        active = contacts.active[c]
-        wall = j < 0
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _yade_shear_velocity(
+    bodies, spheres, contacts, c, i, bi, bj, wall, n0, n1, n2, rsum, overlap, planar
+):
+    """The relative velocity that drives the shear of contact c with YADE's kinematics
+    (laws.tangential.yade_shear_velocity): from the velocities of the two sphere centres
+    and their spins (``planar``: in the plane, the centres moving with ``(v_x + w r_z,
+    v_z - w r_x)``, ``r`` = centre - centre of mass)."""
+    pos, body_pos, vel, om = spheres.pos, bodies.pos, bodies.vel, bodies.omega
+    if planar:
+        wi = om[bi, 1]
+        ci0 = vel[bi, 0] + wi * (pos[i, 2] - body_pos[bi, 2])
+        ci2 = vel[bi, 2] - wi * (pos[i, 0] - body_pos[bi, 0])
+        a1 = spheres.radius[i] * wi
+        cj0 = cj2 = 0.0
         if not wall:
-            j = np.uint64(j)
-            bj = np.uint64(spheres.body[j])
-            rsum = Ri + spheres.radius[j]
-            near, n0, n1, n2, overlap = sphere_sphere(
-                pos[i, 0], pos[i, 1], pos[i, 2], pos[j, 0], pos[j, 1], pos[j, 2], rsum, active
-            )
-        else:
-            bj = bi  # (unused)
-            w = np.uint64(-j - 1)
-            wp, wn = walls.point, walls.normal
-            near, n0, n1, n2, overlap = sphere_wall(
-                pos[i, 0], pos[i, 1], pos[i, 2], Ri, wp[w, 0], wp[w, 1], wp[w, 2],
-                wn[w, 0], wn[w, 1], wn[w, 2], active,
-            )  # fmt: skip
-            rsum = 2.0 * Ri  # (SHEAR_YADE: a wall takes the sphere's radius)
-        if not near:
-            idle_pair(contacts, c)
-            continue
-        p0, p1, p2 = contact_point(pos[i, 0], pos[i, 1], pos[i, 2], Ri, n0, n1, n2, overlap)
-        if overlap <= 0.0:
-            if not active:  # (d2 < rsum^2, but |d| rounds to rsum: no contact)
+            js = np.uint64(contacts.j[c])
+            wj = om[bj, 1]
+            cj0 = vel[bj, 0] + wj * (pos[js, 2] - body_pos[bj, 2])
+            cj2 = vel[bj, 2] - wj * (pos[js, 0] - body_pos[bj, 0])
+            a1 += spheres.radius[js] * wj
+        s0, _, s2 = yade_shear_velocity(
+            cj0 - ci0, 0.0, cj2 - ci2, 0.0, a1, 0.0, n0, 0.0, n2, rsum, overlap
+        )
+        return s0, 0.0, s2
+    Ri = spheres.radius[i]
+    ci0, ci1, ci2 = lever_arm(body_pos, bi, pos[i, 0], pos[i, 1], pos[i, 2])
+    ci0, ci1, ci2 = point_velocity(vel, om, bi, ci0, ci1, ci2)
+    a0, a1, a2 = Ri * om[bi, 0], Ri * om[bi, 1], Ri * om[bi, 2]
+    cj0 = cj1 = cj2 = 0.0
+    if not wall:
+        js = np.uint64(contacts.j[c])
+        Rj = spheres.radius[js]
+        cj0, cj1, cj2 = lever_arm(body_pos, bj, pos[js, 0], pos[js, 1], pos[js, 2])
+        cj0, cj1, cj2 = point_velocity(vel, om, bj, cj0, cj1, cj2)
+        a0 += Rj * om[bj, 0]
+        a1 += Rj * om[bj, 1]
+        a2 += Rj * om[bj, 2]
+    return yade_shear_velocity(
+        cj0 - ci0, cj1 - ci1, cj2 - ci2, a0, a1, a2, n0, n1, n2, rsum, overlap
+    )
+
+
+def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
+    """The sphere driver's kernels for a scene of the kind ``PLANAR``:
+    ``(compute_forces, contact_power)``.
+
+    One source for both kinds of scene, compiled once for each (as engine.time_loop):
+    the planar kernels (a planar scene, planar.py) pass the components that are zero in
+    the plane as 0.0 to the same per-pair geometry and law, drop them from the results
+    and compute the relative velocities in the plane -- the same in-plane numbers with a
+    third fewer loads and operations.  numba prunes the branches of the other kind before
+    it inlines the per-pair functions, so each kernel compiles its own arithmetic only
+    (the flag is tested by name in every ``if``: numba does not follow a constant through
+    a variable or a ``not``)."""
+
+    @njit(cache=True, error_model="numpy", _nrt=False)
+    def compute_forces(
+        bodies, spheres, walls, contacts, dt, ledger, changes, first_step, shear_kinematics
+    ):
+        """Contact forces and torques on all bodies for the current positions.
+
+        ``ledger[LEDGER_FRICTION]`` -= change of the energy stored in the tangential springs
+        (the work of the tangential and dashpot forces is booked after the kick, from
+        :func:`contact_power` with the full-step velocities).  Every contact that
+        starts or ends is appended to ``changes`` as ``(c, kind)`` rows; returns their count.
+        ``first_step``: the initial configuration, no shear increment (no previous step).
+        ``shear_kinematics``: SHEAR_CONTACT_POINT or SHEAR_YADE (laws/tangential.py).
+        """
+        bodies.force[:, :] = 0.0
+        bodies.torque[:, :] = 0.0
+        pos = spheres.pos
+        body_pos, vel, om = bodies.pos, bodies.vel, bodies.omega
+        u = contacts.shear
+        n_changes = 0
+        for c in range(contacts.n[0]):
+            # (unsigned indices: numba adds no negative-index wraparound to every access)
+            i = np.uint64(contacts.i[c])
+            j = contacts.j[c]
+            bi = np.uint64(spheres.body[i])
+            Ri = spheres.radius[i]
+            active = contacts.active[c]
+            wall = j < 0
+            yi = 0.0 if PLANAR else pos[i, 1]
+            if not wall:
+                j = np.uint64(j)
+                bj = np.uint64(spheres.body[j])
+                rsum = Ri + spheres.radius[j]
+                yj = 0.0 if PLANAR else pos[j, 1]
+                near, n0, n1, n2, overlap = sphere_sphere(
+                    pos[i, 0], yi, pos[i, 2], pos[j, 0], yj, pos[j, 2], rsum, active
+                )
+            else:
+                bj = bi  # (unused)
+                w = np.uint64(-j - 1)
+                wp, wn = walls.point, walls.normal
+                wy = 0.0 if PLANAR else wp[w, 1]
+                nwy = 0.0 if PLANAR else wn[w, 1]
+                near, n0, n1, n2, overlap = sphere_wall(
+                    pos[i, 0], yi, pos[i, 2], Ri, wp[w, 0], wy, wp[w, 2], wn[w, 0], nwy, wn[w, 2],
+                    active,
+                )  # fmt: skip
+                rsum = 2.0 * Ri  # (SHEAR_YADE: a wall takes the sphere's radius)
+            if PLANAR:
+                n1 = 0.0  # (not -0.0: the sign of the zero the wall's normal gives)
+            if not near:
                 idle_pair(contacts, c)
                 continue
-            # an active contact opened in the last drift
-            ledger[LEDGER_FRICTION] += end_contact(
-                bodies, contacts, c, bi, bj, wall, n0, n1, n2, overlap, dt, p0, p1, p2
-            )
-            n_changes = log_change(changes, n_changes, c, END)
-            continue
-        new_contact = not active
-        if new_contact:
-            begin_contact(contacts, c)
-            n_changes = log_change(changes, n_changes, c, ONSET)
-        # relative velocity of the contact point, j minus i (a wall is fixed)
-        om = bodies.omega
-        ri0, ri1, ri2 = lever_arm(bodies.pos, bi, p0, p1, p2)
-        vi0, vi1, vi2 = point_velocity(bodies.vel, om, bi, ri0, ri1, ri2)
-        rj0 = rj1 = rj2 = 0.0
-        if not wall:
-            rj0, rj1, rj2 = lever_arm(bodies.pos, bj, p0, p1, p2)
-            vj0, vj1, vj2 = point_velocity(bodies.vel, om, bj, rj0, rj1, rj2)
-            spin = 0.5 * n0 * (om[bi, 0] + om[bj, 0])
-            spin += 0.5 * n1 * (om[bi, 1] + om[bj, 1])
-            spin += 0.5 * n2 * (om[bi, 2] + om[bj, 2])
-        else:
-            vj0 = vj1 = vj2 = 0.0
-            spin = 0.5 * n0 * om[bi, 0]
-            spin += 0.5 * n1 * om[bi, 1]
-            spin += 0.5 * n2 * om[bi, 2]
-        dv0, dv1, dv2 = vj0 - vi0, vj1 - vi1, vj2 - vi2
-        # the relative velocity that drives the shear (laws/tangential.py)
-        s0, s1, s2 = dv0, dv1, dv2
-        if shear_kinematics == SHEAR_YADE:
-            ci0, ci1, ci2 = lever_arm(bodies.pos, bi, pos[i, 0], pos[i, 1], pos[i, 2])
-            ci0, ci1, ci2 = point_velocity(bodies.vel, om, bi, ci0, ci1, ci2)
-            a0, a1, a2 = Ri * om[bi, 0], Ri * om[bi, 1], Ri * om[bi, 2]
-            cj0 = cj1 = cj2 = 0.0
-            if not wall:
-                js = np.uint64(contacts.j[c])  # (j is typed as a float after the branches)
-                Rj = spheres.radius[js]
-                cj0, cj1, cj2 = lever_arm(bodies.pos, bj, pos[js, 0], pos[js, 1], pos[js, 2])
-                cj0, cj1, cj2 = point_velocity(bodies.vel, om, bj, cj0, cj1, cj2)
-                a0 += Rj * om[bj, 0]
-                a1 += Rj * om[bj, 1]
-                a2 += Rj * om[bj, 2]
-            s0, s1, s2 = yade_shear_velocity(
-                cj0 - ci0, cj1 - ci1, cj2 - ci2, a0, a1, a2, n0, n1, n2, rsum, overlap
-            )
-        # the contact point's law (a new contact: no shear history, begin_contact)
-        fn, fn_viscous, vn, u0, u1, u2, released, f0, f1, f2 = point_law(
-            overlap, n0, n1, n2, dv0, dv1, dv2, s0, s1, s2, spin * dt,
-            contacts.shear[c, 0], contacts.shear[c, 1], contacts.shear[c, 2], contacts.vn[c],
-            new_contact, contacts.kn[c], contacts.kt[c], contacts.mu[c], contacts.cn[c], dt,
-            first_step, False,
-        )  # fmt: skip
-        contacts.shear[c, 0], contacts.shear[c, 1], contacts.shear[c, 2] = u0, u1, u2
-        contacts.vn[c] = vn
-        contacts.overlap[c] = overlap
-        contacts.fn[c] = fn
-        contacts.fn_viscous[c] = fn_viscous
-        # friction ledger, part 1: minus the change of the energy stored in the spring
-        ledger[LEDGER_FRICTION] += released
-        if not wall:
-            apply_at_lever(bodies, bj, rj0, rj1, rj2, f0, f1, f2, 1.0)
-        apply_at_lever(bodies, bi, ri0, ri1, ri2, f0, f1, f2, -1.0)
-    return n_changes
-
-
-@njit(cache=True, error_model="numpy", _nrt=False)
-def contact_power(bodies, spheres, walls, contacts, out):
-    """Power [W] at t_n of the dashpot forces (``out[POWER_VISCOUS]``) and of the
-    tangential forces (``out[POWER_FRICTION]``) on the bodies: ``F . v_rel`` with the
-    full-step relative velocity of the contact point (``v_n``, the velocity in which the
-    kinetic-energy change of velocity Verlet is exact to O(dt^3) per step).  The caller
-    integrates them with the trapezoidal rule; the friction dissipation is minus the
-    tangential work minus the change of the energy stored in the springs (booked in
-    :func:`compute_forces`), which closes the balance to O(dt^2) with rotating bodies and
-    turning contact frames as well.
-
-    The dashpot force is ``contacts.fn_viscous`` (including the dashpot part of an end
-    impulse, :func:`end_impulse`).  The elastic onset/end corrections are part of the
-    elastic force and are not booked, for elastic and viscous materials alike.  The
-    contact point is that of the last :func:`compute_forces` (its stored overlap).
-    """
-    pos = spheres.pos
-    p_viscous = 0.0
-    p_friction = 0.0
-    for c in range(contacts.n[0]):
-        fd = contacts.fn_viscous[c]
-        u = contacts.shear
-        if fd == 0.0 and (not contacts.active[c] or u[c, 0] == u[c, 1] == u[c, 2] == 0.0):
-            continue  # (ended contacts have zero shear)
-        i = contacts.i[c]
-        j = contacts.j[c]
-        bi = spheres.body[i]
-        Ri = spheres.radius[i]
-        if j >= 0:
-            _, n0, n1, n2, _ = sphere_sphere(
-                pos[i, 0], pos[i, 1], pos[i, 2], pos[j, 0], pos[j, 1], pos[j, 2], 0.0, True
-            )
-        else:
-            wn = walls.normal
-            _, n0, n1, n2, _ = sphere_wall(
-                pos[i, 0], pos[i, 1], pos[i, 2], Ri, 0.0, 0.0, 0.0,
-                wn[-j - 1, 0], wn[-j - 1, 1], wn[-j - 1, 2], True,
+            p0, p1, p2 = contact_point(pos[i, 0], yi, pos[i, 2], Ri, n0, n1, n2, overlap)
+            if overlap <= 0.0:
+                if not active:  # (d2 < rsum^2, but |d| rounds to rsum: no contact)
+                    idle_pair(contacts, c)
+                    continue
+                # an active contact opened in the last drift (planar: its force lies in the
+                # plane, and the lever's y, taken at the sphere's own, only enters the torque's
+                # x and z, which nothing reads)
+                ledger[LEDGER_FRICTION] += end_contact(
+                    bodies, contacts, c, bi, bj, wall, n0, n1, n2, overlap, dt, p0,
+                    pos[i, 1] if PLANAR else p1, p2,
+                )  # fmt: skip
+                n_changes = log_change(changes, n_changes, c, END)
+                continue
+            new_contact = not active
+            if new_contact:
+                begin_contact(contacts, c)
+                n_changes = log_change(changes, n_changes, c, ONSET)
+            # relative velocity of the contact point, j minus i (a wall is fixed), and the
+            # spin of the pair about the normal
+            ri0, ri1, ri2 = lever_arm(body_pos, bi, p0, p1, p2)
+            rj0 = rj1 = rj2 = 0.0
+            if PLANAR:
+                # v + omega x r with omega = (0, w, 0): (v_x + w r_z, v_z - w r_x)
+                wi = om[bi, 1]
+                dv0, dv1, dv2 = -(vel[bi, 0] + wi * ri2), 0.0, -(vel[bi, 2] - wi * ri0)
+                if not wall:
+                    rj0, rj2 = p0 - body_pos[bj, 0], p2 - body_pos[bj, 2]
+                    wj = om[bj, 1]
+                    dv0 += vel[bj, 0] + wj * rj2
+                    dv2 += vel[bj, 2] - wj * rj0
+                spin = 0.0
+            else:
+                vi0, vi1, vi2 = point_velocity(vel, om, bi, ri0, ri1, ri2)
+                if not wall:
+                    rj0, rj1, rj2 = lever_arm(body_pos, bj, p0, p1, p2)
+                    vj0, vj1, vj2 = point_velocity(vel, om, bj, rj0, rj1, rj2)
+                    spin = 0.5 * n0 * (om[bi, 0] + om[bj, 0])
+                    spin += 0.5 * n1 * (om[bi, 1] + om[bj, 1])
+                    spin += 0.5 * n2 * (om[bi, 2] + om[bj, 2])
+                else:
+                    vj0 = vj1 = vj2 = 0.0
+                    spin = 0.5 * n0 * om[bi, 0]
+                    spin += 0.5 * n1 * om[bi, 1]
+                    spin += 0.5 * n2 * om[bi, 2]
+                dv0, dv1, dv2 = vj0 - vi0, vj1 - vi1, vj2 - vi2
+            # the relative velocity that drives the shear (laws/tangential.py)
+            s0, s1, s2 = dv0, dv1, dv2
+            if shear_kinematics == SHEAR_YADE:
+                s0, s1, s2 = _yade_shear_velocity(
+                    bodies, spheres, contacts, c, i, bi, bj, wall, n0, n1, n2, rsum, overlap, PLANAR
+                )
+            # the contact point's law (a new contact: no shear history, begin_contact)
+            fn, fn_viscous, vn, u0, u1, u2, released, f0, f1, f2 = point_law(
+                overlap, n0, n1, n2, dv0, dv1, dv2, s0, s1, s2, spin * dt, u[c, 0],
+                0.0 if PLANAR else u[c, 1], u[c, 2], contacts.vn[c], new_contact, contacts.kn[c],
+                contacts.kt[c], contacts.mu[c], contacts.cn[c], dt, first_step, False,
             )  # fmt: skip
-        p0, p1, p2 = contact_point(
-            pos[i, 0], pos[i, 1], pos[i, 2], Ri, n0, n1, n2, contacts.overlap[c]
-        )
-        vel, omega = bodies.vel_full, bodies.omega_full
-        ri0, ri1, ri2 = lever_arm(bodies.pos, bi, p0, p1, p2)
-        vi0, vi1, vi2 = point_velocity(vel, omega, bi, ri0, ri1, ri2)
-        if j >= 0:
-            bj = spheres.body[j]
-            rj0, rj1, rj2 = lever_arm(bodies.pos, bj, p0, p1, p2)
-            vj0, vj1, vj2 = point_velocity(vel, omega, bj, rj0, rj1, rj2)
-        else:
-            vj0 = vj1 = vj2 = 0.0
-        dv0, dv1, dv2 = vj0 - vi0, vj1 - vi1, vj2 - vi2
-        viscous, friction = point_power(
-            fd, n0, n1, n2, dv0, dv1, dv2, contacts.kt[c], u[c, 0], u[c, 1], u[c, 2]
-        )
-        p_viscous += viscous
-        p_friction += friction
-    out[POWER_VISCOUS] = p_viscous
-    out[POWER_FRICTION] = p_friction
+            u[c, 0], u[c, 1], u[c, 2] = u0, 0.0 if PLANAR else u1, u2
+            contacts.vn[c] = vn
+            contacts.overlap[c] = overlap
+            contacts.fn[c] = fn
+            contacts.fn_viscous[c] = fn_viscous
+            # friction ledger, part 1: minus the change of the energy stored in the spring
+            ledger[LEDGER_FRICTION] += released
+            if PLANAR:
+                if not wall:
+                    apply_in_plane(bodies, bj, rj0, rj2, f0, f2, 1.0)
+                apply_in_plane(bodies, bi, ri0, ri2, f0, f2, -1.0)
+            else:
+                if not wall:
+                    apply_at_lever(bodies, bj, rj0, rj1, rj2, f0, f1, f2, 1.0)
+                apply_at_lever(bodies, bi, ri0, ri1, ri2, f0, f1, f2, -1.0)
+        return n_changes
+
+    @njit(cache=True, error_model="numpy", _nrt=False)
+    def contact_power(bodies, spheres, walls, contacts, out):
+        """Power [W] at t_n of the dashpot forces (``out[POWER_VISCOUS]``) and of the
+        tangential forces (``out[POWER_FRICTION]``) on the bodies: ``F . v_rel`` with the
+        full-step relative velocity of the contact point (``v_n``, the velocity in which the
+        kinetic-energy change of velocity Verlet is exact to O(dt^3) per step).  The caller
+        integrates them with the trapezoidal rule; the friction dissipation is minus the
+        tangential work minus the change of the energy stored in the springs (booked in
+        :func:`compute_forces`), which closes the balance to O(dt^2) with rotating bodies and
+        turning contact frames as well.
+
+        The dashpot force is ``contacts.fn_viscous`` (including the dashpot part of an end
+        impulse, :func:`end_impulse`).  The elastic onset/end corrections are part of the
+        elastic force and are not booked, for elastic and viscous materials alike.  The
+        contact point is that of the last :func:`compute_forces` (its stored overlap).
+        The planar kernel leaves out the y components: the same sums to the bit (``v_y`` of
+        every contact point and the shear's ``u_y`` are exactly zero in a planar run).
+        """
+        pos = spheres.pos
+        body_pos, vel, omega = bodies.pos, bodies.vel_full, bodies.omega_full
+        u = contacts.shear
+        p_viscous = 0.0
+        p_friction = 0.0
+        for c in range(contacts.n[0]):
+            fd = contacts.fn_viscous[c]
+            if fd == 0.0 and (not contacts.active[c] or u[c, 0] == u[c, 1] == u[c, 2] == 0.0):
+                continue  # (ended contacts have zero shear)
+            i = contacts.i[c]
+            j = contacts.j[c]
+            bi = spheres.body[i]
+            Ri = spheres.radius[i]
+            yi = 0.0 if PLANAR else pos[i, 1]
+            if j >= 0:
+                yj = 0.0 if PLANAR else pos[j, 1]
+                _, n0, n1, n2, _ = sphere_sphere(
+                    pos[i, 0], yi, pos[i, 2], pos[j, 0], yj, pos[j, 2], 0.0, True
+                )
+            else:
+                wn = walls.normal
+                nwy = 0.0 if PLANAR else wn[-j - 1, 1]
+                _, n0, n1, n2, _ = sphere_wall(
+                    pos[i, 0], yi, pos[i, 2], Ri, 0.0, 0.0, 0.0, wn[-j - 1, 0], nwy, wn[-j - 1, 2],
+                    True,
+                )  # fmt: skip
+            if PLANAR:
+                n1 = 0.0
+            p0, p1, p2 = contact_point(
+                pos[i, 0], yi, pos[i, 2], Ri, n0, n1, n2, contacts.overlap[c]
+            )
+            if PLANAR:
+                ri0, ri2 = p0 - body_pos[bi, 0], p2 - body_pos[bi, 2]
+                dv0 = -(vel[bi, 0] + omega[bi, 1] * ri2)
+                dv1 = 0.0
+                dv2 = -(vel[bi, 2] - omega[bi, 1] * ri0)
+                if j >= 0:
+                    bj = spheres.body[j]
+                    rj0, rj2 = p0 - body_pos[bj, 0], p2 - body_pos[bj, 2]
+                    dv0 += vel[bj, 0] + omega[bj, 1] * rj2
+                    dv2 += vel[bj, 2] - omega[bj, 1] * rj0
+            else:
+                ri0, ri1, ri2 = lever_arm(body_pos, bi, p0, p1, p2)
+                vi0, vi1, vi2 = point_velocity(vel, omega, bi, ri0, ri1, ri2)
+                if j >= 0:
+                    bj = spheres.body[j]
+                    rj0, rj1, rj2 = lever_arm(body_pos, bj, p0, p1, p2)
+                    vj0, vj1, vj2 = point_velocity(vel, omega, bj, rj0, rj1, rj2)
+                else:
+                    vj0 = vj1 = vj2 = 0.0
+                dv0, dv1, dv2 = vj0 - vi0, vj1 - vi1, vj2 - vi2
+            viscous, friction = point_power(
+                fd, n0, n1, n2, dv0, dv1, dv2, contacts.kt[c], u[c, 0],
+                0.0 if PLANAR else u[c, 1], u[c, 2],
+            )  # fmt: skip
+            p_viscous += viscous
+            p_friction += friction
+        out[POWER_VISCOUS] = p_viscous
+        out[POWER_FRICTION] = p_friction
+
+    return compute_forces, contact_power
+
+
+compute_forces, contact_power = _sphere_driver(False)
+compute_forces_planar, contact_power_planar = _sphere_driver(True)
 
 
 @njit(cache=True, error_model="numpy")

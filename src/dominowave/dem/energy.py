@@ -49,7 +49,7 @@ LEDGER_FRICTION = 0
 LEDGER_VISCOUS = 1
 LEDGER_DAMPING = 2
 
-# the (2,) output of contact.contact_power / planar.contact_power_planar [W]
+# the (2,) output of contact.contact_power [W]
 POWER_VISCOUS = 0
 POWER_FRICTION = 1
 # the engine's (3,) record of the last step's powers (engine.Recorder.power) [W]

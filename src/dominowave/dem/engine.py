@@ -52,7 +52,9 @@ from dominowave.dem.contact import (
     active_contact_forces,
     build_verlet_list,
     compute_forces,
+    compute_forces_planar,
     contact_power,
+    contact_power_planar,
     moved_beyond,
     needs_rebuild,
 )
@@ -89,7 +91,6 @@ from dominowave.dem.integrate import (
     update_listed_sphere_positions,
     update_sphere_positions,
 )
-from dominowave.dem.planar import compute_forces_planar, contact_power_planar
 
 __all__ = ["Recorder", "SceneKind", "Settings", "quiet_reached", "steps_until_quiet", "time_loop"]
 
@@ -587,48 +588,45 @@ def _moving_range(bodies):
     return first, stop
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
-def _advance_general(bodies, settings, first, stop):
-    """Kick and drift in one pass over the bodies, for the steps in which nothing reads the
+def _body_pass(PLANAR):  # (capital: a constant of the compiled kernel)
+    """The fused kick and drift of a scene of the kind ``PLANAR`` (one source, compiled
+    once for each kind, as contact._sphere_driver).
+
+    Kick and drift in one pass over the bodies, for the steps in which nothing reads the
     state between the two (the same arithmetic as :func:`kick` then :func:`drift`: each
     body's update is independent of the others, and its data stays in registers); the
     Verlet-list test of the next step (:func:`needs_rebuild`) is done on the way, for the
     bodies that are not held: a held body has not moved since the last build (it is
     fixed, and the first step of a run tests every body).  Only the bodies of
     ``range(first, stop)`` are looked at, which holds every body that is not held
-    (:func:`_moving_range`).  Returns whether the list must be rebuilt."""
-    half_skin = 0.5 * settings.skin
-    g, dt = settings.gravity, settings.dt
-    damping, damp_gravity = settings.damping, settings.damp_gravity
-    rebuild = False
-    held = bodies.held
-    for b in range(first, stop):
-        if held[b]:  # (a held body does not move: nothing to advance or test)
-            continue
-        kick_body(bodies, b, g, dt, damping, damp_gravity)
-        drift_body(bodies, b, dt)
-        if not rebuild:
-            rebuild = moved_beyond(bodies, b, half_skin)
-    return rebuild
-
-
-@njit(cache=True, error_model="numpy", _nrt=False)
-def _advance_planar(bodies, settings, first, stop):
-    """:func:`_advance_general` for a planar scene: the same results with fewer
+    (:func:`_moving_range`).  A planar scene's pass gives the same results with fewer
     operations, and without the full-step quantities that nothing reads in these steps
-    (integrate.advance_body_planar)."""
-    half_skin = 0.5 * settings.skin
-    g, dt = settings.gravity, settings.dt
-    damping, damp_gravity = settings.damping, settings.damp_gravity
-    rebuild = False
-    held = bodies.held
-    for b in range(first, stop):
-        if held[b]:
-            continue
-        advance_body_planar(bodies, b, g, dt, damping, damp_gravity)
-        if not rebuild:
-            rebuild = moved_beyond(bodies, b, half_skin)
-    return rebuild
+    (integrate.advance_body_planar).  Returns whether the list must be rebuilt."""
+
+    @njit(cache=True, error_model="numpy", _nrt=False)
+    def advance_bodies(bodies, settings, first, stop):
+        half_skin = 0.5 * settings.skin
+        g, dt = settings.gravity, settings.dt
+        damping, damp_gravity = settings.damping, settings.damp_gravity
+        rebuild = False
+        held = bodies.held
+        for b in range(first, stop):
+            if held[b]:  # (a held body does not move: nothing to advance or test)
+                continue
+            if PLANAR:
+                advance_body_planar(bodies, b, g, dt, damping, damp_gravity)
+            else:
+                kick_body(bodies, b, g, dt, damping, damp_gravity)
+                drift_body(bodies, b, dt)
+            if not rebuild:
+                rebuild = moved_beyond(bodies, b, half_skin)
+        return rebuild
+
+    return advance_bodies
+
+
+_advance_general = _body_pass(False)
+_advance_planar = _body_pass(True)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)

@@ -18,13 +18,13 @@ from dominowave.dem.boxes import (
     boxes_from_state,
     empty_boxes,
 )
-from dominowave.dem.contact import build_verlet_list, compute_forces
+from dominowave.dem.contact import build_verlet_list, compute_forces, compute_forces_planar
 from dominowave.dem.energy import E_TOTAL, ENERGY_NAMES, N_ENERGIES, N_MECHANICAL, energies
 from dominowave.dem.engine import Recorder, SceneKind, Settings, time_loop
 from dominowave.dem.integrate import update_sphere_positions
 from dominowave.dem.laws.tangential import SHEAR_CONTACT_POINT
 from dominowave.dem.material_pairs import RULE_GIVEN
-from dominowave.dem.planar import compute_forces_planar, planar_violation
+from dominowave.dem.planar import planar_violation
 from dominowave.dem.state import Bodies, Contacts, Material, MaterialTable, Spheres, Walls
 
 __all__ = [

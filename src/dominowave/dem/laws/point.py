@@ -6,8 +6,8 @@ obeys this one law; the drivers find the point (geometry, shear history carried 
 pair or feature key) and the kinematics of the two bodies there, :func:`point_law` turns
 them into the force and the point's new state, and the drivers apply the force and keep
 the state.  In the jax-md style (Schoenholz & Cubuk, NeurIPS 2020): scalars in, scalars
-out, nothing read from or written to the bodies.  (The planar sphere kernel,
-planar.compute_forces_planar, is the same law with the out-of-plane components dropped.)
+out, nothing read from or written to the bodies.  (The planar kernel of the sphere
+driver, contact.compute_forces_planar, passes the out-of-plane components as zero.)
 
 With ``n`` the unit normal from body i to body j, ``delta`` > 0 the overlap, ``dv`` the
 velocity of the material point of j minus that of i, ``v_n = dv . n`` (< 0 approaching):

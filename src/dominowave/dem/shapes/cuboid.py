@@ -66,6 +66,7 @@ __all__ = [
     "point_box_distance",
     "rows_from",
     "separating_axes",
+    "sphere_point",
 ]
 
 MAX_POINTS = 25  # (at most 16 are returned; the rest is scratch)
@@ -192,6 +193,16 @@ def box_sphere(x, R, h, r, c, radius, margin, normal, point, overlap, key):
     Key 0.  Returns 0 or 1.
     """
     d, n0, n1, n2, q0, q1, q2 = point_box_distance(x, R, h, c[0], c[1], c[2])
+    return sphere_point(d, n0, n1, n2, q0, q1, q2, r, radius, margin, normal, point, overlap, key)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def sphere_point(d, n0, n1, n2, q0, q1, q2, r, radius, margin, normal, point, overlap, key):
+    """The one point of a rounded box (core point ``q`` [m] nearest to a sphere's centre,
+    at signed distance ``d`` [m] along the unit normal ``n`` from ``q``; rounding ``r``)
+    and a sphere of ``radius`` [m], into row 0 of the manifold arrays: overlap ``r +
+    radius - d``, the point ``q + n (r - overlap/2)`` midway through the overlap, key 0.
+    Returns 1, or 0 if the gap is at least ``margin`` [m]."""
     delta = r + radius - d
     if delta <= -margin:
         return 0

@@ -25,6 +25,7 @@ from dominowave.dem.shapes.cuboid import (
     merge_deepest,
     point_box_distance,
     rows_from,
+    sphere_point,
 )
 
 __all__ = ["PLANAR_MULTIPLICITY", "edges_separate", "rect_plane", "rect_rect", "rect_sphere"]
@@ -265,14 +266,4 @@ def rect_sphere(x, R, h, r, c, radius, margin, normal, point, overlap, key):
             c0, c2 = c[0] + (h[2] - abs(q2)) * n0, c[2] + (h[2] - abs(q2)) * n2  # on the face
         n1 = 0.0
         cy = c[1]
-    delta = r + radius - d
-    if delta <= -margin:
-        return 0
-    reach = r - 0.5 * delta
-    normal[0, 0], normal[0, 1], normal[0, 2] = n0, n1, n2
-    point[0, 0] = c0 + reach * n0
-    point[0, 1] = cy + reach * n1
-    point[0, 2] = c2 + reach * n2
-    overlap[0] = delta
-    key[0] = 0
-    return 1
+    return sphere_point(d, n0, n1, n2, c0, cy, c2, r, radius, margin, normal, point, overlap, key)
