@@ -673,3 +673,34 @@ def test_standard_plastic_box_chain_sample_runs_with_its_energy_balance():
     drift, released = _energy_drift_to_the_end(stepper, 50000)
     assert stepper.reached == 11
     assert drift < 1e-2 * released
+
+
+@pytest.mark.parametrize("planar", [True, False])
+def test_validate_a_box_bounces_off_a_fixed_box_as_off_the_floor(planar):
+    """A box moving flat at 0.2 m/s onto a fixed box of the same mass (every degree of
+    freedom blocked) leaves it as it leaves the floor: a fixed body takes no share of the
+    effective mass of a point's dashpot (boxes.inverse_mass_at), as a wall.  Counting its
+    mass would halve the translational part of that mass and weaken every dashpot (the
+    rebound would be faster)."""
+    half, rounding, v = np.array([0.01, 0.01, 0.005]), 0.001, 0.2
+    rebound = []
+    for fixed_box in (False, True):
+        scene = Scene(gravity=(0.0, 0.0, 0.0))
+        m = scene.add_material(Material(density=RHO, kn=1e4, friction=0.3, restitution=0.5))
+        if fixed_box:  # (the same mass: twice as wide, a quarter as high)
+            wide = np.array([0.02, 0.02, 0.00125])
+            scene.add_box((0.0, 0.0, -wide[2]), wide, rounding, m, blocked="x y z rx ry rz")
+        else:
+            scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), m)
+        scene.add_box((0.0, 0.0, half[2] + 1e-4), half, rounding, m,
+                      blocked="y rx rz" if planar else "", velocity=(0.0, 0.0, -v))  # fmt: skip
+        sim = scene.build(safety=0.05)
+        assert sim.planar == planar
+        sim.run(until=0.03)
+        moving = sim.bodies.mass.shape[0] - 1
+        assert sim.boxes.rows.n[0] == 0  # (the bounce is over)
+        rebound.append(sim.bodies.vel[moving, 2] / v)
+        if fixed_box:
+            assert not sim.bodies.vel[0].any() and not sim.bodies.omega[0].any()
+    assert 0.3 < rebound[0] < 0.7  # (a restitution near the set 0.5)
+    assert rebound[1] == pytest.approx(rebound[0], rel=1e-9)

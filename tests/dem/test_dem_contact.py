@@ -337,3 +337,20 @@ def test_validate_pair_geometry_against_vector_algebra():
         assert near == (height < ri)
         np.testing.assert_array_equal(n, -wall_normal)
         assert delta == pytest.approx(ri - height, abs=1e-14)
+
+
+@pytest.mark.parametrize("e", [0.3, 0.7])
+def test_validate_a_fixed_sphere_takes_no_share_of_the_dashpot_mass(e):
+    """A sphere striking head-on a sphere whose three translations are blocked (a fixed
+    obstacle) rebounds with the set restitution, as from a wall: the dashpot's mass is the
+    moving sphere's, not the reduced mass of the two (with it, the dashpot would be
+    sqrt(2) too weak: e = 0.3 would come out as 0.44, 0.7 as 0.78)."""
+    scene = Scene(gravity=(0.0, 0.0, 0.0))
+    m = scene.add_material(Material(density=RHO, kn=1e4, restitution=e))
+    scene.add_sphere((0.0, 0.0, 0.0), R, m, velocity=(0.1, 0.0, 0.0))
+    scene.add_sphere((2 * R + 0.001, 0.0, 0.0), R, m, blocked="x y z")
+    sim = scene.build(safety=0.02)
+    res = sim.run(until=0.05)
+    assert list(res.events.kind) == [ONSET, 0], "exactly one contact onset and end"
+    assert -sim.bodies.vel[0, 0] / 0.1 == pytest.approx(e, rel=1e-3)
+    assert not sim.bodies.vel[1].any()

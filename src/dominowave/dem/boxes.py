@@ -242,11 +242,24 @@ def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR,
 
 @njit(cache=True, error_model="numpy", inline="always")
 def inverse_mass_at(bodies, b, rx, ry, rz, n0, n1, n2):
-    """``1/m + (r x n) . I^-1 (r x n)`` [1/kg] of body b at lever arm r, along n."""
+    """``1/m + (r x n) . I^-1 (r x n)`` [1/kg] of body b at lever arm r, along n: the
+    inverse of the mass that a force along n at r accelerates (Brach, Mechanical Impact
+    Dynamics (1991) ch. 5).
+
+    A blocked degree of freedom takes no share, as it takes no force: a blocked
+    translation drops its ``n_k^2 / m`` (the momentum along it is the support's), and only
+    the free rotations count (``rot_mode``: one axis, none; a sphere's blocked spin
+    components).  A body with every degree of freedom blocked gives 0, as a wall.  (Where
+    the normal has no component along the blocked axes -- a planar scene's normals and
+    its blocked y -- this is ``1/m`` exactly.)"""
     c0 = ry * n2 - rz * n1
     c1 = rz * n0 - rx * n2
     c2 = rx * n1 - ry * n0
+    blocked = bodies.blocked[b]
     inv = 1.0 / bodies.mass[b]
+    if blocked[0] * n0 * n0 + blocked[1] * n1 * n1 + blocked[2] * n2 * n2 > 0.0:
+        free = (1 - blocked[0]) * n0 * n0 + (1 - blocked[1]) * n1 * n1
+        inv = (free + (1 - blocked[2]) * n2 * n2) / bodies.mass[b]
     mode = bodies.rot_mode[b]
     if mode == ROT_FREE:
         R = bodies.rot[b]
@@ -258,6 +271,8 @@ def inverse_mass_at(bodies, b, rx, ry, rz, n0, n1, n2):
         ca = a[0] * c0 + a[1] * c1 + a[2] * c2
         inv += ca * ca / bodies.axis_inertia[b]
     elif mode == ROT_ISOTROPIC:
+        if blocked[3] or blocked[4] or blocked[5]:
+            c0, c1, c2 = (1 - blocked[3]) * c0, (1 - blocked[4]) * c1, (1 - blocked[5]) * c2
         inv += (c0 * c0 + c1 * c1 + c2 * c2) / bodies.inertia[b, 0]
     return inv
 
@@ -788,8 +803,8 @@ def _point_row(bodies, old, new, c, q, props, ba, bj, wall, overlap, dt, first_s
                 p[2] - bodies.pos[bj, 2], n0, n1, n2,
             )  # fmt: skip
         # (each point its own dashpot, as for a single-point impact; a planar row stands
-        # for mult such points)
-        new.cn[c] = onset_dashpot(new.kn[c], props[3], props[4], inv, hertz)
+        # for mult such points; between two immovable bodies there is no impact to damp)
+        new.cn[c] = onset_dashpot(new.kn[c], props[3], props[4], inv, hertz) if inv > 0.0 else 0.0
         u0 = u1 = u2 = 0.0
         vn_old = 0.0
     else:

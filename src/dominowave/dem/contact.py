@@ -63,21 +63,39 @@ CHANGE_KIND = 1  # ONSET or END
 def pair_properties(si, sj_or_wall, spheres, walls, bodies, mats, out):
     """kn, kt, mu, cn of a candidate pair into ``out[0:4]``: the properties of its
     material pair (material_pairs.material_pair) and the dashpot of the restitution for
-    the two bodies' reduced mass (laws.linear.viscous_coefficient)."""
+    the two bodies' reduced mass (laws.linear.viscous_coefficient; YADE's convention,
+    translation only).  A body whose three translations are blocked takes no share: the
+    partner's own mass, as against a wall (such a body against a wall or another: no
+    dashpot, there is no impact to damp)."""
     mi = spheres.material[si]
     Ri = spheres.radius[si]
     bi = spheres.body[si]
+    m_eff = bodies.mass[bi]
     if sj_or_wall >= 0:
         mj = spheres.material[sj_or_wall]
         Rj = spheres.radius[sj_or_wall]
         bj = spheres.body[sj_or_wall]
-        m_eff = bodies.mass[bi] * bodies.mass[bj] / (bodies.mass[bi] + bodies.mass[bj])
+        fixed_i, fixed_j = _translation_blocked(bodies, bi), _translation_blocked(bodies, bj)
+        if fixed_i and fixed_j:
+            m_eff = 0.0
+        elif fixed_i:
+            m_eff = bodies.mass[bj]
+        elif not fixed_j:
+            m_eff = bodies.mass[bi] * bodies.mass[bj] / (bodies.mass[bi] + bodies.mass[bj])
     else:
         mj = walls.material[-sj_or_wall - 1]
         Rj = Ri  # a wall takes the radius of the sphere touching it
-        m_eff = bodies.mass[bi]
+        if _translation_blocked(bodies, bi):
+            m_eff = 0.0
     material_pair(mats, mi, Ri, mj, Rj, out)
     out[3] = viscous_coefficient(out[3], m_eff, out[0])
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _translation_blocked(bodies, b):
+    """True if body b cannot translate (x, y and z blocked)."""
+    blocked = bodies.blocked[b]
+    return blocked[0] != 0 and blocked[1] != 0 and blocked[2] != 0
 
 
 # --------------------------------------------------------------------------- neighbours
@@ -653,30 +671,11 @@ def apply_in_plane(bodies, b, rx, rz, f0, f2, sign):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _yade_shear_velocity(
-    bodies, spheres, contacts, c, i, bi, bj, wall, n0, n1, n2, rsum, overlap, planar
-):
+def _yade_shear_velocity(bodies, spheres, contacts, c, i, bi, bj, wall, n0, n1, n2, rsum, overlap):
     """The relative velocity that drives the shear of contact c with YADE's kinematics
     (laws.tangential.yade_shear_velocity): from the velocities of the two sphere centres
-    and their spins (``planar``: in the plane, the centres moving with ``(v_x + w r_z,
-    v_z - w r_x)``, ``r`` = centre - centre of mass)."""
+    and their spins."""
     pos, body_pos, vel, om = spheres.pos, bodies.pos, bodies.vel, bodies.omega
-    if planar:
-        wi = om[bi, 1]
-        ci0 = vel[bi, 0] + wi * (pos[i, 2] - body_pos[bi, 2])
-        ci2 = vel[bi, 2] - wi * (pos[i, 0] - body_pos[bi, 0])
-        a1 = spheres.radius[i] * wi
-        cj0 = cj2 = 0.0
-        if not wall:
-            js = np.uint64(contacts.j[c])
-            wj = om[bj, 1]
-            cj0 = vel[bj, 0] + wj * (pos[js, 2] - body_pos[bj, 2])
-            cj2 = vel[bj, 2] - wj * (pos[js, 0] - body_pos[bj, 0])
-            a1 += spheres.radius[js] * wj
-        s0, _, s2 = yade_shear_velocity(
-            cj0 - ci0, 0.0, cj2 - ci2, 0.0, a1, 0.0, n0, 0.0, n2, rsum, overlap
-        )
-        return s0, 0.0, s2
     Ri = spheres.radius[i]
     ci0, ci1, ci2 = lever_arm(body_pos, bi, pos[i, 0], pos[i, 1], pos[i, 2])
     ci0, ci1, ci2 = point_velocity(vel, om, bi, ci0, ci1, ci2)
@@ -693,6 +692,30 @@ def _yade_shear_velocity(
     return yade_shear_velocity(
         cj0 - ci0, cj1 - ci1, cj2 - ci2, a0, a1, a2, n0, n1, n2, rsum, overlap
     )
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _yade_shear_velocity_in_plane(bodies, spheres, contacts, c, i, bi, bj, wall, n0, n2, rsum,
+                                  overlap):  # fmt: skip
+    """:func:`_yade_shear_velocity` of a planar scene: in the plane, the sphere centres
+    moving with ``(v_x + w r_z, v_z - w r_x)``, ``r`` = centre - centre of mass; returns
+    the x and z components."""
+    pos, body_pos, vel, om = spheres.pos, bodies.pos, bodies.vel, bodies.omega
+    wi = om[bi, 1]
+    ci0 = vel[bi, 0] + wi * (pos[i, 2] - body_pos[bi, 2])
+    ci2 = vel[bi, 2] - wi * (pos[i, 0] - body_pos[bi, 0])
+    a1 = spheres.radius[i] * wi
+    cj0 = cj2 = 0.0
+    if not wall:
+        js = np.uint64(contacts.j[c])
+        wj = om[bj, 1]
+        cj0 = vel[bj, 0] + wj * (pos[js, 2] - body_pos[bj, 2])
+        cj2 = vel[bj, 2] - wj * (pos[js, 0] - body_pos[bj, 0])
+        a1 += spheres.radius[js] * wj
+    s0, _, s2 = yade_shear_velocity(
+        cj0 - ci0, 0.0, cj2 - ci2, 0.0, a1, 0.0, n0, 0.0, n2, rsum, overlap
+    )
+    return s0, s2
 
 
 def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
@@ -809,9 +832,14 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
             # the relative velocity that drives the shear (laws/tangential.py)
             s0, s1, s2 = dv0, dv1, dv2
             if shear_kinematics == SHEAR_YADE:
-                s0, s1, s2 = _yade_shear_velocity(
-                    bodies, spheres, contacts, c, i, bi, bj, wall, n0, n1, n2, rsum, overlap, PLANAR
-                )
+                if PLANAR:
+                    s0, s2 = _yade_shear_velocity_in_plane(
+                        bodies, spheres, contacts, c, i, bi, bj, wall, n0, n2, rsum, overlap
+                    )
+                else:
+                    s0, s1, s2 = _yade_shear_velocity(
+                        bodies, spheres, contacts, c, i, bi, bj, wall, n0, n1, n2, rsum, overlap
+                    )
             # the contact point's law (a new contact: no shear history, begin_contact)
             fn, fn_viscous, vn, u0, u1, u2, released, f0, f1, f2 = point_law(
                 overlap, n0, n1, n2, dv0, dv1, dv2, s0, s1, s2, spin * dt, u[c, 0],
