@@ -511,8 +511,9 @@ def _list_spheres(spheres, contacts, seen):
 # the contact normal and overlap out; the drivers below map them over the Verlet list.
 # Vectors pass as scalar triples: kept in registers, whereas through a scratch array
 # every component is a store and a reload (the compiler cannot rule out that the
-# scratch array aliases the state arrays it reads).  The planar kernels (planar.py) pass
-# the components that are zero in the plane as 0.0 and drop those of the results.
+# scratch array aliases the state arrays it reads).  The planar kernels (a planar scene,
+# planar.py) pass the components that are zero in the plane as 0.0 and drop those of the
+# results.
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -729,7 +730,9 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
     third fewer loads and operations.  numba prunes the branches of the other kind before
     it inlines the per-pair functions, so each kernel compiles its own arithmetic only
     (the flag is tested by name in every ``if``: numba does not follow a constant through
-    a variable or a ``not``)."""
+    a variable or a ``not``).  Passed as an argument instead, even a literal one
+    (``numba.literally``), the flag is resolved only after the inlining: both kinds' code
+    is inlined and typed, for each value and for the first, non-literal attempt."""
 
     @njit(cache=True, error_model="numpy", _nrt=False)
     def compute_forces(
