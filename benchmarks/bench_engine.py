@@ -140,7 +140,7 @@ def _loop_rebuild(spheres, walls, bodies, mats, contacts, skin, n, planar):
 def _loop_forces(bodies, spheres, walls, contacts, dt, ledger, changes, n, planar):
     kinematics = SHEAR_CONTACT_POINT
     for _ in range(n):
-        if planar:  # (the kernel the engine runs on a planar scene, dem/planar.py)
+        if planar:  # (the kernel the engine runs on a planar scene: contact._sphere_driver)
             compute_forces_planar(
                 bodies, spheres, walls, contacts, dt, ledger, changes, False, kinematics
             )

@@ -12,7 +12,8 @@ Scenes: through the general kernels, the 3D clump chain of 6 dominoes (lateral
 asymmetry, held until touched) with the contact-point shear kinematics and with YADE's,
 and 27 spheres of two materials dropped, spinning, into a box of five walls
 (sphere-sphere and sphere-wall contacts that slide, roll and end); through the planar
-kernels (planar.py), the 2D clump chain of 6 dominoes with either shear kinematics.
+kernels (contact.compute_forces_planar), the 2D clump chain of 6 dominoes with either
+shear kinematics.
 """
 
 from __future__ import annotations

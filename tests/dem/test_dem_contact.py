@@ -339,18 +339,54 @@ def test_validate_pair_geometry_against_vector_algebra():
         assert delta == pytest.approx(ri - height, abs=1e-14)
 
 
+@pytest.mark.parametrize("fixed_first", [False, True])
 @pytest.mark.parametrize("e", [0.3, 0.7])
-def test_validate_a_fixed_sphere_takes_no_share_of_the_dashpot_mass(e):
+def test_validate_a_fixed_sphere_takes_no_share_of_the_dashpot_mass(e, fixed_first):
     """A sphere striking head-on a sphere whose three translations are blocked (a fixed
     obstacle) rebounds with the set restitution, as from a wall: the dashpot's mass is the
     moving sphere's, not the reduced mass of the two (with it, the dashpot would be
-    sqrt(2) too weak: e = 0.3 would come out as 0.44, 0.7 as 0.78)."""
+    sqrt(2) too weak: e = 0.3 would come out as 0.44, 0.7 as 0.78).  Either sphere of the
+    pair may be the fixed one."""
     scene = Scene(gravity=(0.0, 0.0, 0.0))
     m = scene.add_material(Material(density=RHO, kn=1e4, restitution=e))
-    scene.add_sphere((0.0, 0.0, 0.0), R, m, velocity=(0.1, 0.0, 0.0))
-    scene.add_sphere((2 * R + 0.001, 0.0, 0.0), R, m, blocked="x y z")
+    moving = dict(centre=(0.0, 0.0, 0.0), velocity=(0.1, 0.0, 0.0))
+    fixed = dict(centre=(2 * R + 0.001, 0.0, 0.0), blocked="x y z")
+    for options in (fixed, moving) if fixed_first else (moving, fixed):
+        centre = options.pop("centre")
+        scene.add_sphere(centre, R, m, **options)
     sim = scene.build(safety=0.02)
     res = sim.run(until=0.05)
     assert list(res.events.kind) == [ONSET, 0], "exactly one contact onset and end"
-    assert -sim.bodies.vel[0, 0] / 0.1 == pytest.approx(e, rel=1e-3)
-    assert not sim.bodies.vel[1].any()
+    k, f = (1, 0) if fixed_first else (0, 1)
+    assert -sim.bodies.vel[k, 0] / 0.1 == pytest.approx(e, rel=1e-3)
+    assert not sim.bodies.vel[f].any()
+
+
+def test_validate_a_clump_pinned_at_its_centre_keeps_its_mass_in_the_dashpot():
+    """A clump whose translations are blocked but which is free to turn is not immovable:
+    a sphere striking one of its off-centre spheres turns it, and the dashpot keeps the
+    reduced mass of the two bodies (the sphere contacts' convention, rotation not
+    counted), as for a free clump: the dashpot of the two runs is the same, and the
+    pinned clump, heavier at the point (2.8 against 1.17 sphere masses), sends the sphere
+    back where the free one lets it go on."""
+    rebound, dashpot = [], []
+    for blocked in ("", "x y z"):
+        scene = Scene(gravity=(0.0, 0.0, 0.0))
+        m = scene.add_material(Material(density=RHO, kn=1e4, restitution=0.5))
+        scene.add_sphere((0.0, 0.0, 0.0), R, m, velocity=(0.1, 0.0, 0.0))
+        # (the centre of mass at z = R: the struck sphere, at z = 0, is off it by R)
+        clump = [(2 * R + 0.001, 0.0, 0.0), (2 * R + 0.001, 0.0, 2 * R)]
+        scene.add_clump(clump, R, m, blocked=blocked)
+        sim = scene.build(safety=0.02)
+        sim.run(until=0.0101)  # (into the collision: the gap closes at 0.01 s)
+        contacts = sim.contacts
+        active = contacts.active[: contacts.n[0]] == 1
+        assert active.sum() == 1
+        dashpot.append(contacts.cn[: contacts.n[0]][active][0])
+        sim.run(until=0.05)
+        rebound.append(-sim.bodies.vel[0, 0] / 0.1)
+        if blocked:
+            assert not sim.bodies.vel[1].any() and sim.bodies.omega[1].any()
+    assert dashpot[0] > 0.0 and dashpot[1] == dashpot[0]
+    free, pinned = rebound
+    assert free < 0.0 < pinned

@@ -136,8 +136,8 @@ def _striking(partner, moving_shape):
 @pytest.mark.parametrize("partner", ["wall", "box"])
 def test_a_striking_spinning_point_gets_the_same_force_at_every_step(partner):
     """On a wall: contact.compute_forces (sphere) and boxes.box_forces (box); on a fixed
-    box's face, whose mass enters the dashpot: box_sphere.box_sphere_forces (sphere) and
-    boxes.box_forces (box)."""
+    box's face (a wall to the dashpot too: boxes.inverse_mass_at):
+    box_sphere.box_sphere_forces (sphere) and boxes.box_forces (box)."""
     on_sphere, sim = _striking(partner, "sphere")
     on_box, _ = _striking(partner, "box")
     # the run holds an onset, the dashpot and a shear spring turned by the spin

@@ -21,7 +21,7 @@ from dominowave.dem.engine import time_loop
 
 BOX_KERNELS = {"box_forces", "build_box_candidates", "_bookkeep_boxes", "box_power"}
 BOX_SPHERE_KERNELS = {"box_sphere_forces", "box_sphere_power"}
-# the kernels of one source compiled for each kind of plane (contact._sphere_driver,
+# the kernels of one source compiled for each kind of scene (contact._sphere_driver,
 # engine._body_pass), and the integrator's
 GENERAL = {contact.compute_forces, contact.contact_power, engine._advance_general,
            integrate.kick_general, integrate.drift_general}  # fmt: skip

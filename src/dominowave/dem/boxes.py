@@ -24,7 +24,8 @@ of contact.py; box_sphere.py applies it to the box-sphere points):
   ``1/m_eff = 1/m_i + 1/m_j + (r_i x n) . I_i^-1 (r_i x n) + (r_j x n) . I_j^-1 (r_j x n)``
   (the impulse-response of two rigid bodies at a point, e.g. Brach, Mechanical Impact
   Dynamics (1991); Stronge, Impact Mechanics (2000) ch. 5), fixed at the point's onset;
-  so a single-point impact has the restitution set, eccentric or not;
+  so a single-point impact has the restitution set, eccentric or not (a blocked degree
+  of freedom takes no share: :func:`inverse_mass_at`);
 * stiffness, friction and restitution from the materials as for spheres, with the
   rounding radius as the sphere radius (material_pairs.material_pair).
 

@@ -23,6 +23,7 @@ import numpy as np
 from numba import njit
 
 from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
+from dominowave.dem.integrate import ROT_NONE
 from dominowave.dem.laws.linear import end_impulse, viscous_coefficient
 from dominowave.dem.laws.point import point_law, point_power
 from dominowave.dem.laws.tangential import SHEAR_YADE, yade_shear_velocity
@@ -64,9 +65,9 @@ def pair_properties(si, sj_or_wall, spheres, walls, bodies, mats, out):
     """kn, kt, mu, cn of a candidate pair into ``out[0:4]``: the properties of its
     material pair (material_pairs.material_pair) and the dashpot of the restitution for
     the two bodies' reduced mass (laws.linear.viscous_coefficient; YADE's convention,
-    translation only).  A body whose three translations are blocked takes no share: the
-    partner's own mass, as against a wall (such a body against a wall or another: no
-    dashpot, there is no impact to damp)."""
+    translation only).  A body that a normal force at the sphere cannot move
+    (:func:`_immovable`) takes no share: the partner's own mass, as against a wall (such a
+    body against a wall or another: no dashpot, there is no impact to damp)."""
     mi = spheres.material[si]
     Ri = spheres.radius[si]
     bi = spheres.body[si]
@@ -75,7 +76,7 @@ def pair_properties(si, sj_or_wall, spheres, walls, bodies, mats, out):
         mj = spheres.material[sj_or_wall]
         Rj = spheres.radius[sj_or_wall]
         bj = spheres.body[sj_or_wall]
-        fixed_i, fixed_j = _translation_blocked(bodies, bi), _translation_blocked(bodies, bj)
+        fixed_i, fixed_j = _immovable(bodies, spheres, si), _immovable(bodies, spheres, sj_or_wall)
         if fixed_i and fixed_j:
             m_eff = 0.0
         elif fixed_i:
@@ -85,17 +86,24 @@ def pair_properties(si, sj_or_wall, spheres, walls, bodies, mats, out):
     else:
         mj = walls.material[-sj_or_wall - 1]
         Rj = Ri  # a wall takes the radius of the sphere touching it
-        if _translation_blocked(bodies, bi):
+        if _immovable(bodies, spheres, si):
             m_eff = 0.0
     material_pair(mats, mi, Ri, mj, Rj, out)
     out[3] = viscous_coefficient(out[3], m_eff, out[0])
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _translation_blocked(bodies, b):
-    """True if body b cannot translate (x, y and z blocked)."""
+def _immovable(bodies, spheres, s):
+    """True if a normal force on sphere s cannot move its body: the body's three
+    translations are blocked, and it cannot turn (rot_mode ROT_NONE) or the sphere sits at
+    its centre of mass (a normal force on it has no lever).  A clump pinned at its centre
+    of mass but free to turn is not immovable: it keeps its own mass."""
+    b = spheres.body[s]
     blocked = bodies.blocked[b]
-    return blocked[0] != 0 and blocked[1] != 0 and blocked[2] != 0
+    if blocked[0] == 0 or blocked[1] == 0 or blocked[2] == 0:
+        return False
+    local = spheres.local[s]
+    return bodies.rot_mode[b] == ROT_NONE or local[0] == local[1] == local[2] == 0.0
 
 
 # --------------------------------------------------------------------------- neighbours
@@ -601,8 +609,8 @@ def apply_at_lever(bodies, b, rx, ry, rz, f0, f1, f2, sign):
 
 
 # --------------------------------------------------------------------------- drivers
-# The per-contact bookkeeping of the drivers (here and boxes.py): the state of contact
-# c in ``contacts`` and the forces on the bodies.
+# The per-contact bookkeeping of the sphere driver (:func:`_sphere_driver`): the state of
+# contact c in ``contacts`` and the forces on the bodies.
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -843,9 +851,12 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
                     s0, s1, s2 = _yade_shear_velocity(
                         bodies, spheres, contacts, c, i, bi, bj, wall, n0, n1, n2, rsum, overlap
                     )
-            # the contact point's law (a new contact: no shear history, begin_contact)
+            # the contact point's law (a new contact: no shear history, begin_contact); no
+            # turn of the shear about a planar contact's normal (a constant: the planar
+            # kernel compiles no turn)
+            turn = 0.0 if PLANAR else spin * dt
             fn, fn_viscous, vn, u0, u1, u2, released, f0, f1, f2 = point_law(
-                overlap, n0, n1, n2, dv0, dv1, dv2, s0, s1, s2, spin * dt, u[c, 0],
+                overlap, n0, n1, n2, dv0, dv1, dv2, s0, s1, s2, turn, u[c, 0],
                 0.0 if PLANAR else u[c, 1], u[c, 2], contacts.vn[c], new_contact, contacts.kn[c],
                 contacts.kt[c], contacts.mu[c], contacts.cn[c], dt, first_step, False,
             )  # fmt: skip
@@ -891,7 +902,11 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
         p_friction = 0.0
         for c in range(contacts.n[0]):
             fd = contacts.fn_viscous[c]
-            if fd == 0.0 and (not contacts.active[c] or u[c, 0] == u[c, 1] == u[c, 2] == 0.0):
+            if PLANAR:
+                unsheared = u[c, 0] == u[c, 2] == 0.0
+            else:
+                unsheared = u[c, 0] == u[c, 1] == u[c, 2] == 0.0
+            if fd == 0.0 and (not contacts.active[c] or unsheared):
                 continue  # (ended contacts have zero shear)
             i = contacts.i[c]
             j = contacts.j[c]

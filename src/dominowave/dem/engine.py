@@ -135,7 +135,7 @@ Settings = namedtuple(
         "record_peak_force",  # bool
         "check_every",  # steps between stop/energy checks
         "track_energy",  # bool: keep the dissipation ledger (off: YADE's trackEnergy=False)
-        "planar",  # bool: the scene is planar, use the planar kernels (planar.py)
+        "planar",  # bool: the scene is planar (planar.py), use the planar kernels
         "sleep_speed",  # [m/s] a box slower than this at every point may sleep; 0: never
         "sleep_time",  # [s] how long it must stay that slow (_sleep_and_wake)
     ],
@@ -640,7 +640,8 @@ def _advance_bodies(bodies, settings, first, stop):
 
 SceneKind = namedtuple("SceneKind", ["planar", "boxes"])
 """What a scene holds, which decides the kernels its time loop calls (bools): ``planar``
-(the planar kernels, dem/planar.py, or the general ones) and ``boxes`` (rounded-cuboid
+(the planar kernels, contact._sphere_driver and _body_pass, or the general ones) and
+``boxes`` (rounded-cuboid
 contacts: boxes.py, box_sphere.py).  The sphere kernels (contact.py) are in every loop:
 a scene of boxes alone runs them over an empty Verlet list, and leaving them out of its
 loop would save seconds of its minutes of compiling, for one more loop to compile."""

@@ -251,7 +251,7 @@ class Simulation:
             sleep_speed=float(sleep_speed),
             sleep_time=float(sleep_time),
         )
-        #: Use the planar kernels (dem/planar.py) when the scene is planar.  False forces
+        #: Use the planar kernels when the scene is planar (dem/planar.py).  False forces
         #: the general ones (the same trajectories in every scene compared; planar.py).
         self.planar_kernels = True
         capacity = 8 * spheres.body.shape[0] + 64
