@@ -46,6 +46,7 @@ __all__ = [
     "log_change",
     "needs_rebuild",
     "point_velocity",
+    "point_velocity_in_plane",
     "sphere_sphere",
     "sphere_wall",
 ]
@@ -594,6 +595,14 @@ def point_velocity(vel, omega, b, rx, ry, rz):
     )
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def point_velocity_in_plane(vel, omega, b, rx, rz):
+    """:func:`point_velocity` in the xz plane of a planar scene: ``omega = (0, w, 0)``
+    and ``r = (rx, 0, rz)`` give ``(v_x + w r_z, v_z - w r_x)`` [m/s]."""
+    w = omega[b, 1]
+    return vel[b, 0] + w * rz, vel[b, 2] - w * rx
+
+
 # --------------------------------------------------------------------------- contact law
 
 
@@ -710,17 +719,17 @@ def _yade_shear_velocity_in_plane(bodies, spheres, contacts, c, i, bi, bj, wall,
     moving with ``(v_x + w r_z, v_z - w r_x)``, ``r`` = centre - centre of mass; returns
     the x and z components."""
     pos, body_pos, vel, om = spheres.pos, bodies.pos, bodies.vel, bodies.omega
-    wi = om[bi, 1]
-    ci0 = vel[bi, 0] + wi * (pos[i, 2] - body_pos[bi, 2])
-    ci2 = vel[bi, 2] - wi * (pos[i, 0] - body_pos[bi, 0])
-    a1 = spheres.radius[i] * wi
+    ci0, ci2 = point_velocity_in_plane(
+        vel, om, bi, pos[i, 0] - body_pos[bi, 0], pos[i, 2] - body_pos[bi, 2]
+    )
+    a1 = spheres.radius[i] * om[bi, 1]
     cj0 = cj2 = 0.0
     if not wall:
         js = np.uint64(contacts.j[c])
-        wj = om[bj, 1]
-        cj0 = vel[bj, 0] + wj * (pos[js, 2] - body_pos[bj, 2])
-        cj2 = vel[bj, 2] - wj * (pos[js, 0] - body_pos[bj, 0])
-        a1 += spheres.radius[js] * wj
+        cj0, cj2 = point_velocity_in_plane(
+            vel, om, bj, pos[js, 0] - body_pos[bj, 0], pos[js, 2] - body_pos[bj, 2]
+        )
+        a1 += spheres.radius[js] * om[bj, 1]
     s0, _, s2 = yade_shear_velocity(
         cj0 - ci0, 0.0, cj2 - ci2, 0.0, a1, 0.0, n0, 0.0, n2, rsum, overlap
     )
@@ -817,14 +826,13 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
             ri0, ri1, ri2 = lever_arm(body_pos, bi, p0, p1, p2)
             rj0 = rj1 = rj2 = 0.0
             if PLANAR:
-                # v + omega x r with omega = (0, w, 0): (v_x + w r_z, v_z - w r_x)
-                wi = om[bi, 1]
-                dv0, dv1, dv2 = -(vel[bi, 0] + wi * ri2), 0.0, -(vel[bi, 2] - wi * ri0)
+                vi0, vi2 = point_velocity_in_plane(vel, om, bi, ri0, ri2)
+                dv0, dv1, dv2 = -vi0, 0.0, -vi2
                 if not wall:
                     rj0, rj2 = p0 - body_pos[bj, 0], p2 - body_pos[bj, 2]
-                    wj = om[bj, 1]
-                    dv0 += vel[bj, 0] + wj * rj2
-                    dv2 += vel[bj, 2] - wj * rj0
+                    vj0, vj2 = point_velocity_in_plane(vel, om, bj, rj0, rj2)
+                    dv0 += vj0
+                    dv2 += vj2
                 spin = 0.0
             else:
                 vi0, vi1, vi2 = point_velocity(vel, om, bi, ri0, ri1, ri2)
@@ -931,15 +939,17 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
                 pos[i, 0], yi, pos[i, 2], Ri, n0, n1, n2, contacts.overlap[c]
             )
             if PLANAR:
-                ri0, ri2 = p0 - body_pos[bi, 0], p2 - body_pos[bi, 2]
-                dv0 = -(vel[bi, 0] + omega[bi, 1] * ri2)
-                dv1 = 0.0
-                dv2 = -(vel[bi, 2] - omega[bi, 1] * ri0)
+                vi0, vi2 = point_velocity_in_plane(
+                    vel, omega, bi, p0 - body_pos[bi, 0], p2 - body_pos[bi, 2]
+                )
+                dv0, dv1, dv2 = -vi0, 0.0, -vi2
                 if j >= 0:
                     bj = spheres.body[j]
-                    rj0, rj2 = p0 - body_pos[bj, 0], p2 - body_pos[bj, 2]
-                    dv0 += vel[bj, 0] + omega[bj, 1] * rj2
-                    dv2 += vel[bj, 2] - omega[bj, 1] * rj0
+                    vj0, vj2 = point_velocity_in_plane(
+                        vel, omega, bj, p0 - body_pos[bj, 0], p2 - body_pos[bj, 2]
+                    )
+                    dv0 += vj0
+                    dv2 += vj2
             else:
                 ri0, ri1, ri2 = lever_arm(body_pos, bi, p0, p1, p2)
                 vi0, vi1, vi2 = point_velocity(vel, omega, bi, ri0, ri1, ri2)
