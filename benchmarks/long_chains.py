@@ -2,7 +2,7 @@
 
 The standard chain (standard dominoes of ``chain.presets.standard_domino``, 3D, gap
 9.38 mm, felt floor, friction 0.3 between the dominoes and with the floor, domino 0
-pushed with ``sqrt(g/l)``) at the package's defaults (fidelity 1 %, held until touched,
+pushed with ``sqrt(g/l)``) at the package's defaults (fidelity 2 %, held until touched,
 asleep at rest), at several lengths.  For each length, ``--repeat`` runs with warm
 kernels (one warm-up first), and the median CPU time of each part of the run:
 

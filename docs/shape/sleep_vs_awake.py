@@ -11,8 +11,8 @@ domino 10 on and its change against the chain awake, the largest relative change
 arrival times (first touch) of dominoes 1 .. N-1, the CPU time of the whole run (warm
 kernels: build, engine, analysis) and the dominoes asleep at the end.
 
-The chains: standard dominoes (``chain.presets.standard_domino``, 3D, default fidelity
-1 %) on felt with friction 0.3 between the dominoes and with the floor at the 9.38 mm
+The chains: standard dominoes (``chain.presets.standard_domino``, 3D, fidelity 1 %:
+:data:`FIDELITY`) on felt with friction 0.3 between the dominoes and with the floor at the 9.38 mm
 gap, 30 to 300 dominoes; three more 100-domino chains of standard dominoes (friction 0.1
 between them; on hardwood at gaps of 15 mm and of 6 mm, friction 0.5 between them); and
 the 2D chain of the paper's box dominoes (d/l = 0.4, k/k* = 1e4, friction 0.3).
@@ -31,10 +31,16 @@ import time
 import numpy as np
 
 from dominowave.chain import ChainParams, DominoChain, Push
+from dominowave.chain.fidelity import given_materials
 from dominowave.chain.presets import standard_domino
 from dominowave.chain.wave import speed_from
 
 FIT_FROM = 10
+
+
+FIDELITY = 0.01
+"""The fidelity of the standard dominoes' chains (``chain.fidelity``), at which the
+table of docs/shape.md was measured."""
 
 
 def chains(sizes: list[int]) -> dict[str, ChainParams]:
@@ -64,7 +70,8 @@ def run(p: ChainParams, criterion: tuple[float, float] | None):
         zip(("sleep_speed", "sleep_time"), criterion, strict=True)
     )  # fmt: skip
     start = time.process_time()
-    chain = DominoChain(p, **sleep)
+    fidelity = FIDELITY if given_materials(p) else None
+    chain = DominoChain(p, fidelity=fidelity, **sleep)
     stepper = chain.stepper(Push(omega=math.sqrt(p.g / p.height)))
     stepper.advance(np.iinfo(np.int64).max)
     result = stepper.result()

@@ -11,6 +11,7 @@ import sys
 import numpy as np
 import pytest
 
+from dominowave.chain.fidelity import DEFAULT_TOLERANCE
 from dominowave.chain.materials import load_materials
 from dominowave.chain.presets import SAMPLED, standard_domino, standard_entries
 from dominowave.sweep.predict import (
@@ -154,7 +155,7 @@ def test_a_run_without_a_tail_stops_at_the_touch_of_the_last_domino():
 
 def test_a_sample_runs_at_the_fidelity_and_reports_its_contact():
     """Without a stiffness override a sample runs at the default fidelity: the softest
-    contact within 1 % of the plastic's speed, its spring and estimated error in the
+    contact within 2 % of the plastic's speed, its spring and estimated error in the
     summary; ``fidelity = "exact"`` runs the plastic's spring with no error; a tolerance
     for a chain whose modulus a stiffness ratio replaced is refused before any run."""
     base = dict(gap=0.012, floor="hardwood", n_dominoes=5, fit_from=2, model="2d")
@@ -162,7 +163,8 @@ def test_a_sample_runs_at_the_fidelity_and_reports_its_contact():
     exact = run_predict_sample(PredictSample(**base, fidelity="exact")).summary
     material = standard_domino(gap=0.012, floor="hardwood").contact_stiffness
     assert exact["contact_kn"] == material and exact["stiffness_error"] == 0.0
-    assert soft["contact_kn"] < material / 10 and 0.0 < soft["stiffness_error"] <= 0.015
+    assert soft["contact_kn"] < material / 10
+    assert 0.0 < soft["stiffness_error"] <= 1.5 * DEFAULT_TOLERANCE
     assert abs(soft["speed"] / exact["speed"] - 1.0) <= soft["stiffness_error"]
     with pytest.raises(ValueError, match=r"fidelity = 0\.02 softens a chain of given materials"):
         predict_points(0.012, "felt", 1, fidelity=0.02, **CHEAP)
@@ -185,7 +187,7 @@ def test_predict_runs_on_the_sweep_engine_writes_and_resumes(tmp_path):
     with xr.open_dataset(tmp_path / "samples.nc") as ds:
         np.testing.assert_array_equal(ds["speed"].values, pred.speed)
         np.testing.assert_array_equal(ds["stiffness_error"].values, pred.stiffness_error)
-        assert ds.attrs["fidelity"] == "0.01"
+        assert ds.attrs["fidelity"] == f"{DEFAULT_TOLERANCE:g}"  # not set: the default
         assert ds["young"].attrs["units"] == "Pa"
     with (tmp_path / "prediction.csv").open() as fh:
         names = {r["quantity"] for r in csv.DictReader(fh)}

@@ -246,7 +246,7 @@ SLEEP_SPEED = 1e-2
 chains; ``dem.Scene.build``'s ``sleep_speed``): 7 mm/s for the standard domino, against
 front speeds of about ``sqrt(g l)``.  Chosen by the measured error (docs/shape.md,
 "Sleeping dominoes"): it moves the front speeds of the measured chains by at most 3.5e-4
-and their arrivals by at most 4e-4, a twenty-fifth of the fidelity's default tolerance;
+and their arrivals by at most 4e-4, a fiftieth of the fidelity's default tolerance;
 ``3e-3`` (with the same time) moves them by at most 1.5e-4 for about 1.2 times the
 cost."""
 SLEEP_TIME = 0.5
@@ -290,7 +290,7 @@ class DominoChain:
 
     ``fidelity`` (a numerical setting too): a chain of given materials (a box chain given
     ``young``, e.g. the presets) runs with the softest contact spring whose estimated
-    speed error stays within the tolerance (default 1 %), ``"exact"`` with the material's
+    speed error stays within the tolerance (default 2 %), ``"exact"`` with the material's
     own (:mod:`dominowave.chain.fidelity`). ``material_params`` are the parameters given,
     ``params`` those simulated (``kn`` in place of ``young`` when softened), and
     ``contact`` the choice with its estimate (None where the setting does not apply).

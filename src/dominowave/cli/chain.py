@@ -21,7 +21,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from dominowave.chain.build import ChainParams
-from dominowave.chain.fidelity import parse_fidelity
+from dominowave.chain.fidelity import DEFAULT_TOLERANCE, parse_fidelity
 from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push, scene_kind
 from dominowave.chain.wave import check_fit_from, fit_speed, local_speeds, unsettled_reason
 from dominowave.checks import check_in_range
@@ -261,7 +261,7 @@ def chain_command(
         str | None,
         typer.Option(
             help="box chain given --young (a --preset): exact (the material's contact) or a"
-            " tolerance of the speed, softest contact within it [default 0.01]",
+            f" tolerance of the speed, softest contact within it [default {DEFAULT_TOLERANCE:g}]",
             rich_help_panel="Numerics",
         ),
     ] = None,

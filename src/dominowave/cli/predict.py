@@ -17,6 +17,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
+from dominowave.chain.fidelity import DEFAULT_TOLERANCE
 from dominowave.cli.compiling import notice_if_compiling
 from dominowave.io.atomic import ensure_writable_dir
 
@@ -66,7 +67,7 @@ def predict_command(
         str | None,
         typer.Option(
             help="exact (the plastic's contact) or a tolerance of the speed: each chain runs"
-            " with the softest contact within it [default 0.01]"
+            f" with the softest contact within it [default {DEFAULT_TOLERANCE:g}]"
         ),
     ] = None,
     out: Annotated[Path, typer.Option(help="sweep folder (re-run to resume)")] = Path("predict"),

@@ -231,7 +231,7 @@ def predict_points(
     ``samples`` is Saltelli's base size ``N`` (a power of 2: the Sobol' sequence's balance
     needs it), giving ``N (D + 2)`` points; ``seed`` scrambles the sequence; ``fidelity``
     that of every chain (:mod:`dominowave.chain.fidelity`: not set, the softest contact
-    within 1 % of the plastic's speed; ``"exact"``, the plastic's own).
+    within 2 % of the plastic's speed; ``"exact"``, the plastic's own).
     """
     check_fidelity(fidelity)
     from SALib.sample import sobol as sobol_sample
