@@ -8,9 +8,9 @@ ensemble of perturbed pushes: the ensemble averages out the different chaotic tr
 of versions whose floating-point results differ, the alternation the drift.
 
 Run:  python benchmarks/ab_chain.py --base 0984542 [--n 30] [--members 16] [--steps S] [--cpu]
-      [--model 3d] [--shape box]
-      (engines only, as bench_chain.py; S defaults to the paper case's steps, scaled per
-      domino)
+      [--model 3d] [--shape box] [--energy]
+      (engines only, as bench_chain.py, or with the energy ledger a chain run keeps,
+      ``--energy``; S defaults to the paper case's steps, scaled per domino)
 """
 
 from __future__ import annotations
@@ -65,6 +65,9 @@ def main(argv=None) -> int:
         "--cpu", action="store_true", help="time the process's CPU time (a shared machine)"
     )
     ap.add_argument("--steps", type=int, default=0)
+    ap.add_argument(
+        "--energy", action="store_true", help="keep the energy ledger (track_energy=True)"
+    )
     args = ap.parse_args(argv)
     if not args.steps:  # bench_chain.py's cases: the paper chain's steps, scaled per domino
         from bench_chain import case, steps_to_last_collision
@@ -90,7 +93,7 @@ def main(argv=None) -> int:
             chain = versions[name]
             factor = 1.0 + 1e-3 * np.random.default_rng([0, member]).standard_normal()
             sim, _ = chain.build(
-                chain.resolve(None).scaled(factor), record=False, track_energy=False
+                chain.resolve(None).scaled(factor), record=False, track_energy=args.energy
             )
             start = time.process_time() if args.cpu else time.perf_counter()
             sim.run(n_steps=steps)
@@ -106,7 +109,7 @@ def main(argv=None) -> int:
     base, new = times["base"], times["new"]
     print(
         f"N = {args.n} ({args.shape}, {args.model}), {args.members} members x {steps} steps,"
-        " engines only, "
+        f" engines only{' with the energy ledger' if args.energy else ''}, "
         f"{'CPU' if args.cpu else 'wall'} time: {args.base} "
         f"{base.mean() / steps * 1e6:.2f} us/step, working tree "
         f"{new.mean() / steps * 1e6:.2f} us/step; speed-up of the means "
