@@ -17,6 +17,7 @@ import typer
 from typer.testing import CliRunner
 
 from dominowave.chain import ChainParams
+from dominowave.chain.fidelity import DEFAULT_TOLERANCE
 from dominowave.chain.presets import standard_domino
 from dominowave.cli import app
 from dominowave.cli import chain as chain_cli
@@ -106,7 +107,8 @@ def test_help_fits_80_columns_with_one_panel_per_concern(help_80):
 
 def test_brackets_of_the_hand_written_options_are_shown_too(help_80):
     shown = flat(help_80)
-    for text in ("push as impulse [N s]", "clear gap d [m]", "within it [default 0.01]"):
+    default = f"within it [default {DEFAULT_TOLERANCE:g}]"
+    for text in ("push as impulse [N s]", "clear gap d [m]", default):
         assert text in shown
 
 
