@@ -45,6 +45,7 @@ __all__ = [
     "lever_arm",
     "log_change",
     "needs_rebuild",
+    "needs_rebuild_after_drift",
     "point_velocity",
     "point_velocity_in_plane",
     "sphere_sphere",
@@ -130,6 +131,22 @@ def needs_rebuild(bodies, skin, n_candidates):
     half = 0.5 * skin
     for b in range(bodies.pos.shape[0]):
         if moved_beyond(bodies, b, half):
+            return True
+    return False
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def needs_rebuild_after_drift(bodies, skin, n_candidates, first, stop):
+    """:func:`needs_rebuild` after a drift of the bodies that are not held, all among
+    ``first .. stop - 1``: only those are tested.  A held body has not moved since the
+    test after its last drift, which found it within skin/2 of its place at the last
+    build (or the list was rebuilt); the first step of a run tests every body."""
+    if n_candidates < 0:
+        return True
+    half = 0.5 * skin
+    held = bodies.held
+    for b in range(first, stop):
+        if not held[b] and moved_beyond(bodies, b, half):
             return True
     return False
 

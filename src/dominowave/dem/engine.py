@@ -57,6 +57,7 @@ from dominowave.dem.contact import (
     contact_power_planar,
     moved_beyond,
     needs_rebuild,
+    needs_rebuild_after_drift,
 )
 from dominowave.dem.energy import (
     E_DISSIPATED_DAMPING,
@@ -787,9 +788,13 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
             else:
                 g, damp_gravity = settings.gravity, settings.damp_gravity
                 if PLANAR:
-                    p_damping = kick_planar(bodies, g, dt, settings.damping, damp_gravity)
+                    p_damping = kick_planar(
+                        bodies, g, dt, settings.damping, damp_gravity, first_moving, stop_moving
+                    )
                 else:
-                    p_damping = kick_general(bodies, g, dt, settings.damping, damp_gravity)
+                    p_damping = kick_general(
+                        bodies, g, dt, settings.damping, damp_gravity, first_moving, stop_moving
+                    )
                 if settings.track_energy:
                     if PLANAR:
                         contact_power_planar(bodies, spheres, walls, contacts, p_contacts)
@@ -858,10 +863,12 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
                         first_moving, stop_moving = _moving_range(bodies)
                         held_flags_changed(bodies, boxes)
                 if PLANAR:
-                    drift_planar(bodies, dt)
+                    drift_planar(bodies, dt, first_moving, stop_moving)
                 else:
-                    drift_general(bodies, dt)
-                rebuild_due = needs_rebuild(bodies, skin, contacts.n[0])
+                    drift_general(bodies, dt, first_moving, stop_moving)
+                rebuild_due = needs_rebuild_after_drift(
+                    bodies, skin, contacts.n[0], first_moving, stop_moving
+                )
             update_listed_sphere_positions(bodies, spheres, PLANAR)
             rec.clock[CLOCK_TIME] = t + dt
             rec.step[0] = step + 1

@@ -382,8 +382,11 @@ def kick_body_planar(bodies, b, gravity, dt, damping, damp_gravity):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def kick_general(bodies, gravity, dt, damping, damp_gravity):
-    """Half-step velocities v_{n-1/2} -> v_{n+1/2} from the current forces (module doc).
+def kick_general(bodies, gravity, dt, damping, damp_gravity, first, stop):
+    """Half-step velocities v_{n-1/2} -> v_{n+1/2} from the current forces (module doc),
+    of the bodies ``first .. stop - 1``, a range that holds every body not held (a held
+    body is not kicked: the range only spares the loop the long runs of held dominoes
+    before and after the front of a chain).
 
     A body flagged ``fresh`` (new, or given a velocity) holds the full-step
     velocity v_n instead, and gets the half kick ``v_{n+1/2} = v_n + dt/2 a_n`` of the
@@ -391,27 +394,28 @@ def kick_general(bodies, gravity, dt, damping, damp_gravity):
     (negative), booked by the caller with the trapezoidal rule.
     """
     power = 0.0
-    for b in range(bodies.mass.shape[0]):
+    for b in range(first, stop):
         power += kick_body(bodies, b, gravity, dt, damping, damp_gravity)
     return power
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def kick_planar(bodies, gravity, dt, damping, damp_gravity):
+def kick_planar(bodies, gravity, dt, damping, damp_gravity, first, stop):
     """:func:`kick_general` for a planar scene (dem/planar.py): the same results, fewer
     operations (:func:`kick_body_planar`)."""
     power = 0.0
-    for b in range(bodies.mass.shape[0]):
+    for b in range(first, stop):
         power += kick_body_planar(bodies, b, gravity, dt, damping, damp_gravity)
     return power
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def kick(bodies, gravity, dt, damping, damp_gravity, planar=False):
-    """:func:`kick_planar` if ``planar``, else :func:`kick_general`."""
+    """:func:`kick_planar` if ``planar``, else :func:`kick_general`, of every body."""
+    n = bodies.mass.shape[0]
     if planar:
-        return kick_planar(bodies, gravity, dt, damping, damp_gravity)
-    return kick_general(bodies, gravity, dt, damping, damp_gravity)
+        return kick_planar(bodies, gravity, dt, damping, damp_gravity, 0, n)
+    return kick_general(bodies, gravity, dt, damping, damp_gravity, 0, n)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -516,26 +520,28 @@ def advance_body_planar(bodies, b, gravity, dt, damping, damp_gravity):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def drift_general(bodies, dt):
-    """Positions and orientations n -> n+1 from the half-step velocities."""
-    for b in range(bodies.mass.shape[0]):
+def drift_general(bodies, dt, first, stop):
+    """Positions and orientations n -> n+1 from the half-step velocities, of the bodies
+    ``first .. stop - 1``, which hold every body not held (:func:`kick_general`)."""
+    for b in range(first, stop):
         drift_body(bodies, b, dt)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def drift_planar(bodies, dt):
+def drift_planar(bodies, dt, first, stop):
     """:func:`drift_general` for a planar scene (:func:`drift_body_planar`)."""
-    for b in range(bodies.mass.shape[0]):
+    for b in range(first, stop):
         drift_body_planar(bodies, b, dt)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def drift(bodies, dt, planar=False):
-    """:func:`drift_planar` if ``planar``, else :func:`drift_general`."""
+    """:func:`drift_planar` if ``planar``, else :func:`drift_general`, of every body."""
+    n = bodies.mass.shape[0]
     if planar:
-        drift_planar(bodies, dt)
+        drift_planar(bodies, dt, 0, n)
     else:
-        drift_general(bodies, dt)
+        drift_general(bodies, dt, 0, n)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
