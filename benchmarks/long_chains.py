@@ -9,11 +9,12 @@ kernels (one warm-up first), and the median CPU time of each part of the run:
 * build: ``DominoChain(p)`` and its stepper (scene, time step estimate);
 * engine: ``stepper.advance`` to the end of the run (the DEM steps, the frames and the
   contact events kept);
-* analysis: ``stepper.result()`` (the events of every domino from the frames, the wave
-  fit, the theory beside it);
+* analysis: ``stepper.result()`` (the events of every domino from the frames it moves
+  in, the wave fit, the theory beside it);
 
 with the steps, the engine's CPU time per step and per domino, the dominoes awake on
-average over the run (sampled every 2000 steps) and the front speed fitted from domino 10
+average over the run (sampled every 2000 steps), the share of the dense frames (frames x
+dominoes) that the run stores (``chain.frames``) and the front speed fitted from domino 10
 on.  A cost per domino that does not grow with the chain is the aim; the dominoes awake
 behind the front set the cost of a step (docs/shape.md, "Sleeping dominoes").
 
@@ -56,12 +57,15 @@ def one_run(n: int) -> dict[str, float]:
     t2 = time.process_time()
     result = stepper.result()
     t3 = time.process_time()
+    frames = stepper.frames
+    stored = sum(track.frames.size for track in frames.tracks()) / (frames.n_frames * n)
     return {
         "build": t1 - t0,
         "engine": engine,
         "analysis": t3 - t2,
         "steps": stepper.steps,
         "awake": float(np.mean(awake)),
+        "stored": stored,
         "speed": speed_from(result.arrival, result.positions, FIT_FROM).speed,
     }
 
@@ -74,9 +78,10 @@ def main() -> None:
     one_run(12)  # warm the kernels: compiling is not the run's time
     print(
         f"| dominoes | build [s] | engine [s] | analysis [s] | total [s] | steps | us/step"
-        f" | ns per domino-step | awake (mean) | speed [m/s] |  (median CPU of {args.repeat})"
+        f" | ns per domino-step | awake (mean) | frames stored [%] | speed [m/s] |"
+        f"  (median CPU of {args.repeat})"
     )
-    print("|---" * 10 + "|")
+    print("|---" * 11 + "|")
     for n in (int(x) for x in args.n.split(",")):
         runs = [one_run(n) for _ in range(args.repeat)]
         med = {k: statistics.median(r[k] for r in runs) for k in runs[0]}
@@ -85,7 +90,8 @@ def main() -> None:
         print(
             f"| {n} | {med['build']:.3f} | {med['engine']:.3f} | {med['analysis']:.3f}"
             f" | {total:.3f} | {med['steps']:.0f} | {per_step * 1e6:.1f}"
-            f" | {per_step / n * 1e9:.0f} | {med['awake']:.1f} | {med['speed']:.4f} |",
+            f" | {per_step / n * 1e9:.0f} | {med['awake']:.1f} | {100 * med['stored']:.1f}"
+            f" | {med['speed']:.4f} |",
             flush=True,
         )
 

@@ -12,14 +12,15 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
-from dominowave.chain import DominoChain, Push
+from dominowave.chain import DominoChain, Push, analyse_events
 from dominowave.chain.presets import standard_domino
 
 
-def _run(sleep: bool) -> tuple[np.ndarray, int]:
-    """Arrival times [s] of the 60-domino standard chain, and the most dominoes asleep
-    while the wave ran (before it reached the last domino)."""
+def _run(sleep: bool):
+    """The 60-domino standard chain run to its end, and the most dominoes asleep while
+    the wave ran (before it reached the last domino)."""
     p = standard_domino(
         gap=0.00938, floor="felt", n_dominoes=60, friction_dominoes=0.3, friction_floor=0.3
     )
@@ -30,18 +31,39 @@ def _run(sleep: bool) -> tuple[np.ndarray, int]:
             bodies = stepper.sim.bodies
             asleep = np.sum((bodies.held == 1) & np.isfinite(bodies.calm_since))
             most_asleep = max(most_asleep, int(asleep))
-    return np.asarray(stepper.result().arrival), most_asleep
+    return stepper, most_asleep
 
 
-def test_validate_sleeping_dominoes_leave_the_wave_as_it_was():
+@pytest.fixture(scope="module")
+def asleep():
+    return _run(True)
+
+
+def test_validate_sleeping_dominoes_leave_the_wave_as_it_was(asleep):
     """The 60-domino standard chain: dominoes fall asleep behind the front while the wave
     runs, and every arrival time stays within 1e-3 (relative) of the chain with every
     domino awake."""
-    awake, _ = _run(False)
-    asleep, most_asleep = _run(True)
+    awake = np.asarray(_run(False)[0].result().arrival)
+    stepper, most_asleep = asleep
+    arrival = np.asarray(stepper.result().arrival)
     assert most_asleep >= 10
     assert np.all(np.isfinite(awake[1:]))
-    np.testing.assert_allclose(asleep[1:], awake[1:], rtol=1e-3, atol=0)
+    np.testing.assert_allclose(arrival[1:], awake[1:], rtol=1e-3, atol=0)
+
+
+def test_the_events_of_a_sleeping_chain_come_from_its_moving_frames_alone(asleep):
+    """The run keeps each domino's frames only where it moves (chain.frames): less than a
+    third of the frames of every domino, here, and the events analysed from them are those
+    of every frame, to the bit."""
+    stepper, _ = asleep
+    chain, record = stepper.chain, stepper.record()
+    stored = sum(track.frames.size for track in stepper.frames.tracks())
+    assert stored < record.com.shape[0] * record.com.shape[1] / 3
+    every = analyse_events(
+        record, critical_angle=chain.critical_angle, min_gap=chain.collision_time()
+    )
+    for name, value in stepper.result().events.table().items():
+        np.testing.assert_array_equal(value, every.table()[name], err_msg=name)
 
 
 def test_clump_chains_do_not_sleep():
@@ -56,7 +78,6 @@ def test_clump_chains_do_not_sleep():
 def test_sleep_criterion_is_set_in_units_of_the_domino():
     """``sleep_speed`` and ``sleep_time`` are in units of ``sqrt(g l)`` and ``sqrt(l/g)``,
     reach the engine in SI, and are refused unless positive, naming the parameter."""
-    import pytest
 
     from dominowave.chain import ChainParams
 

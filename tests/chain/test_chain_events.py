@@ -98,19 +98,27 @@ def test_validate_events_of_prescribed_motion():
     assert set(ev.table()) >= {"arrival", "mechanism"}
 
 
-@pytest.mark.parametrize("chunk", [1, 2])
-def test_the_events_do_not_depend_on_how_many_dominoes_are_analysed_at_a_time(chunk, monkeypatch):
-    """The motion is derived a few dominoes at a time (events.MOTION_CHUNK): one or two at
-    a time give the events of all three at once, to the bit."""
-    from dominowave.chain import events
+def test_events_from_the_stored_frames_are_those_of_every_frame():
+    """A chain run keeps each domino's frames only where it moves (chain.frames): the
+    record with those tracks, and no dense arrays, gives the events of every frame, to
+    the bit. Dominoes 1 and 2 stand still before they are hit, domino 2 after 0.7 s."""
+    from dataclasses import replace
+
+    from dominowave.chain.frames import SparseFrames
 
     rec = _record()
+    arrays = ("com", "quat", "velocity", "angular_velocity")
+    dense = {"times": rec.times}
+    dense.update(zip(("positions", "quaternions", "velocities", "angular_velocities"),
+                     (getattr(rec, k) for k in arrays), strict=True))  # fmt: skip
+    tracks = tuple(SparseFrames.from_dense(dense).tracks())
+    assert len(tracks[2].frames) < 0.5 * rec.times.size  # (still outside its motion)
+    sparse = replace(rec, tracks=tracks, **dict.fromkeys(arrays))
     angle = critical_tilt(0.0025, L / 2)
-    whole = analyse_events(rec, critical_angle=angle)
-    monkeypatch.setattr(events, "MOTION_CHUNK", chunk)
-    pieces = analyse_events(rec, critical_angle=angle)
-    for name, value in whole.table().items():
-        np.testing.assert_array_equal(pieces.table()[name], value, err_msg=name)
+    every = analyse_events(rec, critical_angle=angle)
+    stored = analyse_events(sparse, critical_angle=angle)
+    for name, value in every.table().items():
+        np.testing.assert_array_equal(stored.table()[name], value, err_msg=name)
 
 
 def test_validate_pure_rotation_and_backward_mechanisms():

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from dominowave.chain.frames import Track
 from dominowave.theory import Regime
 
 __all__ = [
@@ -46,6 +47,11 @@ class ChainRecord:
     ``ev_time`` (E,) [s], ``ev_i``, ``ev_j`` (E,) domino indices (``i < j``; walls are
     negative), ``ev_kind`` (E,) ``ONSET`` = 1 / ``END`` = 0. ``end_time`` [s] is when
     the record stops (open contacts end there).
+
+    ``tracks`` (optional): each domino's frames as stored by a chain run
+    (``chain.frames.Track``, the frames in which it may differ from the frame before);
+    a record with tracks may leave ``com``, ``quat``, ``velocity`` and
+    ``angular_velocity`` None, and the analysis reads the tracks (:meth:`domino_tracks`).
     """
 
     times: np.ndarray
@@ -61,6 +67,24 @@ class ChainRecord:
     ev_j: np.ndarray
     ev_kind: np.ndarray
     end_time: float
+    tracks: tuple[Track, ...] | None = None
+
+    def domino_tracks(self) -> tuple[Track, ...]:
+        """Each domino's :class:`~dominowave.chain.frames.Track`: ``tracks`` if given,
+        else every frame of the trajectory arrays."""
+        if self.tracks is not None:
+            return self.tracks
+        frames = np.arange(self.times.size)
+        return tuple(
+            Track(
+                frames,
+                self.com[:, k],
+                self.quat[:, k],
+                self.velocity[:, k],
+                self.angular_velocity[:, k],
+            )
+            for k in range(self.com.shape[1])
+        )
 
 
 def _quat_matrices(q: np.ndarray) -> np.ndarray:
@@ -199,13 +223,6 @@ class DominoEvents:
         return {k: getattr(self, k) for k in self.__dataclass_fields__}
 
 
-def _first_crossing(times: np.ndarray, mask: np.ndarray) -> np.ndarray:
-    """First time (per column) at which ``mask`` (F, N) is true; NaN if never."""
-    any_ = mask.any(axis=0)
-    idx = np.argmax(mask, axis=0)
-    return np.where(any_, times[idx], np.nan)
-
-
 def _mechanism(v_base: float, v_top: float, slip_tol: float) -> int:
     """Fig 5A class from the horizontal velocities of base and top just after a hit.
 
@@ -223,43 +240,90 @@ def _mechanism(v_base: float, v_top: float, slip_tol: float) -> int:
     return int(Regime.BACKWARD_ROTATION_SLIP)
 
 
-MOTION_CHUNK = 8
-"""Dominoes whose motion :func:`_motion` derives at a time: arrays of (frames, 8) stay
-in the processor's cache, where arrays of every domino would be written to memory."""
+@dataclass(frozen=True)
+class _Motion:
+    """One domino's motion at the frames of its track (each (K,) or (K, 3)): the tilt
+    ``theta`` [rad], the base's slip along x since frame 0 [m], whether the top is below
+    the floor tolerance, the speed of the top [m/s], and for the mechanism class the
+    base and the top relative to the centre of mass [m] and the top's velocity [m/s]."""
+
+    theta: np.ndarray
+    slip: np.ndarray
+    below_floor: np.ndarray
+    top_speed: np.ndarray
+    base: np.ndarray
+    top_rel: np.ndarray
+    v_top: np.ndarray
 
 
-def _motion(record: ChainRecord, floor_tolerance, slip_tol, mechanism_frame):
-    """The motion of every domino from the frames, a few dominoes at a time
-    (:data:`MOTION_CHUNK`): the tilt ``theta``, the base's slip along x since frame 0,
-    whether the top is below ``floor_tolerance`` of the height, the speed of the top (each
-    (F, N)) and the mechanism class of each domino at ``mechanism_frame`` (N,) (-1: none;
-    :func:`_mechanism` from the horizontal velocities of base and top,
-    ``v_com + omega x r``)."""
-    frames, n = record.com.shape[:2]
-    theta, slip, top_speed = np.empty((frames, n)), np.empty((frames, n)), np.empty((frames, n))
-    below_floor = np.empty((frames, n), bool)
-    mechanism = np.zeros(n, int)
-    height = record.top_offset[:, 2] - record.base_offset[:, 2]
-    for lo in range(0, n, MOTION_CHUNK):
-        cols = slice(lo, min(n, lo + MOTION_CHUNK))
-        quat, com = record.quat[:, cols], record.com[:, cols]
-        theta[:, cols] = _tilt(rotate_vectors(quat, record.axis[cols]))
-        base = com + rotate_vectors(quat, record.base_offset[cols])
-        slip[:, cols] = base[..., 0] - base[0, :, 0]
-        top_rel = rotate_vectors(quat, record.top_offset[cols])
-        below_floor[:, cols] = (com + top_rel)[..., 2] < floor_tolerance * height[None, cols]
-        v, w = record.velocity[:, cols], record.angular_velocity[:, cols]
-        v_top = np.empty_like(top_rel)
-        for a, b, c in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
-            v_top[..., a] = v[..., a] + (w[..., b] * top_rel[..., c] - w[..., c] * top_rel[..., b])
-        top_speed[:, cols] = np.linalg.norm(v_top, axis=-1)
-        for k in range(cols.start, cols.stop):
-            f, j = mechanism_frame[k], k - lo
-            if f >= 0:
-                r = base[f, j] - com[f, j]
-                v_base = v[f, j, 0] + (w[f, j, 1] * r[2] - w[f, j, 2] * r[1])
-                mechanism[k] = _mechanism(v_base, v_top[f, j, 0], slip_tol)
-    return theta, slip, below_floor, top_speed, mechanism
+def _motion(track: Track, axis, base_offset, top_offset, floor_height) -> _Motion:
+    """The motion of one domino from its track (see :class:`_Motion`); ``axis``,
+    ``base_offset``, ``top_offset`` (3,) as in ``ChainRecord``, ``floor_height`` [m]."""
+    com = track.com
+    # the three vectors turned at once, as three bodies with the domino's orientation
+    quat = np.broadcast_to(track.quat[:, None], (track.quat.shape[0], 3, 4))
+    turned = rotate_vectors(quat, np.stack([axis, base_offset, top_offset]))
+    theta = _tilt(turned[:, 0])
+    base = com + turned[:, 1]
+    top_rel = turned[:, 2]
+    v, w = track.velocity, track.angular_velocity
+    v_top = np.empty_like(top_rel)
+    for a, b, c in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+        v_top[:, a] = v[:, a] + (w[:, b] * top_rel[:, c] - w[:, c] * top_rel[:, b])
+    return _Motion(
+        theta=theta,
+        slip=base[:, 0] - base[0, 0],
+        below_floor=(com + top_rel)[:, 2] < floor_height,
+        top_speed=np.linalg.norm(v_top, axis=-1),
+        base=base,
+        top_rel=top_rel,
+        v_top=v_top,
+    )
+
+
+def _first_time(times: np.ndarray, track: Track, mask: np.ndarray) -> float:
+    """First time [s] at which ``mask`` (K,) of the track's frames holds; NaN if never.
+    A state that holds on after its frame cannot hold there first."""
+    return float(times[track.frames[np.argmax(mask)]]) if mask.any() else math.nan
+
+
+def _rest_time(times: np.ndarray, track: Track, moving: np.ndarray) -> float:
+    """The time [s] of the frame after the last one in which ``moving`` (K,) holds
+    (NaN: moving at the last frame; the first frame's time if never moving)."""
+    if not moving.any():
+        return float(times[0])
+    last = moving.size - 1 - np.argmax(moving[::-1])
+    after = track.last_frame_of(times.size)[last] + 1
+    return float(times[after]) if after < times.size else math.nan
+
+
+def _lowest_tilt(times: np.ndarray, track: Track, theta, after: float, before: float):
+    """Smallest tilt ``theta`` (K,) [rad] in the frames with ``after < time < before``
+    [s] (NaN if there are none)."""
+    lo = np.searchsorted(times, after, side="right")
+    hi = np.searchsorted(times, before, side="left")
+    if lo >= hi:
+        return math.nan
+    return float(theta[track.at(lo) : track.at(hi - 1) + 1].min())
+
+
+def _frame_events(times, tracks, motion, critical_angle, rest_speed) -> dict:
+    """The events of ``DominoEvents`` that the frames give, (N,) each, from every
+    domino's track and motion: the first toppled and floor times, the rest time, the
+    final and largest slip, the largest forward and backward tilt."""
+    rows = [
+        {
+            "topple_time": _first_time(times, track, m.theta > critical_angle),
+            "floor_time": _first_time(times, track, m.below_floor),
+            "rest_time": _rest_time(times, track, m.top_speed >= rest_speed),
+            "slip_final": m.slip[-1],
+            "slip_max": m.slip[np.argmax(np.abs(m.slip))],
+            "max_forward": max(m.theta.max(), 0.0),
+            "max_backward": max(-m.theta.min(), 0.0),
+        }
+        for track, m in zip(tracks, motion, strict=True)
+    ]
+    return {key: np.array([row[key] for row in rows]) for key in rows[0]}
 
 
 def analyse_events(
@@ -281,20 +345,27 @@ def analyse_events(
     slip_tol : relative velocity tolerance of the mechanism classification.
     min_gap : contacts of a pair separated by less than this [s] are one collision
         (``merge_contacts``); a collision time is a natural choice.
+
+    The motion is read from each domino's frames (``ChainRecord.domino_tracks``): with
+    the tracks of a chain run, only the frames in which that domino may have moved, which
+    give every event exactly as every frame would.
     """
     times = np.asarray(record.times, dtype=float)
-    n = record.com.shape[1]
-    # the contacts of each domino with the next, and the frame after the end of the first
-    # hit on each domino, where its mechanism is read
+    tracks = record.domino_tracks()
+    n = len(tracks)
+    height = record.top_offset[:, 2] - record.base_offset[:, 2]
+    motion = [
+        _motion(
+            track,
+            record.axis[k],
+            record.base_offset[k],
+            record.top_offset[k],
+            floor_tolerance * height[k],
+        )
+        for k, track in enumerate(tracks)
+    ]
+    # the contacts of each domino with the next
     intervals = [contact_intervals(record, k, k + 1) for k in range(n - 1)]
-    mechanism_frame = np.full(n, -1)
-    for k in range(1, n):
-        on, off = intervals[k - 1]
-        if on.size:
-            f = int(np.searchsorted(times, off[0]))
-            mechanism_frame[k] = f if f < times.size else -1
-    motion = _motion(record, floor_tolerance, slip_tol, mechanism_frame)
-    theta, slip, below_floor, top_speed, mechanism = motion
 
     arrival = np.full(n, np.nan)
     arrival[0] = 0.0
@@ -305,11 +376,21 @@ def analyse_events(
     two_ahead = np.zeros(n, bool)
     first_end = np.full(n, np.nan)
     rebound = np.full(n, np.nan)
+    mechanism = np.zeros(n, int)
     body = (record.ev_i >= 0) & (record.ev_j >= 0) & (record.ev_kind == ONSET)
     for k in range(1, n):
         from_behind = body & (record.ev_j == k) & (record.ev_i < k)
         if from_behind.any():
             arrival[k] = float(record.ev_time[from_behind].min())
+        # the mechanism, at the first frame after the end of the first hit on k
+        on, off = intervals[k - 1]
+        f = int(np.searchsorted(times, off[0])) if on.size else times.size
+        if f < times.size:
+            m, i = motion[k], tracks[k].at(f)
+            r = m.base[i] - tracks[k].com[i]
+            v, w = tracks[k].velocity[i], tracks[k].angular_velocity[i]
+            v_base = v[0] + (w[1] * r[2] - w[2] * r[1])
+            mechanism[k] = _mechanism(v_base, m.v_top[i, 0], slip_tol)
     for k in range(n - 1):
         on, off = intervals[k]
         contacts_next[k] = on.size
@@ -321,19 +402,9 @@ def analyse_events(
         if on.size:
             first_end[k] = off[0]
             later = on[1] if on.size > 1 else record.end_time
-            window = (times > off[0]) & (times < later)
-            if window.any():
-                rebound[k] = float(theta[window, k].min())
+            rebound[k] = _lowest_tilt(times, tracks[k], motion[k].theta, off[0], later)
         if k + 2 < n:
             two_ahead[k] = bool(np.any(body & (record.ev_i == k) & (record.ev_j == k + 2)))
-    # at rest from the frame after the last moving one (NaN: still moving at the end)
-    moving = top_speed >= rest_speed
-    after_last_moving = times.size - np.argmax(moving[::-1], axis=0)
-    after_last_moving[~moving.any(axis=0)] = 0
-    rest = np.full(n, np.nan)
-    settled = after_last_moving < times.size
-    rest[settled] = times[after_last_moving[settled]]
-    i_max = np.argmax(np.abs(slip), axis=0)
     return DominoEvents(
         arrival=arrival,
         n_hits_from_prev=hits_prev,
@@ -342,13 +413,7 @@ def analyse_events(
         n_hits_in_passage=in_passage,
         touched_two_ahead=two_ahead,
         first_hit_end=first_end,
-        topple_time=_first_crossing(times, theta > critical_angle),
-        floor_time=_first_crossing(times, below_floor),
-        rest_time=rest,
-        slip_final=slip[-1],
-        slip_max=slip[i_max, np.arange(n)],
-        max_forward=np.maximum(theta.max(axis=0), 0.0),
-        max_backward=np.maximum(-theta.min(axis=0), 0.0),
+        **_frame_events(times, tracks, motion, critical_angle, rest_speed),
         rebound_angle=rebound,
         mechanism=mechanism,
     )

@@ -733,11 +733,13 @@ class DominoChain:
             return critical_tilt(p.radius / 2.0, float(self.shape.centre_of_mass[2]))
         return critical_tilt(p.thickness / 2.0, p.height / 2.0)
 
-    def record(self, frames: dict, events: dict, end_time: float) -> ChainRecord:
+    def record(self, frames: dict, events: dict, end_time: float, tracks=None) -> ChainRecord:
         """A ``ChainRecord`` from engine recordings: ``frames`` the trajectory arrays of a
         ``dem`` run result (``times (F,)``, ``positions``, ``quaternions``, ``velocities``,
         ``angular_velocities`` (F, N, 3 or 4)), ``events`` its contact event arrays
-        (``time``, ``body_i``, ``body_j``, ``kind``), ``end_time`` [s] of the run."""
+        (``time``, ``body_i``, ``body_j``, ``kind``), ``end_time`` [s] of the run.
+        ``tracks``: each domino's stored frames (``chain.frames.Track``), for a record
+        whose ``frames`` hold the times alone."""
         shape = self.shape
         com0 = shape.centre_of_mass
         # the pivot: a clump's front base sphere centre, a box's front bottom edge centre
@@ -746,10 +748,10 @@ class DominoChain:
         n = self.params.n_dominoes
         return ChainRecord(
             times=frames["times"],
-            com=frames["positions"],
-            quat=frames["quaternions"],
-            velocity=frames["velocities"],
-            angular_velocity=frames["angular_velocities"],
+            com=frames.get("positions"),
+            quat=frames.get("quaternions"),
+            velocity=frames.get("velocities"),
+            angular_velocity=frames.get("angular_velocities"),
             axis=np.tile([0.0, 0.0, 1.0], (n, 1)),
             base_offset=np.tile(pivot - com0, (n, 1)),
             top_offset=np.tile(top - com0, (n, 1)),
@@ -758,6 +760,7 @@ class DominoChain:
             ev_j=events["body_j"],
             ev_kind=events["kind"],
             end_time=float(end_time),
+            tracks=None if tracks is None else tuple(tracks),
         )
 
     def _secondary(self, record: ChainRecord) -> SecondaryWave | None:

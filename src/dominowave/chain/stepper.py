@@ -33,12 +33,14 @@ import numpy as np
 
 from dominowave import dem
 from dominowave.chain.events import ChainRecord
+from dominowave.chain.frames import FIELDS, SparseFrames
 from dominowave.dem.engine import steps_until_quiet
 
 __all__ = ["ChainStepper", "steps_until_quiet"]
 
-_FRAMES = ("times", "positions", "quaternions", "velocities", "angular_velocities")
-"""Trajectory arrays of a ``dem`` run result, one row per frame (``DominoChain.record``)."""
+_FRAMES = ("times", *FIELDS)
+"""Trajectory arrays of a ``dem`` run result, one row per frame (``DominoChain.record``),
+kept as :class:`~dominowave.chain.frames.SparseFrames`."""
 _EVENTS = ("time", "body_i", "body_j", "kind")
 """Contact event arrays of a ``dem`` run result, one row per event."""
 _EVENT_DTYPES = (np.float64, np.int64, np.int64, np.int8)
@@ -72,7 +74,7 @@ class ChainStepper:
         self.tail_end = math.nan
         self.wall_time = 0.0
         self.reached = 0
-        self.frames = {k: [a] for k, a in chain.initial_frame(self.sim, push).items()}
+        self.frames = SparseFrames(chain.initial_frame(self.sim, push))
         self.events = {
             k: [np.zeros(0, dtype)] for k, dtype in zip(_EVENTS, _EVENT_DTYPES, strict=True)
         }
@@ -144,8 +146,7 @@ class ChainStepper:
     def _keep(self, res) -> None:
         """Append the frames and events of one engine call, count its steps."""
         self.steps += int(res.n_steps)
-        for k in _FRAMES:
-            self.frames[k].append(getattr(res, k))
+        self.frames.append({k: getattr(res, k) for k in _FRAMES})
         for k in _EVENTS:
             self.events[k].append(np.asarray(getattr(res.events, k)))
         self.reached = max(self.reached, _highest_hit(res.events.body_j, res.events.kind))
@@ -160,7 +161,7 @@ class ChainStepper:
         """Everything the rest of the run depends on, as NumPy arrays (copies)."""
         self._compact()
         state = {f"sim.{k}": v for k, v in self.sim.get_state().items()}
-        state.update({f"frames.{k}": v[0].copy() for k, v in self.frames.items()})
+        state.update({f"frames.{k}": v for k, v in self.frames.dense().items()})
         state.update({f"events.{k}": v[0].copy() for k, v in self.events.items()})
         state.update({f"contacts.{k}": v[0].copy() for k, v in self.contacts.items()})
         state["steps"] = np.array(self.steps, np.int64)
@@ -182,14 +183,14 @@ class ChainStepper:
     def set_state(self, state: dict[str, np.ndarray]) -> None:
         """Restore a state of :meth:`get_state` (from a stepper of the same chain and push)."""
         self.sim.set_state({k[4:]: v for k, v in state.items() if k.startswith("sim.")})
-        self.frames = {k: [np.array(state[f"frames.{k}"])] for k in _FRAMES}
+        self.frames = SparseFrames.from_dense({k: state[f"frames.{k}"] for k in _FRAMES})
         self.events = {k: [np.array(state[f"events.{k}"])] for k in _EVENTS}
         if not self.contact_forces:
             self.contacts = {}
         elif "contacts.count" in state:
             self.contacts = {k: [np.array(state[f"contacts.{k}"])] for k in _CONTACTS}
         else:  # a state saved without the recorder: its frames have no contacts
-            self.contacts = _empty_contacts(n_frames=len(self.frames["times"][0]))
+            self.contacts = _empty_contacts(n_frames=self.frames.n_frames)
         self.steps = int(state["steps"])
         self.phase = int(state["phase"])
         self.done = bool(state["done"])
@@ -199,17 +200,22 @@ class ChainStepper:
         self.reached = _highest_hit(self.events["body_j"][0], self.events["kind"][0])
 
     def _compact(self) -> None:
-        """Join the per-call pieces of frames and events into one array each."""
-        for pieces in (*self.frames.values(), *self.events.values(), *self.contacts.values()):
+        """Join the per-call pieces of events and contact records into one array each."""
+        for pieces in (*self.events.values(), *self.contacts.values()):
             pieces[:] = [np.concatenate(pieces)]
 
     # --- results ------------------------------------------------------------------------
-    def record(self) -> ChainRecord:
-        """The trajectory and contact events so far as a ``ChainRecord``."""
+    def record(self, dense: bool = True) -> ChainRecord:
+        """The trajectory and contact events so far as a ``ChainRecord``; ``dense=False``:
+        with each domino's stored frames (``ChainRecord.tracks``) instead of the arrays of
+        every frame, which the event analysis needs and a long chain's frames would not
+        fit (:mod:`dominowave.chain.frames`)."""
         self._compact()
-        frames = {k: v[0] for k, v in self.frames.items()}
         events = {k: v[0] for k, v in self.events.items()}
-        return self.chain.record(frames, events, end_time=self.time)
+        if dense:
+            return self.chain.record(self.frames.dense(), events, end_time=self.time)
+        frames = {"times": self.frames.times}
+        return self.chain.record(frames, events, self.time, tracks=self.frames.tracks())
 
     def contact_frames(self) -> dem.ContactFrames | None:
         """The recorded contact forces of every frame of :meth:`record` (None if not
@@ -227,7 +233,7 @@ class ChainStepper:
         return self.chain.analyse(
             self.push,
             self.omega_1,
-            self.record(),
+            self.record(dense=keep_record),
             dt=self.sim.dt,
             n_steps=self.steps,
             wall_time=self.wall_time,
