@@ -245,14 +245,13 @@ class _Motion:
     """One domino's motion at the frames of its track (each (K,) or (K, 3)): the tilt
     ``theta`` [rad], the base's slip along x since frame 0 [m], whether the top is below
     the floor tolerance, the speed of the top [m/s], and for the mechanism class the
-    base and the top relative to the centre of mass [m] and the top's velocity [m/s]."""
+    base [m] and the top's velocity [m/s]."""
 
     theta: np.ndarray
     slip: np.ndarray
     below_floor: np.ndarray
     top_speed: np.ndarray
     base: np.ndarray
-    top_rel: np.ndarray
     v_top: np.ndarray
 
 
@@ -276,7 +275,6 @@ def _motion(track: Track, axis, base_offset, top_offset, floor_height) -> _Motio
         below_floor=(com + top_rel)[:, 2] < floor_height,
         top_speed=np.linalg.norm(v_top, axis=-1),
         base=base,
-        top_rel=top_rel,
         v_top=v_top,
     )
 
