@@ -334,6 +334,10 @@ def analyse_events(
 ) -> DominoEvents:
     """Events of every domino from a ``ChainRecord`` (see ``DominoEvents``).
 
+    The motion is read from each domino's frames (``ChainRecord.domino_tracks``): with
+    the tracks of a chain run, only the frames in which that domino may have moved, which
+    give every event exactly as every frame would.
+
     Parameters
     ----------
     critical_angle : tilt [rad] past which a domino topples under gravity alone.
@@ -343,10 +347,6 @@ def analyse_events(
     slip_tol : relative velocity tolerance of the mechanism classification.
     min_gap : contacts of a pair separated by less than this [s] are one collision
         (``merge_contacts``); a collision time is a natural choice.
-
-    The motion is read from each domino's frames (``ChainRecord.domino_tracks``): with
-    the tracks of a chain run, only the frames in which that domino may have moved, which
-    give every event exactly as every frame would.
     """
     times = np.asarray(record.times, dtype=float)
     tracks = record.domino_tracks()
