@@ -64,6 +64,7 @@ def test_the_events_of_a_sleeping_chain_come_from_its_moving_frames_alone(asleep
     )
     for name, value in stepper.result().events.table().items():
         np.testing.assert_array_equal(value, every.table()[name], err_msg=name)
+        np.testing.assert_array_equal(np.signbit(value), np.signbit(every.table()[name]))
 
 
 def test_clump_chains_do_not_sleep():

@@ -90,7 +90,7 @@ def test_validate_events_of_prescribed_motion():
     assert np.isnan(ev.topple_time[2])
     np.testing.assert_allclose(ev.slip_final, [0.0, 0.35, 0.02], atol=1e-12)
     np.testing.assert_allclose(ev.max_forward, [1.0, 1.4, 0.0], atol=1e-12)
-    assert ev.max_backward.max() == 0.0
+    assert ev.max_backward.max() == 0.0 and not np.signbit(ev.max_backward).any()  # (no -0)
     assert ev.rebound_angle[0] == pytest.approx(0.321, abs=1e-9)  # first frame after 0.32 s
     assert ev.mechanism[1] == Regime.FORWARD_ROTATION_SLIP
     assert ev.mechanism[2] == Regime.TRANSLATION
@@ -119,6 +119,7 @@ def test_events_from_the_stored_frames_are_those_of_every_frame():
     stored = analyse_events(sparse, critical_angle=angle)
     for name, value in every.table().items():
         np.testing.assert_array_equal(stored.table()[name], value, err_msg=name)
+        np.testing.assert_array_equal(np.signbit(stored.table()[name]), np.signbit(value))
 
 
 def test_validate_pure_rotation_and_backward_mechanisms():

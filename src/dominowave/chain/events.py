@@ -316,8 +316,9 @@ def _frame_events(times, tracks, motion, critical_angle, rest_speed) -> dict:
             "rest_time": _rest_time(times, track, m.top_speed >= rest_speed),
             "slip_final": m.slip[-1],
             "slip_max": m.slip[np.argmax(np.abs(m.slip))],
-            "max_forward": max(m.theta.max(), 0.0),
-            "max_backward": max(-m.theta.min(), 0.0),
+            # (np.maximum: max(-0.0, 0.0) would keep the -0.0 of an upright domino)
+            "max_forward": float(np.maximum(m.theta.max(), 0.0)),
+            "max_backward": float(np.maximum(-m.theta.min(), 0.0)),
         }
         for track, m in zip(tracks, motion, strict=True)
     ]
