@@ -187,10 +187,10 @@ def test_validate_ball_rolling_off_a_box_edge(planar):
     The normal force recorded (contact-force recorder, box-sphere rows) against the
     angle of the recorded centre: within 3e-4 m g of that line while N > 0.1 m g (past
     10 degrees), and its zero, extrapolated from there, within 3e-4 in cos t (measured:
-    6.4e-5 m g and -3.0e-5, 2D and 3D alike; at k_n = 2e5 ten times less).  (Rolling needs ``f / N = 2
-    sin t / (17 cos t - 10)`` from rest, which diverges at the end: mu = 1000.  The
-    compliant contact itself ends later, at zero overlap: cos t 0.5888 at k_n = 2e4,
-    0.5898 at 2e5, for 0.5916.)"""
+    6.4e-5 m g and -3.0e-5, 2D and 3D alike; at k_n = 2e5 ten times less).  (Rolling
+    needs ``f / N = 2 sin t / (17 cos t - 10)`` from rest, which diverges at the end:
+    mu = 1000.  The compliant contact itself ends later, at zero overlap: cos t 0.5888 at
+    k_n = 2e4, 0.5898 at 2e5, for 0.5916.)"""
     kn, v0 = 2e4, 0.02
     scene = Scene(gravity=(0.0, 0.0, -G))
     m = scene.add_material(Material(density=RHO, kn=kn, friction=1e3, restitution=0.5))
