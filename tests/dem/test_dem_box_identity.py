@@ -6,8 +6,8 @@ arithmetic of every contact and every body must stay the same.  Each scene below
 fixed number of steps and its final state (positions, orientations, velocities, the
 contact rows with their shear histories, the energy ledger, the event log) is compared
 bit for bit with ``data/box_identity.npz``, written by this module (``python
-tests/dem/test_dem_box_identity.py --write``; stored_runs.py) at the commit that
-introduced it, the energies of the last step added later by the code of that time.
+tests/dem/test_dem_box_identity.py --write``; stored_runs.py), in the floating-point
+environment that wrote it (elsewhere to round-off: stored_runs.py).
 
 Scenes: the 2D and the 3D (lateral asymmetry) chain of 10 boxes, held until touched,
 with the event log and the energy ledger on; the 2D chain without held boxes; a 3D

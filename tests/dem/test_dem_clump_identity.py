@@ -6,7 +6,8 @@ contact and every body must stay the same.  Each scene below runs a fixed number
 steps and its final state (positions, orientations, velocities, the contacts with their
 shear histories, the energy ledger, the event log) is compared bit for bit with
 ``data/clump_identity.npz``, computed by this module (``python
-tests/dem/test_dem_clump_identity.py --write``; stored_runs.py).
+tests/dem/test_dem_clump_identity.py --write``; stored_runs.py), in the floating-point
+environment that wrote it (elsewhere to round-off: stored_runs.py).
 
 Scenes: through the general kernels, the 3D clump chain of 6 dominoes (lateral
 asymmetry, held until touched) with the contact-point shear kinematics and with YADE's,
