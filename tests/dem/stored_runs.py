@@ -8,13 +8,14 @@ change that is meant to alter the arithmetic, and say so in the commit.
 
 The last bit of a run depends on more than the code: on the CPU, which chooses the code
 paths of the C library's and numpy's functions and the instructions numba compiles to,
-and on the versions of numba, llvmlite, numpy and the C library.  The same sphere runs
-differ by up to 5e-8 of an array's scale between two AMD EPYC generations, their integer
-arrays (events, contact pairs) not at all.  So the stored arrays carry the floating-point
-environment that wrote them (:func:`float_environment`): in that environment they are
-compared to the bit; in another, integers exactly and floats to :data:`ROUNDOFF` of each
-array's largest magnitude, with a warning that names both environments.  To compare bits
-on a new machine before a change, write the arrays there with the code before it.
+and on the versions of numba, llvmlite, numpy and the C library.  The same clump and
+sphere runs differ by up to 5e-8 of an array's scale between two AMD EPYC generations,
+their integer arrays (events, contact pairs) not at all.  So the stored arrays carry the
+floating-point environment that wrote them (:func:`float_environment`): in that
+environment they are compared to the bit; in another, integers exactly and floats to
+:data:`ROUNDOFF` of each array's largest magnitude, with a warning that names both
+environments.  To compare bits on a new machine before a change, write the arrays there
+with the code before it.
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ import numpy as np
 ROUNDOFF = 1e-6
 """Largest difference of a float array from the stored one, relative to the array's largest
 magnitude, in a floating-point environment other than the writer's: 20 times the largest
-seen between two CPUs (5e-8, the sphere runs of 12000 steps)."""
+seen between two CPUs (5e-8, the contact forces of a clump chain after 12000 steps)."""
 
 ENVIRONMENT_KEY = "environment"
 """Key of the writer's :func:`float_environment` in a file of stored arrays."""
@@ -91,7 +92,8 @@ def assert_as_stored(path: Path, name: str, got: dict[str, np.ndarray]) -> None:
     assert int(got[f"{name}/ev_time"].size) > 0
     writer = str(ref[ENVIRONMENT_KEY])
     here = float_environment()
-    if writer != here:
+    foreign = writer != here
+    if foreign:
         warnings.warn(
             f"{path.name} was written in another floating-point environment ({writer}; "
             f"here: {here}): {name} compared to {ROUNDOFF:g} of each array's scale, not to "
@@ -99,7 +101,7 @@ def assert_as_stored(path: Path, name: str, got: dict[str, np.ndarray]) -> None:
             stacklevel=2,
         )
     for key, value in got.items():
-        if writer == here or value.dtype.kind != "f":
+        if not foreign or value.dtype.kind != "f":
             np.testing.assert_array_equal(value, ref[key], err_msg=key, strict=True)
         else:
             scale = float(np.abs(ref[key]).max(initial=0.0))

@@ -29,10 +29,11 @@ def test_same_environment_compares_bits(tmp_path):
 
 def test_other_environment_compares_to_roundoff_and_says_so(tmp_path):
     path, arrays = _stored(tmp_path, "cpu another")
-    close = dict(arrays, **{"s/pos": arrays["s/pos"] + 0.5 * ROUNDOFF * 2.0})
+    scale = 2.0  # (the largest magnitude of s/pos)
+    close = dict(arrays, **{"s/pos": arrays["s/pos"] + 0.5 * ROUNDOFF * scale})
     with pytest.warns(UserWarning, match="cpu another"):
         assert_as_stored(path, "s", close)
-    far = dict(arrays, **{"s/pos": arrays["s/pos"] + 2.0 * ROUNDOFF * 2.0})
+    far = dict(arrays, **{"s/pos": arrays["s/pos"] + 2.0 * ROUNDOFF * scale})
     with pytest.warns(UserWarning), pytest.raises(AssertionError, match="s/pos"):
         assert_as_stored(path, "s", far)
     other_event = dict(arrays, **{"s/ev_i": np.array([4])})
