@@ -48,6 +48,7 @@ from dominowave.dem.boxes import (
     rows_energies,
     rows_power,
 )
+from dominowave.dem.compiled import inner_kernel
 from dominowave.dem.contact import END, ONSET, _candidate_pairs
 from dominowave.dem.material_pairs import material_pair
 from dominowave.dem.shapes.cuboid import box_sphere
@@ -87,7 +88,7 @@ def _margin(boxes, spheres, a, s):
     return 0.5 * min(size, spheres.radius[s])
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _drop(old, boxes, spheres, bodies, o, code, ns, ledger):
     """Old rows from o on of pairs before ``code`` are out of reach: release their shear
     springs, log their ends; returns the first row of ``code`` or after."""
@@ -98,7 +99,7 @@ def _drop(old, boxes, spheres, bodies, o, code, ns, ledger):
     return o
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def box_sphere_forces(bodies, spheres, boxes, mats, dt, ledger, first_step, planar):
     """Add the forces and torques of every box-sphere contact to the bodies (after
     box_forces; the pairs of :func:`build_box_sphere_candidates`' list, or all pairs
@@ -171,7 +172,7 @@ def box_sphere_forces(bodies, spheres, boxes, mats, dt, ledger, first_step, plan
     _copy_rows(new, old, n_new)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def box_sphere_power(bodies, spheres, boxes, out):
     """Add the power [W] of the box-sphere dashpots (``out[POWER_VISCOUS]``) and
     tangential forces (``out[POWER_FRICTION]``) at the full-step velocities."""
@@ -185,7 +186,7 @@ def box_sphere_energies(boxes, out):
     rows_energies(boxes.sphere_rows, False, out)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def box_sphere_contact_forces(boxes, n_spheres, first, second, point, force):
     """The box-sphere rows for the contact-force recorder (boxes.box_contact_forces'
     layout): ``first`` the box's shape id ``n_spheres + box``, ``second`` the sphere,
@@ -198,7 +199,7 @@ def box_sphere_contact_forces(boxes, n_spheres, first, second, point, force):
     return rows.n[0]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def box_rows_contact_forces(boxes, n_spheres, first, second, point, force):
     """The rows of every box contact for the contact-force recorder: those of
     boxes.box_contact_forces, then :func:`box_sphere_contact_forces`'; returns their
@@ -210,7 +211,7 @@ def box_rows_contact_forces(boxes, n_spheres, first, second, point, force):
 
 
 # (allocates: compiled with numba's reference counting, as boxes.build_box_candidates)
-@njit(cache=True, error_model="numpy", _nrt=True)
+@inner_kernel(_nrt=True)
 def build_box_sphere_candidates(bodies, spheres, boxes, walls, skin):
     """The neighbour list of the box-sphere contacts: every (box, sphere) pair of
     different bodies whose bounding spheres come closer than ``skin`` [m], into

@@ -52,6 +52,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
+from dominowave.dem.compiled import inner_kernel
 from dominowave.dem.contact import END, ONSET, _candidate_pairs, _scan_walls, apply_at_lever
 from dominowave.dem.energy import (
     E_ELASTIC_NORMAL,
@@ -287,7 +288,7 @@ def _reach_of(boxes, x):
 
 # (allocates: compiled with numba's reference counting even when called from the
 # run loop, which is compiled without it and whose callees inherit that setting)
-@njit(cache=True, error_model="numpy", _nrt=True)
+@inner_kernel(_nrt=True)
 def build_box_candidates(bodies, boxes, walls, skin):
     """The neighbour list of the box contacts: the box-box and box-wall pairs whose
     bounding spheres come closer than ``skin`` [m], into ``boxes.cand`` (ascending
@@ -372,7 +373,7 @@ def build_box_candidates(bodies, boxes, walls, skin):
     return n
 
 
-@njit(cache=True, error_model="numpy", _nrt=True)
+@inner_kernel(_nrt=True)
 def _with_neighbour_walls(bound, walls, skin, moving, keys):
     """``keys`` (ascending pair codes of the pairs with a moving box, ``moving`` (nx,)
     uint8) with the wall pairs of the held boxes among them added, ascending: a held box
@@ -416,7 +417,7 @@ def held_flags_changed(bodies, boxes):
         boxes.n_cand[0] = -1
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _visit_pairs(bodies, boxes, nx, nw):
     """The listed candidate pairs that are not held pairs (:func:`_held_pair`), ascending,
     into ``boxes.visit``, grouped by their first box (``boxes.src``, ``boxes.src_start``);
@@ -623,7 +624,7 @@ def _pair_code(i, j, nx, nw):
     return i * (nx + nw) + (j if j >= 0 else nx - j - 1)
 
 
-@njit(cache=True, error_model="numpy")
+@inner_kernel()
 def _point_properties(bodies, boxes, walls, mats, a, j, out):
     """kn (Hertz: K), kt, mu, restitution, Tsuji alpha of a point of box a with partner j
     into ``out[0:5]``."""
@@ -666,7 +667,7 @@ def _continuation_distance(boxes, a, j):
     return 0.5 * size
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _continued_row(old, used, o, o_end, keys, m, p, tol):
     """The old row (of rows o .. o_end - 1, one pair) that a new touching point at p
     without a key match continues, or -1: the nearest row within ``tol`` [m] not yet
@@ -693,7 +694,7 @@ def _continued_row(old, used, o, o_end, keys, m, p, tol):
     return q
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _release(old, q, ledger):
     """Old row q is gone without an end step (its feature left the manifold): the energy
     of its shear spring is released by slip (booked as friction)."""
@@ -723,7 +724,7 @@ def _relative_velocity(bodies, vel, omega, bi, bj, wall, p):
     return v0, v1, v2
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _end(bodies, old, q, gap, dt, bi, bj, wall, ledger, hertz):
     """Old row q opened in the last drift (now ``gap <= 0``): the end impulse the last kick
     missed (laws.linear.end_impulse; none for the Hertz law, whose force vanishes smoothly),
@@ -1026,7 +1027,7 @@ def _woken(bodies, boxes):
     return False
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _wake_rows(boxes, nx, nw):
     """Merge the dormant rows (:func:`box_forces`) back into ``boxes.rows``, in pair order
     (through ``boxes.next``); the pairs still resting are put aside again by the next
@@ -1062,7 +1063,7 @@ def _wake_rows(boxes, nx, nw):
     dormant.n[0] = 0
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def box_power(bodies, boxes, out):
     """Add the power [W] of the box contacts' dashpots (``out[POWER_VISCOUS]``) and
     tangential forces (``out[POWER_FRICTION]``) at the full-step velocities (as
@@ -1124,7 +1125,7 @@ def rows_energies(rows, hertz, out):
     out[E_TOTAL] += en + es
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def box_contact_forces(boxes, first_id, first, second, point, force):
     """The contact forces of the last :func:`box_forces`, one row per contact row, in the
     layout of contact.active_contact_forces (the engine's contact-force recorder): the
@@ -1175,7 +1176,7 @@ def row_force(rows, c, sign, point, force):
         force[d] = sign * m * (fn * n[d] - kt * u[d])
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def box_peak_force(boxes, spheres, peak):
     """Raise ``peak[a, b]`` (a < b bodies, [N]) to the normal force of any box-box or
     box-sphere contact point of the pair (as engine.py records the sphere contacts' peak

@@ -22,6 +22,7 @@ import math
 import numpy as np
 from numba import njit
 
+from dominowave.dem.compiled import inner_kernel
 from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
 from dominowave.dem.integrate import ROT_NONE
 from dominowave.dem.laws.linear import end_impulse, viscous_coefficient
@@ -135,7 +136,7 @@ def needs_rebuild(bodies, skin, n_candidates):
     return False
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def needs_rebuild_after_drift(bodies, skin, n_candidates, first, stop):
     """:func:`needs_rebuild` after a drift of the bodies that are not held, all among
     ``first .. stop - 1``: only those are tested.  A held body has not moved since the
@@ -241,7 +242,7 @@ def _candidate_pairs(spheres, walls, skin, active=None):
 # for the same reason (engine.run_loop).
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _bin_spheres(pos, lo, inv_width, ncell, head, nxt, cidx):
     """Linked lists of the spheres in each cell: ``head[cell]`` -> ``nxt[s]`` -> ...;
     ``cidx[s]`` the (3,) cell index of sphere s."""
@@ -316,7 +317,7 @@ def _scan_walls(spheres, walls, skin, active, keys, first, n):
     return n
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys, first):
     """Write the keys of all pairs closer than the skin into ``keys`` (in no particular
     order) and their first indices into ``first``; return their number, or -1 if the
@@ -351,7 +352,7 @@ def _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys, first):
     return _scan_walls(spheres, walls, skin, None, keys, first, n)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _scan_active(spheres, walls, skin, active, ncell, head, nxt, cidx, keys, first):
     """:func:`_scan_cells` for the pairs with an active sphere only: each active sphere s
     meets the spheres of its own and all 26 neighbour cells (a pair of two active
@@ -375,7 +376,7 @@ def _scan_active(spheres, walls, skin, active, ncell, head, nxt, cidx, keys, fir
     return _scan_walls(spheres, walls, skin, active, keys, first, n)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _sort_pairs(raw, raw_first, count, keys, first):
     """``raw`` keys (n,) sorted into ``keys`` (n,), their first indices ``raw_first`` into
     ``first``: a counting sort by the first index (``count`` (ns + 1,) zeroed scratch), then
@@ -425,7 +426,7 @@ def build_verlet_list(spheres, walls, bodies, mats, contacts, skin):
     return n_new
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _merge_history(spheres, walls, bodies, mats, contacts, keys, first, src, props):
     """Write the pairs ``keys`` (sorted; ``first`` their first indices) into ``contacts``,
     in place; a pair that was listed before keeps its whole history, a new one starts
@@ -515,7 +516,7 @@ def _move_pair(contacts, a, c):
     contacts.cn[c] = contacts.cn[a]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _list_spheres(spheres, contacts, seen):
     """``spheres.listed``: the spheres of the Verlet list, the only ones whose positions
     the contact kernels read until the next build (the engine updates just these).
@@ -993,7 +994,7 @@ compute_forces, contact_power = _sphere_driver(False)
 compute_forces_planar, contact_power_planar = _sphere_driver(True)
 
 
-@njit(cache=True, error_model="numpy")
+@inner_kernel()
 def active_contact_forces(spheres, walls, contacts, first, second, point, force):
     """The contact forces of the last :func:`compute_forces`, one row per active contact.
 

@@ -44,6 +44,7 @@ from dominowave.dem.boxes import (
     build_box_candidates,
     held_flags_changed,
 )
+from dominowave.dem.compiled import inner_kernel
 from dominowave.dem.contact import (
     CHANGE_CONTACT,
     CHANGE_KIND,
@@ -201,7 +202,7 @@ def _free(bodies, b, t):
         bodies.release_time[b] = t
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _release(bodies, spheres, contacts, b, t):
     """Free a held body, and (transitively) held bodies it already touches.
 
@@ -235,7 +236,7 @@ def _box_speed(bodies, boxes, x):
     return speed + spin * (_reach_of(boxes, x) + boxes.radius[x])
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _sleep_and_wake(bodies, spheres, contacts, boxes, settings, t, ledger):
     """Put resting boxes to sleep and wake sleeping ones that a moving box drives; returns
     whether a held flag changed.  Called at the check steps (every ``check_every``), after
@@ -296,7 +297,7 @@ def _sleep_and_wake(bodies, spheres, contacts, boxes, settings, t, ledger):
     return changed
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _log_event(rec, t, bi, bj, kind):
     k = rec.ev_n[0]
     rec.ev_time[k] = t
@@ -306,7 +307,7 @@ def _log_event(rec, t, bi, bj, kind):
     rec.ev_n[0] = k + 1
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def event_time(contacts, c, t, dt, onset, first_step):
     """Interpolated time [s] at which contact c started or ended during the last drift.
 
@@ -325,7 +326,7 @@ def event_time(contacts, c, t, dt, onset, first_step):
     return t - depth / speed
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, first_step):
     """Held-body release, body-level onsets/ends, event log and pair statistics.
 
@@ -358,7 +359,7 @@ def _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, first_step
     return released
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t):
     """Body-level onsets and ends of the box contacts of this step (boxes.changes, one per
     body pair: a pair is in contact while any of its points is): held-body release, event
@@ -390,7 +391,7 @@ def _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t):
     return released
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _count_pair_change(rec, bi, bj, kind, te, t):
     """A contact of bodies ``bi`` and ``bj`` began (``kind`` ONSET) or ended at ``te`` [s]
     (step time ``t``): the pair's count of touching contacts; its first onset and its
@@ -414,7 +415,7 @@ def _count_pair_change(rec, bi, bj, kind, te, t):
             rec.last_separation[a, b] = te
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _count_wall_change(rec, bi, j, kind, te):
     """A contact of body ``bi`` with wall ``-j - 1`` began or ended at ``te`` [s]: the
     count of its touching contacts; the first onset and the last end are logged."""
@@ -429,7 +430,7 @@ def _count_wall_change(rec, bi, j, kind, te):
             _log_event(rec, te, bi, j, END)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _record_peak_force(spheres, contacts, rec):
     for c in range(contacts.n[0]):
         j = contacts.j[c]
@@ -442,7 +443,7 @@ def _record_peak_force(spheres, contacts, rec):
                 rec.peak_force[a, b] = contacts.fn[c]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _record_frame(bodies, rec, t):
     f = rec.traj_n[0]
     rec.traj_t[f] = t
@@ -456,7 +457,7 @@ def _record_frame(bodies, rec, t):
     rec.traj_n[0] = f + 1
 
 
-@njit(cache=True, error_model="numpy")
+@inner_kernel()
 def _record_contact_forces(spheres, walls, contacts, rec):
     """Append the active sphere contacts of this step as the rows of trajectory frame
     traj_n."""
@@ -473,7 +474,7 @@ def _record_contact_forces(spheres, walls, contacts, rec):
     )
 
 
-@njit(cache=True, error_model="numpy")
+@inner_kernel()
 def _record_box_contact_forces(spheres, rec, boxes):
     """Append the active box contact points of this step to trajectory frame traj_n, after
     its sphere contacts (box_sphere.box_rows_contact_forces)."""
@@ -498,7 +499,7 @@ def _zero_forces(bodies):
     bodies.torque[:, :] = 0.0
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _finite(bodies):
     for b in range(bodies.mass.shape[0]):
         for k in range(3):
@@ -604,7 +605,7 @@ def _body_pass(PLANAR):  # (capital: a constant of the compiled kernel)
     operations, and without the full-step quantities that nothing reads in these steps
     (integrate.advance_body_planar).  Returns whether the list must be rebuilt."""
 
-    @njit(cache=True, error_model="numpy", _nrt=False)
+    @inner_kernel(_nrt=False)
     def advance_bodies(bodies, settings, first, stop):
         half_skin = 0.5 * settings.skin
         g, dt = settings.gravity, settings.dt

@@ -44,6 +44,8 @@ import math
 import numpy as np
 from numba import njit
 
+from dominowave.dem.compiled import inner_kernel
+
 __all__ = [
     "advance_body_planar",
     "check_blocked_spin",
@@ -381,7 +383,7 @@ def kick_body_planar(bodies, b, gravity, dt, damping, damp_gravity):
     return power + inertia * (alpha_d - alpha) * w_full
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def kick_general(bodies, gravity, dt, damping, damp_gravity, first, stop):
     """Half-step velocities v_{n-1/2} -> v_{n+1/2} from the current forces (module doc),
     of the bodies ``first .. stop - 1``, a range that holds every body not held (a held
@@ -399,7 +401,7 @@ def kick_general(bodies, gravity, dt, damping, damp_gravity, first, stop):
     return power
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def kick_planar(bodies, gravity, dt, damping, damp_gravity, first, stop):
     """:func:`kick_general` for a planar scene (dem/planar.py): the same results, fewer
     operations (:func:`kick_body_planar`)."""
@@ -519,7 +521,7 @@ def advance_body_planar(bodies, b, gravity, dt, damping, damp_gravity):
     _store_rows_xz(bodies.rot, b, q[b, 0], q[b, 1], q[b, 2], q[b, 3])
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def drift_general(bodies, dt, first, stop):
     """Positions and orientations n -> n+1 from the half-step velocities, of the bodies
     ``first .. stop - 1``, which hold every body not held (:func:`kick_general`)."""
@@ -527,7 +529,7 @@ def drift_general(bodies, dt, first, stop):
         drift_body(bodies, b, dt)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def drift_planar(bodies, dt, first, stop):
     """:func:`drift_general` for a planar scene (:func:`drift_body_planar`)."""
     for b in range(first, stop):
@@ -577,7 +579,7 @@ def update_sphere_positions(bodies, spheres, planar):
     _place_spheres(bodies, spheres, spheres.body.shape[0], False, planar)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def update_listed_sphere_positions(bodies, spheres, planar):
     """World centres of the spheres in the Verlet list (``spheres.listed``): between two
     list builds no other sphere can touch anything, and only these are read."""

@@ -55,6 +55,8 @@ import math
 import numpy as np
 from numba import njit
 
+from dominowave.dem.compiled import inner_kernel
+
 __all__ = [
     "MAX_POINTS",
     "box_box",
@@ -587,7 +589,7 @@ def _vertex_within(xB, RB, hB, kB, sB, edge, c0, c1, c2, RA, ku, kv, n0, n1, n2,
     return -1
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _merge_coincident(out, n, base, close):
     """Merge the points of one face manifold ``out[:n]`` that lie within ``close`` [m] of
     each other, or have the same key, into one; returns the new count.
@@ -656,7 +658,7 @@ def _segment_closest(r0, r1, r2, u0, u1, u2, v0, v1, v2):
     return s, t
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _edge_manifold(xi, Ri, hi, ri, a, xj, Rj, hj, rj, b, n0, n1, n2, sep, margin, out):
     """One point between the closest points of edge ``a`` of box i (farthest along n) and
     edge ``b`` of box j (farthest along -n).  Separated cores: the distance of the two
@@ -699,7 +701,7 @@ def _edge_manifold(xi, Ri, hi, ri, a, xj, Rj, hj, rj, b, n0, n1, n2, sep, margin
     return 1
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, ties, out):
     """The vertices of one box nearest the other core, as contact points: the box owning
     the vertex of least distance, and (``ties``) its vertices within a round-off tolerance
@@ -834,7 +836,7 @@ def manifold_is_deepest(overlap, n, reach, separation, tol):
     return reach - separation <= deepest + 0.5 * tol
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def merge_deepest(out, n, first, count, reach, tol):
     """Merge the exact deepest points (rows ``first .. first + count - 1``, equally deep)
     into the manifold ``out[:n]``; returns the new count.  An empty manifold becomes the

@@ -20,6 +20,7 @@ import math
 import numpy as np
 from numba import njit
 
+from dominowave.dem.compiled import inner_kernel
 from dominowave.dem.shapes.cuboid import (
     manifold_is_deepest,
     merge_deepest,
@@ -93,7 +94,7 @@ def edges_separate(xi, Ri, hi, xj, Rj, hj, reach):
     return False
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _edge_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, out):
     """Clip the incident edge of B against the reference edge (face axis ``kA``) of A."""
     normal, point, overlap, key = out
@@ -149,7 +150,7 @@ def _edge_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, out):
     return n
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@inner_kernel(_nrt=False)
 def _nearest_corners(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, out):
     """The exact deepest points, corner-edge pairs: the corners of one rectangle nearest
     the other core (the owner of the nearest corner, and its corners within round-off of

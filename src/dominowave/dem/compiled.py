@@ -1,0 +1,58 @@
+"""Kernels called only from other kernels: compiled without an entry from Python.
+
+numba compiles every ``@njit`` function with two entry points besides the function
+itself: a CPython wrapper, which unboxes each argument (for the engine's state, a
+named tuple of ~100 arrays) and boxes the result, and a C-callable wrapper.  A kernel
+that only the time loop or another kernel calls never runs either, yet their code is
+generated, optimised and compiled to machine code on the first run.  Leaving them out
+(numba's ``no_cpython_wrapper`` and ``no_cfunc_wrapper`` options, which its own
+``@overload`` implementations use) made the README's main job compile about a fifth
+faster (benchmarks/README.md, "First run").  The compiled code of the kernel, and so
+every trajectory, is the same to the bit.
+
+Without a CPython wrapper a call from Python would jump to a null entry point; an
+:class:`InnerKernel` instead refuses it with a ``TypeError`` naming the kernel.
+"""
+
+from __future__ import annotations
+
+from numba.core import config
+from numba.core.registry import CPUDispatcher
+
+__all__ = ["InnerKernel", "inner_kernel"]
+
+
+class InnerKernel(CPUDispatcher):
+    """A numba dispatcher whose compiled versions are reachable from compiled code only.
+
+    Compiled callers find a version through ``overloads`` (numba's typing and linking);
+    the table of entry points for calls from Python stays empty, so that such a call
+    ends in :meth:`_compile_for_args`, which refuses it."""
+
+    def add_overload(self, cres):
+        self.overloads[tuple(cres.signature.args)] = cres
+
+    def _compile_for_args(self, *args, **kws):
+        func = self.py_func
+        raise TypeError(
+            f"{func.__module__}.{func.__qualname__} is compiled to be called from other"
+            " compiled kernels only (it has no entry point from Python); call it from an"
+            " @njit function"
+        )
+
+
+def inner_kernel(**options):
+    """``@njit(cache=True, error_model="numpy", **options)`` for a kernel that only other
+    kernels call, compiled without the CPython and C-callable wrappers
+    (:class:`InnerKernel`).  ``options``: numba's target options, e.g. ``_nrt=False``."""
+    targetoptions = {"nopython": True, "error_model": "numpy", **options}
+    targetoptions.update(no_cpython_wrapper=True, no_cfunc_wrapper=True)
+
+    def compile_lazily(func):
+        if config.DISABLE_JIT:  # (NUMBA_DISABLE_JIT: run the Python function)
+            return func
+        kernel = InnerKernel(py_func=func, locals={}, targetoptions=targetoptions)
+        kernel.enable_caching()
+        return kernel
+
+    return compile_lazily
