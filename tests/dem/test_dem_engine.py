@@ -163,9 +163,10 @@ def test_validate_verlet_build_matches_brute_force(seed):
 
 @pytest.mark.parametrize("seed", range(4))
 def test_validate_search_of_the_active_spheres_matches_brute_force(seed):
-    """The search around active spheres only (contact._scan_active: every neighbour cell
-    of each active sphere) lists exactly the brute-force pairs with an active member --
-    two spheres of which one is active, an active sphere and a wall -- in key order."""
+    """The search around active spheres only (contact._scan_cells with ``active``: every
+    neighbour cell of each active sphere) lists exactly the brute-force pairs with an
+    active member -- two spheres of which one is active, an active sphere and a wall --
+    in key order."""
     sim, rng = _random_walled_scene(seed)
     spheres, walls = sim.spheres, sim.walls
     ns, nw = spheres.pos.shape[0], walls.point.shape[0]

@@ -299,8 +299,9 @@ def build_box_candidates(bodies, boxes, walls, skin):
     While at most half of the boxes move, the pairs that get no rows while the list
     lasts are left out -- two held boxes, a held box that no moving box is near and a wall
     (:func:`_held_pair`) -- and the search looks only around the boxes that are not held
-    (contact._scan_active, every neighbour cell of each), and at the walls of the held
-    boxes it finds: it costs what the moving part of a chain held until touched costs.
+    (contact._scan_cells with them active: every neighbour cell of each), and at the
+    walls of the held boxes it finds: it costs what the moving part of a chain held until
+    touched costs.
     ``boxes.held_at_build`` marks the boxes held then; the engine builds
     the list again at the step after one of them is released (or at the start of a run
     in which it is free, :func:`released_since_build`).  With more boxes moving, every

@@ -222,10 +222,7 @@ def _candidate_pairs(spheres, walls, skin, active=None):
     raw_first = np.empty(raw.shape[0], np.int64)
     n = -1
     while n < 0:  # keys too short: the scan wrote nothing that counts, redo with room
-        if active is None:
-            n = _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, raw, raw_first)
-        else:
-            n = _scan_active(spheres, walls, skin, active, ncell, head, nxt, cidx, raw, raw_first)
+        n = _scan_cells(spheres, walls, skin, active, ncell, head, nxt, cidx, raw, raw_first)
         if n < 0:
             raw = np.empty(2 * raw.shape[0], np.int64)
             raw_first = np.empty(raw.shape[0], np.int64)
@@ -318,58 +315,36 @@ def _scan_walls(spheres, walls, skin, active, keys, first, n):
 
 
 @inner_kernel(_nrt=False)
-def _scan_cells(spheres, walls, skin, ncell, head, nxt, cidx, keys, first):
-    """Write the keys of all pairs closer than the skin into ``keys`` (in no particular
+def _scan_cells(spheres, walls, skin, active, ncell, head, nxt, cidx, keys, first):
+    """Write the keys of the pairs closer than the skin into ``keys`` (in no particular
     order) and their first indices into ``first``; return their number, or -1 if the
     arrays are too short.
 
-    Half shell: sphere s meets the spheres after it in its own cell and all spheres of the
-    13 neighbour cells whose offset is lexicographically positive, so that every pair of
-    neighbouring cells is visited once, from one side.
+    ``active`` None: every pair, each visited once, from a half shell: sphere s meets the
+    spheres after it in its own cell and all spheres of the 13 neighbour cells whose
+    offset is lexicographically positive.  ``active`` ((ns,) uint8): the pairs with an
+    active sphere only; each active sphere meets the spheres of its own and all 26
+    neighbour cells (a pair of two active spheres is kept from its lower index), and an
+    inactive sphere is not looked at, so that the cost grows with the active spheres, not
+    with all of them (a chain of dominoes held until touched: the moving ones).
     """
     ns = spheres.pos.shape[0]
     stride = ns + walls.point.shape[0]
     n = 0
     for s in range(ns):
-        for ox in range(0, 2):
-            cx = cidx[s, 0] + ox
-            if cx >= ncell[0]:
-                continue
-            for oy in range(-1 if ox else 0, 2):
-                cy = cidx[s, 1] + oy
-                if cy < 0 or cy >= ncell[1]:
-                    continue
-                for oz in range(-1 if ox or oy else 0, 2):
-                    cz = cidx[s, 2] + oz
-                    if cz < 0 or cz >= ncell[2]:
+        if active is not None and not active[s]:
+            continue
+        for ox in range(-1, 2):
+            for oy in range(-1, 2):
+                for oz in range(-1, 2):
+                    if active is None and (ox, oy, oz) < (0, 0, 0):
+                        continue  # (the other half of the shell: found from the other cell)
+                    cx, cy, cz = cidx[s, 0] + ox, cidx[s, 1] + oy, cidx[s, 2] + oz
+                    if min(cx, cy, cz) < 0 or cx >= ncell[0] or cy >= ncell[1] or cz >= ncell[2]:
                         continue
                     own = ox == 0 and oy == 0 and oz == 0
                     t = head[(cx * ncell[1] + cy) * ncell[2] + cz]
-                    n = _add_cell_pairs(spheres, s, t, nxt, own, None, skin, stride, keys,
-                                        first, n)  # fmt: skip
-                    if n < 0:
-                        return -1
-    return _scan_walls(spheres, walls, skin, None, keys, first, n)
-
-
-@inner_kernel(_nrt=False)
-def _scan_active(spheres, walls, skin, active, ncell, head, nxt, cidx, keys, first):
-    """:func:`_scan_cells` for the pairs with an active sphere only: each active sphere s
-    meets the spheres of its own and all 26 neighbour cells (a pair of two active
-    spheres is kept from its lower index), and the walls; an inactive sphere is not
-    looked at.  The cost grows with the active spheres, not with all of them (a chain of
-    dominoes held until touched: the moving ones)."""
-    ns = spheres.pos.shape[0]
-    stride = ns + walls.point.shape[0]
-    n = 0
-    for s in range(ns):
-        if not active[s]:
-            continue
-        for cx in range(max(cidx[s, 0] - 1, 0), min(cidx[s, 0] + 2, ncell[0])):
-            for cy in range(max(cidx[s, 1] - 1, 0), min(cidx[s, 1] + 2, ncell[1])):
-                for cz in range(max(cidx[s, 2] - 1, 0), min(cidx[s, 2] + 2, ncell[2])):
-                    t = head[(cx * ncell[1] + cy) * ncell[2] + cz]
-                    n = _add_cell_pairs(spheres, s, t, nxt, True, active, skin, stride, keys,
+                    n = _add_cell_pairs(spheres, s, t, nxt, own, active, skin, stride, keys,
                                         first, n)  # fmt: skip
                     if n < 0:
                         return -1
