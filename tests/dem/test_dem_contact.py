@@ -8,6 +8,7 @@ from dem_scenes import RHO, R, column, sphere_mass
 
 from dominowave.dem import ONSET, Material, Scene
 from dominowave.dem.laws.linear import end_impulse, viscous_coefficient
+from dominowave.dem.laws.point import onset_dashpot
 from dominowave.dem.material_pairs import (
     RULE_GIVEN,
     RULE_PAPER,
@@ -101,6 +102,20 @@ def test_viscous_coefficient_limits():
     assert viscous_coefficient(1.0, 1.0, 1.0) == 0.0
     # critical damping is approached as e -> 0
     assert viscous_coefficient(1e-12, 1.0, 1.0) == pytest.approx(2.0, rel=0.05)
+
+
+def test_validate_onset_dashpot_of_each_law_and_none_between_immovable_bodies():
+    """A new point's dashpot: the linear law's c_n = 2 zeta sqrt(m k) of the single-point
+    impact of mass m = 1 / inverse_mass, zeta = -ln e / sqrt(pi^2 + ln^2 e) (Schwager &
+    Poeschel 2007); Hertz's alpha sqrt(m K) (Tsuji); zero when neither body can move."""
+    kn, e, alpha = 2.0e5, 0.5, 0.3
+    m = 0.02  # [kg]
+    zeta = -np.log(e) / np.hypot(np.pi, np.log(e))
+    linear = onset_dashpot(kn, e, alpha, 1.0 / m, False)
+    assert linear == pytest.approx(2.0 * zeta * np.sqrt(m * kn), rel=1e-14)
+    assert onset_dashpot(kn, e, alpha, 1.0 / m, True) == pytest.approx(alpha * np.sqrt(m * kn))
+    for hertz in (False, True):
+        assert onset_dashpot(kn, e, alpha, 0.0, hertz) == 0.0
 
 
 def test_validate_sphere_sphere_friction_rolling_free_of_slip():

@@ -806,8 +806,8 @@ def _point_row(bodies, old, new, c, q, props, ba, bj, wall, overlap, dt, first_s
                 p[2] - bodies.pos[bj, 2], n0, n1, n2,
             )  # fmt: skip
         # (each point its own dashpot, as for a single-point impact; a planar row stands
-        # for mult such points; between two immovable bodies there is no impact to damp)
-        new.cn[c] = onset_dashpot(new.kn[c], props[3], props[4], inv, hertz) if inv > 0.0 else 0.0
+        # for mult such points)
+        new.cn[c] = onset_dashpot(new.kn[c], props[3], props[4], inv, hertz)
         u0 = u1 = u2 = 0.0
         vn_old = 0.0
     else:

@@ -56,7 +56,10 @@ def onset_dashpot(kn, restitution, alpha, inverse_mass, hertz):
     """Dashpot coefficient of a new contact point: linear law ``c_n`` [N s/m] giving the
     ``restitution`` to a single-point impact of effective mass ``1 / inverse_mass`` [kg]
     on the spring ``kn`` [N/m] (laws.linear.viscous_coefficient); Hertz law (``kn`` = K
-    [N/m^{3/2}]) ``alpha sqrt(m_eff K)`` [N s/m^{5/4}] with the Tsuji ratio ``alpha``."""
+    [N/m^{3/2}]) ``alpha sqrt(m_eff K)`` [N s/m^{5/4}] with the Tsuji ratio ``alpha``.
+    Zero between two immovable bodies (``inverse_mass`` 0): there is no impact to damp."""
+    if not inverse_mass > 0.0:
+        return 0.0
     if hertz:
         return alpha * math.sqrt(kn / inverse_mass)
     return viscous_coefficient(restitution, 1.0 / inverse_mass, kn)
