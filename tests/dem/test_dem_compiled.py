@@ -1,6 +1,7 @@
-"""Kernels called only from other kernels (dem.compiled.inner_kernel): compiled without
-an entry from Python, the same results from compiled callers, and a clear error from
-Python instead of a jump to a null entry point."""
+"""How the engine's functions are compiled (dem.compiled): kernels called only from other
+kernels have no entry from Python and refuse a call from it with a clear error instead
+of a jump to a null entry point; small functions are inlined by LLVM into their callers;
+both give their Python function's results."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import pytest
 from numba import njit, types
 
 from dominowave.dem import contact, engine, integrate
-from dominowave.dem.compiled import InnerKernel, inner_kernel
+from dominowave.dem.compiled import InnerKernel, inline_kernel, inner_kernel
 
 
 @inner_kernel(_nrt=False)
@@ -48,10 +49,42 @@ def test_an_inner_kernel_has_no_python_entry_and_says_so():
         _weighted_sum(np.ones(3), 0.5)
 
 
+@inline_kernel()
+def _halved(x):
+    return 0.5 * x
+
+
+@inline_kernel(python_entry=True)
+def _doubled(x):
+    return 2.0 * x
+
+
+def _sum_of_halves(values):
+    total = 0.0
+    for v in values:
+        total += _halved(v)
+    return total
+
+
+def test_an_inline_kernel_is_inlined_into_its_caller_with_the_same_arithmetic():
+    caller = njit(_sum_of_halves)  # (not cached: its LLVM IR is read below)
+    values = np.linspace(-1.0, 3.0, 9)
+    expected = 0.0
+    for v in values:  # (the same operations in the same order, in Python floats)
+        expected += 0.5 * float(v)
+    assert caller(values) == expected
+    (llvm_ir,) = caller.inspect_llvm().values()
+    assert not [line for line in llvm_ir.splitlines() if " call " in line and "_halved" in line]
+    with pytest.raises(TypeError, match="_halved is compiled to be called from other"):
+        _halved(1.0)
+    assert _doubled(1.5) == 3.0  # (python_entry: callable from Python too)
+
+
 def test_the_engine_s_steps_are_inner_kernels_and_its_python_entries_are_not():
     # steps that only the time loop calls
     for kernel in (contact._scan_cells, contact._merge_history, engine._bookkeep,
-                   engine._advance_planar, integrate.kick_planar):  # fmt: skip
+                   engine._advance_planar, integrate.kick_planar, integrate.kick_body,
+                   contact.apply_at_lever):  # fmt: skip
         assert isinstance(kernel, InnerKernel)
     # kernels the Python front end calls
     for kernel in (contact.build_verlet_list, contact.compute_forces, engine.active_energy,

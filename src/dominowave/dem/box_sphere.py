@@ -48,7 +48,7 @@ from dominowave.dem.boxes import (
     rows_energies,
     rows_power,
 )
-from dominowave.dem.compiled import inner_kernel
+from dominowave.dem.compiled import inline_kernel, inner_kernel
 from dominowave.dem.contact import END, ONSET, _candidate_pairs
 from dominowave.dem.material_pairs import material_pair
 from dominowave.dem.shapes.cuboid import box_sphere
@@ -65,7 +65,7 @@ __all__ = [
 ]
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _sphere_centre(bodies, spheres, s, out):
     """World centre ``x_b + R_b u_s`` [m] of sphere s into ``out`` (3,)."""
     b = spheres.body[s]
@@ -79,7 +79,7 @@ def _sphere_centre(bodies, spheres, s, out):
         )
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _margin(boxes, spheres, a, s):
     """Margin [m] of the pair's contact point: half the smaller of the sphere's radius and
     the box's smallest outer half-extent (a point moves far less in one step)."""

@@ -52,7 +52,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from dominowave.dem.compiled import inner_kernel
+from dominowave.dem.compiled import inline_kernel, inner_kernel
 from dominowave.dem.contact import END, ONSET, _candidate_pairs, _scan_walls, apply_at_lever
 from dominowave.dem.energy import (
     E_ELASTIC_NORMAL,
@@ -242,7 +242,7 @@ def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR,
     )
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def inverse_mass_at(bodies, b, rx, ry, rz, n0, n1, n2):
     """``1/m + (r x n) . I^-1 (r x n)`` [1/kg] of body b at lever arm r, along n: the
     inverse of the mass that a force along n at r accelerates (Brach, Mechanical Impact
@@ -279,7 +279,7 @@ def inverse_mass_at(bodies, b, rx, ry, rz, n0, n1, n2):
     return inv
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _reach_of(boxes, x):
     """Bounding radius [m] of box x: its core's half-diagonal plus the rounding."""
     h = boxes.half[x]
@@ -397,7 +397,7 @@ def _with_neighbour_walls(bound, walls, skin, moving, keys):
     return np.sort(np.concatenate((keys, raw[:n])))
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def released_since_build(bodies, boxes):
     """True if a box held at the last list build is free now: its pairs with held boxes
     and walls may be missing from the list (:func:`build_box_candidates`), which must be
@@ -408,7 +408,7 @@ def released_since_build(bodies, boxes):
     return False
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def held_flags_changed(bodies, boxes):
     """The held flags changed (a release, a sleep, or the caller between runs): the
     visited pairs are built anew (:func:`_visit_pairs`), and the list too, at the next
@@ -501,7 +501,7 @@ def _visit_pairs(bodies, boxes, nx, nw):
     return n_src
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _source(boxes, g):
     """Box a of group g of :func:`_visit_pairs` (without a list: box g)."""
     if boxes.n_cand[0] < 0:
@@ -509,7 +509,7 @@ def _source(boxes, g):
     return boxes.src[g]
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _partner_range(boxes, g, a, nx, nw):
     """Range of the partners to visit of box a, group g of :func:`_visit_pairs`: its
     visited candidates (:func:`_partner`), or, without a list, every box after it and
@@ -519,7 +519,7 @@ def _partner_range(boxes, g, a, nx, nw):
     return boxes.src_start[g], boxes.src_start[g + 1]
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _partner(boxes, a, k, nx, nw):
     """Partner index ``jj`` (box ``jj`` < nx, wall ``jj - nx``) of entry k of box a's
     :func:`_partner_range`."""
@@ -531,7 +531,7 @@ def _partner(boxes, a, k, nx, nw):
 # (inlined, as the other helpers box_forces calls for every pair or step: a call of a
 # compiled function passes every array of its tuple arguments one by one, about 0.5 us
 # for the bodies and the box state)
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel(python_entry=True)
 def _manifold(bodies, boxes, walls, a, j, planar, margin, frame_ready):
     """Contact points of box a with partner j (box, or -(wall + 1)) into boxes.m_*;
     returns their number.  ``frame_ready``: :func:`_within_reach` has just passed this
@@ -560,7 +560,7 @@ def _manifold(bodies, boxes, walls, a, j, planar, margin, frame_ready):
     return n
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _held_pair(bodies, boxes, a, bj, wall):
     """True if box ``a`` and its partner (body ``bj``, or a wall) get no contact rows
     because of held bodies (engine.py, held until touched): two held boxes, a held box
@@ -573,7 +573,7 @@ def _held_pair(bodies, boxes, a, bj, wall):
     return bodies.held[ba] == 1 and bodies.held[bj] == 1
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel(python_entry=True)
 def _within_reach(bodies, boxes, walls, a, j, planar):
     """The margin [m] of the manifold of box a with partner j (box, or -(wall + 1)) if the
     pair may touch, else -1: the held test (:func:`_held_pair`), then for a wall the
@@ -619,7 +619,7 @@ def _within_reach(bodies, boxes, walls, a, j, planar):
     return margin
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _pair_code(i, j, nx, nw):
     """Sort key of the pair (box i, partner j): boxes j > i first, then the walls."""
     return i * (nx + nw) + (j if j >= 0 else nx - j - 1)
@@ -644,7 +644,7 @@ def _point_properties(bodies, boxes, walls, mats, a, j, out):
         out[4] = mats.hertz_damping[ma, mb]
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _hertz_radius(ra, rb, wall):
     """R* [m] of a Hertz contact point (laws/hertz.py): ``r_a`` on a wall, ``2 r_a r_b / (r_a +
     r_b)`` between two boxes (= r for equal radii: a rounded vertex on a face, or two
@@ -654,7 +654,7 @@ def _hertz_radius(ra, rb, wall):
     return 2.0 * ra * rb / (ra + rb)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _continuation_distance(boxes, a, j):
     """Distance [m] within which a contact point of box a and partner j whose feature
     key changed continues an old point of the pair: half the smallest outer half-extent
@@ -703,14 +703,14 @@ def _release(old, q, ledger):
     ledger[LEDGER_FRICTION] += 0.5 * old.mult[q] * old.kt[q] * (u[0] ** 2 + u[1] ** 2 + u[2] ** 2)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _apply(bodies, b, p, f0, f1, f2, sign):
     """Add ``sign f`` acting at the point p to the force and torque of body b."""
     rx, ry, rz = p[0] - bodies.pos[b, 0], p[1] - bodies.pos[b, 1], p[2] - bodies.pos[b, 2]
     apply_at_lever(bodies, b, rx, ry, rz, f0, f1, f2, sign)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _relative_velocity(bodies, vel, omega, bi, bj, wall, p):
     """Velocity of the material point p of body j minus that of body i (a wall is fixed)."""
     rx, ry, rz = p[0] - bodies.pos[bi, 0], p[1] - bodies.pos[bi, 1], p[2] - bodies.pos[bi, 2]
@@ -743,7 +743,7 @@ def _end(bodies, old, q, gap, dt, bi, bj, wall, ledger, hertz):
     _release(old, q, ledger)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _lag(depth, speed, dt, first_step):
     """Time [s] since the overlap (``depth`` > 0, onset) or the gap (``|depth|``, end) began,
     the overlap linear over the last drift at ``speed`` (as engine.event_time); 0 for the
@@ -753,7 +753,7 @@ def _lag(depth, speed, dt, first_step):
     return min(abs(depth) / speed, dt)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _spin(omega, ba, bj, wall, n0, n1, n2):
     """Sum [rad/s] of the angular velocities of body ``ba`` and its partner (body ``bj``,
     or a fixed wall) along the normal n."""
@@ -763,7 +763,7 @@ def _spin(omega, ba, bj, wall, n0, n1, n2):
     return spin
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _open_row(new, c, a, j, key, mult, normal, point):
     """Row c of ``new``: the point of box a with partner j (box, wall -(w + 1) or, for the
     box-sphere rows, sphere), its feature key, multiplicity, unit normal (3,) and
@@ -779,7 +779,7 @@ def _open_row(new, c, a, j, key, mult, normal, point):
         new.point[c, d] = point[d]
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _point_row(bodies, old, new, c, q, props, ba, bj, wall, overlap, dt, first_step, hertz, ledger):
     """The contact law (laws.point.point_law) at the point of row c of ``new`` between body
     ``ba`` (the box) and its partner (body ``bj``, or a wall), shared by box_forces and
@@ -832,14 +832,14 @@ def _point_row(bodies, old, new, c, q, props, ba, bj, wall, overlap, dt, first_s
     _apply(bodies, ba, p, f0, f1, f2, -1.0)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _log(boxes, a, j, kind, lag):
     """Record that the contact of box a's body with partner j (box or -(wall + 1))
     started (ONSET) or ended (END) ``lag`` [s] before this step."""
     _log_bodies(boxes, boxes.body[a], boxes.body[j] if j >= 0 else j, kind, lag)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _log_bodies(boxes, bi, bj, kind, lag):
     """Record that the contact of body ``bi`` with body ``bj`` (or wall ``-(bj + 1)``)
     started (ONSET) or ended (END) ``lag`` [s] before this step (``boxes.changes``: those
@@ -856,7 +856,7 @@ def _log_bodies(boxes, bi, bj, kind, lag):
 
 # (inlined into the engine's loop: a call passes every array of the bodies and the box
 # state one by one, about 0.5 us per step; see _manifold)
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     """Add the forces and torques of every box contact to the bodies (after
     contact.compute_forces, which zeroes them), rebuild the contact rows, book the change
@@ -956,7 +956,7 @@ def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
     _copy_rows(new, old, n_new)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _drop_before(bodies, old, boxes, o, code, nx, nw, ledger):
     """Old rows from o on of the pairs before ``code`` were not visited: a pair of resting
     bodies (:func:`_resting_pair`) keeps them aside (``boxes.dormant``); any other pair is
@@ -980,7 +980,7 @@ def _drop_before(bodies, old, boxes, o, code, nx, nw, ledger):
     return o
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _resting_pair(bodies, boxes, i, j):
     """True if box i and its partner j (box, or -(wall + 1)) are not visited because of
     held bodies (:func:`_held_pair`): a pair of them that has rows rests (a held box gets
@@ -989,7 +989,7 @@ def _resting_pair(bodies, boxes, i, j):
     return _held_pair(bodies, boxes, i, boxes.body[i] if wall else boxes.body[j], wall)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _copy_row(src, s, dst, c):
     """Row s of the rows ``src`` into row c of ``dst``."""
     dst.i[c] = src.i[s]
@@ -1010,14 +1010,14 @@ def _copy_row(src, s, dst, c):
         dst.normal[c, d] = src.normal[s, d]
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _copy_rows(src, dst, n):
     for c in range(n):
         _copy_row(src, c, dst, c)
     dst.n[0] = n
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _woken(bodies, boxes):
     """True if a dormant row's pair no longer rests (a body of it woke, or a held box of
     it is engaged: :func:`_visit_pairs`, called before)."""
@@ -1072,7 +1072,7 @@ def box_power(bodies, boxes, out):
     rows_power(bodies, boxes.rows, boxes.body, boxes.body, out)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def rows_power(bodies, rows, box_body, partner_body, out):
     """Add the power [W] of the dashpots (``out[POWER_VISCOUS]``) and tangential forces
     (``out[POWER_FRICTION]``) of contact rows ``rows`` at the full-step velocities:
@@ -1106,7 +1106,7 @@ def box_energies(boxes, out):
     rows_energies(boxes.dormant, hertz, out)  # (their springs keep their energy)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def rows_energies(rows, hertz, out):
     """Add the elastic energies [J] of contact rows ``rows`` to ``out`` (ENERGY_NAMES
     vector; each row ``mult`` times its point's: :func:`box_energies`)."""
@@ -1149,7 +1149,7 @@ def box_contact_forces(boxes, first_id, first, second, point, force):
     )
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _rows_contact_forces(rows, first_id, first, second, point, force):
     """The recorder's rows of the contact rows ``rows`` (:func:`box_contact_forces`)."""
     for c in range(rows.n[0]):
@@ -1164,7 +1164,7 @@ def _rows_contact_forces(rows, first_id, first, second, point, force):
     return rows.n[0]
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def row_force(rows, c, sign, point, force):
     """The contact point (3,) [m] of row c into ``point`` and ``sign`` times the force
     (3,) [N] on its partner as applied in the last kick, ``mult (F_n n - k_t u)``, into
@@ -1191,7 +1191,7 @@ def box_peak_force(boxes, spheres, peak):
         _raise_peak(peak, boxes.body[rows.i[c]], spheres.body[rows.j[c]], rows.fn[c])
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _raise_peak(peak, bi, bj, fn):
     a = min(bi, bj)
     b = max(bi, bj)

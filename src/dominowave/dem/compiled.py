@@ -1,4 +1,4 @@
-"""Kernels called only from other kernels: compiled without an entry from Python.
+"""How the engine's kernels are compiled: entries from Python, and inlining.
 
 numba compiles every ``@njit`` function with two entry points besides the function
 itself: a CPython wrapper, which unboxes each argument (for the engine's state, a
@@ -12,14 +12,24 @@ every trajectory, is the same to the bit.
 
 Without a CPython wrapper a call from Python would jump to a null entry point; an
 :class:`InnerKernel` instead refuses it with a ``TypeError`` naming the kernel.
+
+The small functions the kernels are made of -- a contact law, a shape pair's geometry,
+the update of one body -- are inlined into every kernel that calls them
+(:func:`inline_kernel`).  numba's own inlining (``inline="always"``) types and lowers a
+function again at each call site; LLVM's (numba's ``forceinline``, the ``alwaysinline``
+attribute) compiles it once and copies the optimised code.  Both give the same
+arithmetic, and so the same trajectories to the bit (no fast-math: LLVM may not
+reorder a floating-point operation); the second compiles a box chain's kernels about a
+third faster (benchmarks/README.md, "First run").
 """
 
 from __future__ import annotations
 
+from numba import njit
 from numba.core import config
 from numba.core.registry import CPUDispatcher
 
-__all__ = ["InnerKernel", "inner_kernel"]
+__all__ = ["InnerKernel", "inline_kernel", "inner_kernel"]
 
 
 class InnerKernel(CPUDispatcher):
@@ -56,3 +66,16 @@ def inner_kernel(**options):
         return kernel
 
     return compile_lazily
+
+
+def inline_kernel(*, python_entry: bool = False):
+    """A small function of the kernels, compiled once and inlined by LLVM into each kernel
+    that calls it (module docstring).  Compiled without numba's reference counting: it
+    allocates nothing, and its callers' loops must not pay reference-count updates of
+    the arrays it is given.  ``python_entry``: callable from Python as well (the Python
+    front end and the tests call some), with numba's wrappers; otherwise an
+    :class:`InnerKernel`."""
+    options = {"forceinline": True, "_nrt": False}
+    if python_entry:
+        return njit(cache=True, error_model="numpy", **options)
+    return inner_kernel(**options)

@@ -22,7 +22,7 @@ import math
 import numpy as np
 from numba import njit
 
-from dominowave.dem.compiled import inner_kernel
+from dominowave.dem.compiled import inline_kernel, inner_kernel
 from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
 from dominowave.dem.integrate import ROT_NONE
 from dominowave.dem.laws.linear import end_impulse, viscous_coefficient
@@ -95,7 +95,7 @@ def pair_properties(si, sj_or_wall, spheres, walls, bodies, mats, out):
     out[3] = viscous_coefficient(out[3], m_eff, out[0])
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _immovable(bodies, spheres, s):
     """True if a normal force on sphere s cannot move its body: the body's three
     translations are blocked, and it cannot turn (rot_mode ROT_NONE) or the sphere sits at
@@ -152,7 +152,7 @@ def needs_rebuild_after_drift(bodies, skin, n_candidates, first, stop):
     return False
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def moved_beyond(bodies, b, limit):
     """True if a member sphere of body b may have moved more than ``limit`` [m] since the
     last Verlet-list build (the bound of :func:`needs_rebuild`)."""
@@ -252,7 +252,7 @@ def _bin_spheres(pos, lo, inv_width, ncell, head, nxt, cidx):
         head[flat] = s
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _within_skin(pos, radius, s, t, skin):
     """Whether the surfaces of spheres s and t are closer than ``skin`` [m] (the same
     decision from either side: the squares and the sums do not depend on the order)."""
@@ -263,7 +263,7 @@ def _within_skin(pos, radius, s, t, skin):
     return dx * dx + dy * dy + dz * dz < reach * reach
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _add_pair(keys, first, n, i, key):
     """Append ``key`` (first index ``i``) at position n; returns n + 1, or -1 if full."""
     if n == keys.shape[0]:
@@ -273,7 +273,7 @@ def _add_pair(keys, first, n, i, key):
     return n + 1
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _add_cell_pairs(spheres, s, t, nxt, own, active, skin, stride, keys, first, n):
     """Append the pairs of sphere s with the spheres of one cell's list (``t`` its head,
     ``nxt`` the links) closer than ``skin`` [m]: of other bodies, and in the cell of s
@@ -292,7 +292,7 @@ def _add_cell_pairs(spheres, s, t, nxt, own, active, skin, stride, keys, first, 
     return n
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _scan_walls(spheres, walls, skin, active, keys, first, n):
     """Append after the n pairs found the pairs of every sphere (with ``active``, every
     active sphere) with the walls it is closer to than ``skin`` [m]; returns the new
@@ -448,7 +448,7 @@ def _merge_history(spheres, walls, bodies, mats, contacts, keys, first, src, pro
     contacts.n[0] = n_new
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _old_slots(contacts, keys, ns, stride, src):
     """``src[c]``: the slot of the listed pairs (``contacts``, before the merge) holding the
     pair ``keys[c]``, or -1 if it was not listed.  Both lists are sorted: one merge walk."""
@@ -466,14 +466,14 @@ def _old_slots(contacts, keys, ns, stride, src):
         src[c] = o if o < n_old and old_key == k else -1
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _pair_key(contacts, c, ns, stride):
     """Sort key ``i * stride + jj`` of listed pair c (``jj = ns + w`` for wall w)."""
     j = contacts.j[c]
     return contacts.i[c] * stride + (j if j >= 0 else ns - j - 1)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _move_pair(contacts, a, c):
     """Copy the history of listed pair a into slot c: the dashpot extrapolates vn, an
     ending contact needs its last overlap (end_impulse); the properties of a listed pair
@@ -518,7 +518,7 @@ def _list_spheres(spheres, contacts, seen):
 # results.
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel(python_entry=True)
 def sphere_sphere(xi0, xi1, xi2, xj0, xj1, xj2, rsum, keep):
     """Contact geometry of two spheres with centres ``x_i``, ``x_j`` [m] and radii
     summing to ``rsum`` = ``R_i + R_j`` [m].
@@ -541,7 +541,7 @@ def sphere_sphere(xi0, xi1, xi2, xj0, xj1, xj2, rsum, keep):
     return True, dx * inv_dist, dy * inv_dist, dz * inv_dist, rsum - dist
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel(python_entry=True)
 def sphere_wall(xi0, xi1, xi2, radius, w0, w1, w2, nw0, nw1, nw2, keep):
     """Contact geometry of a sphere (centre ``x_i`` [m], ``radius`` [m]) and a wall (the
     plane through ``w`` [m] with unit normal ``nw`` pointing to the side of the spheres).
@@ -558,7 +558,7 @@ def sphere_wall(xi0, xi1, xi2, radius, w0, w1, w2, nw0, nw1, nw2, keep):
     return delta > 0.0 or keep, -nw0, -nw1, -nw2, delta
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel(python_entry=True)
 def contact_point(xi0, xi1, xi2, radius, n0, n1, n2, overlap):
     """Contact point [m] midway through the overlap (YADE's ScGeom): ``p = x_i + (R_i -
     delta / 2) n`` for sphere i (centre ``x_i``, ``radius`` R_i), normal ``n`` from i to
@@ -567,14 +567,14 @@ def contact_point(xi0, xi1, xi2, radius, n0, n1, n2, overlap):
     return xi0 + reach * n0, xi1 + reach * n1, xi2 + reach * n2
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def lever_arm(pos, b, p0, p1, p2):
     """Lever arm ``p - x_b`` [m] of the point ``p`` about the centre of mass of body b
     (``pos`` (nb, 3) the body positions)."""
     return p0 - pos[b, 0], p1 - pos[b, 1], p2 - pos[b, 2]
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel(python_entry=True)
 def point_velocity(vel, omega, b, rx, ry, rz):
     """Velocity ``v + omega x r`` [m/s] of the material point at lever arm ``r`` of body b.
 
@@ -588,7 +588,7 @@ def point_velocity(vel, omega, b, rx, ry, rz):
     )
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def point_velocity_in_plane(vel, omega, b, rx, rz):
     """:func:`point_velocity` in the xz plane of a planar scene: ``omega = (0, w, 0)``
     and ``r = (rx, 0, rz)`` give ``(v_x + w r_z, v_z - w r_x)`` [m/s]."""
@@ -599,7 +599,7 @@ def point_velocity_in_plane(vel, omega, b, rx, rz):
 # --------------------------------------------------------------------------- contact law
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def apply_at_lever(bodies, b, rx, ry, rz, f0, f1, f2, sign):
     """Add ``sign f`` acting at lever arm ``r`` to the force and torque of body b."""
     bodies.force[b, 0] += sign * f0
@@ -615,7 +615,7 @@ def apply_at_lever(bodies, b, rx, ry, rz, f0, f1, f2, sign):
 # contact c in ``contacts`` and the forces on the bodies.
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def end_contact(bodies, contacts, c, bi, bj, wall, n0, n1, n2, gap, dt, p0, p1, p2):
     """End contact c at the first step without overlap (``gap <= 0``, normal ``n``, contact
     point ``p``).
@@ -648,7 +648,7 @@ def end_contact(bodies, contacts, c, bi, bj, wall, n0, n1, n2, gap, dt, p0, p1, 
     return released
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def idle_pair(contacts, c):
     """Pair c is not in contact this step: its dashpot force (the end impulse of the last
     step, if any) is zero now (stored only if needed: most listed pairs stay idle)."""
@@ -656,7 +656,7 @@ def idle_pair(contacts, c):
         contacts.fn_viscous[c] = 0.0
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def log_change(changes, n_changes, c, kind):
     """Append ``(c, kind)`` (ONSET / END) to ``changes``; returns the new count."""
     changes[n_changes, CHANGE_CONTACT] = c
@@ -664,7 +664,7 @@ def log_change(changes, n_changes, c, kind):
     return n_changes + 1
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def begin_contact(contacts, c):
     """Pair c starts a contact: active, no shear history."""
     contacts.active[c] = 1
@@ -672,7 +672,7 @@ def begin_contact(contacts, c):
         contacts.shear[c, d] = 0.0
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def apply_in_plane(bodies, b, rx, rz, f0, f2, sign):
     """:func:`apply_at_lever` for a force and lever arm in the xz plane: the x and z force
     and the torque about y (a planar scene reads nothing else)."""
@@ -681,7 +681,7 @@ def apply_in_plane(bodies, b, rx, rz, f0, f2, sign):
     bodies.torque[b, 1] += sign * (rz * f0 - rx * f2)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _yade_shear_velocity(bodies, spheres, contacts, c, i, bi, bj, wall, n0, n1, n2, rsum, overlap):
     """The relative velocity that drives the shear of contact c with YADE's kinematics
     (laws.tangential.yade_shear_velocity): from the velocities of the two sphere centres
@@ -705,7 +705,7 @@ def _yade_shear_velocity(bodies, spheres, contacts, c, i, bi, bj, wall, n0, n1, 
     )
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _yade_shear_velocity_in_plane(bodies, spheres, contacts, c, i, bi, bj, wall, n0, n2, rsum,
                                   overlap):  # fmt: skip
     """:func:`_yade_shear_velocity` of a planar scene: in the plane, the sphere centres
@@ -738,11 +738,11 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
     the plane as 0.0 to the same per-pair geometry and law, drop them from the results
     and compute the relative velocities in the plane -- the same in-plane numbers with a
     third fewer loads and operations.  numba prunes the branches of the other kind before
-    it inlines the per-pair functions, so each kernel compiles its own arithmetic only
-    (the flag is tested by name in every ``if``: numba does not follow a constant through
-    a variable or a ``not``).  Passed as an argument instead, even a literal one
-    (``numba.literally``), the flag is resolved only after the inlining: both kinds' code
-    is inlined and typed, for each value and for the first, non-literal attempt."""
+    it types the calls of the per-pair functions, so each kernel compiles and inlines its
+    own arithmetic only (the flag is tested by name in every ``if``: numba does not
+    follow a constant through a variable or a ``not``).  Passed as an argument instead,
+    even a literal one (``numba.literally``), the flag is resolved only after typing:
+    both kinds' calls are typed, for each value and for the first, non-literal attempt."""
 
     @njit(cache=True, error_model="numpy", _nrt=False)
     def compute_forces(

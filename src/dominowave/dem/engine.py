@@ -44,7 +44,7 @@ from dominowave.dem.boxes import (
     build_box_candidates,
     held_flags_changed,
 )
-from dominowave.dem.compiled import inner_kernel
+from dominowave.dem.compiled import inline_kernel, inner_kernel
 from dominowave.dem.contact import (
     CHANGE_CONTACT,
     CHANGE_KIND,
@@ -192,7 +192,7 @@ Recorder = namedtuple(
 )
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _free(bodies, b, t):
     """Body b, held or asleep, moves from time t [s] on (:func:`_release`)."""
     bodies.held[b] = 0
@@ -226,7 +226,7 @@ def _release(bodies, spheres, contacts, b, t):
                 changed = True
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _box_speed(bodies, boxes, x):
     """Bound [m/s] on the speed of every point of box x: ``|v| + |omega| (reach + r)``,
     at the full-step velocities of the last kick."""
@@ -489,7 +489,7 @@ def _record_box_contact_forces(spheres, rec, boxes):
     )
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _zero_forces(bodies):
     """Zero the force and torque of every body, as compute_forces does first.  For the
     steps without sphere pairs the loop does this itself: a call of a compiled function
@@ -545,7 +545,7 @@ def energy_excess(e, ref, track_energy):
     return excess
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def quiet_reached(t, dt, since, quiet):
     """The quiet stop (``StopCondition.no_onset_for``): True if the step that starts at
     ``t`` [s] and lasts ``dt`` [s] ends at least ``quiet`` [s] after ``since`` [s] (the
@@ -575,7 +575,7 @@ def steps_until_quiet(t0: float, dt: float, since: float, quiet: float, limit: i
     return None if n < 0 else int(n)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel(python_entry=True)
 def _moving_range(bodies):
     """``(first, stop)``: the bodies that are not held all lie in ``range(first, stop)``
     (empty if every body is held).  In a chain held until touched the moving dominoes

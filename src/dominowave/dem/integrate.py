@@ -44,7 +44,7 @@ import math
 import numpy as np
 from numba import njit
 
-from dominowave.dem.compiled import inner_kernel
+from dominowave.dem.compiled import inline_kernel, inner_kernel
 
 __all__ = [
     "advance_body_planar",
@@ -86,7 +86,7 @@ def check_blocked_spin(body, omega, mode, axis):
         )
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _sign(x):
     if x > 0.0:
         return 1.0
@@ -95,13 +95,13 @@ def _sign(x):
     return 0.0
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def damped(a, v, dt, damping):
     """YADE's local damping of one acceleration component: a (1 - lambda sign(a (v + dt a/2)))."""
     return a * (1.0 - damping * _sign(a * (v + 0.5 * dt * a)))
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _store_rows_xz(rot, b, w, x, y, z):
     """Rows x and z of :func:`_store_matrix` (all that the planar sphere placement reads)."""
     rot[b, 0, 0] = 1.0 - 2.0 * (y * y + z * z)
@@ -112,7 +112,7 @@ def _store_rows_xz(rot, b, w, x, y, z):
     rot[b, 2, 2] = 1.0 - 2.0 * (x * x + y * y)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _store_matrix(rot, b, w, x, y, z):
     """``rot[b]`` = the rotation matrix of the unit quaternion ``(w, x, y, z)`` (body ->
     world; the kernels index rows of the (nb, 3, 3) array, they take no row views)."""
@@ -130,7 +130,7 @@ def _store_matrix(rot, b, w, x, y, z):
 SMALL_HALF_ANGLE = 1e-3
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _cos_sinc(x2):
     """``(cos x, sin(x) / x)`` from ``x^2`` for ``x^2 < SMALL_HALF_ANGLE^2`` (Taylor series;
     products with reciprocals, which LLVM folds, instead of divisions)."""
@@ -139,7 +139,7 @@ def _cos_sinc(x2):
     return cos_x, sinc_x
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _half_turn(w2, dt):
     """``(cos x, sin(x) / |omega|)`` of the half angle ``x = |omega| dt / 2`` of a turn at
     angular speed ``|omega| = sqrt(w2)`` [rad/s] over ``dt`` [s] (Taylor below
@@ -152,7 +152,7 @@ def _half_turn(w2, dt):
     return math.cos(0.5 * wn * dt), math.sin(0.5 * wn * dt) / wn
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel(python_entry=True)
 def _turn_world(q, b, wx, wy, wz, dt):
     """q[b] <- exp(omega dt) * q[b]: rotate body b by the world-frame angle vector omega dt.
 
@@ -177,7 +177,7 @@ def _turn_world(q, b, wx, wy, wz, dt):
 QUAT_NORM_TOLERANCE = 1e-14
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel(python_entry=True)
 def _normalise(q, b):
     """Rescale q[b] to unit norm if ``| |q|^2 - 1 | > QUAT_NORM_TOLERANCE``."""
     q0, q1, q2, q3 = q[b, 0], q[b, 1], q[b, 2], q[b, 3]
@@ -188,7 +188,7 @@ def _normalise(q, b):
             q[b, k] *= scale
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel(python_entry=True)
 def _turn_body_axis(q, b, L0, L1, L2, k, phi):
     """Free rotation of body b about principal axis k by angle phi:
     q[b] <- q[b] * (cos phi/2, sin phi/2 e_k).  Returns the body components
@@ -223,7 +223,7 @@ def _turn_body_axis(q, b, L0, L1, L2, k, phi):
     return cp * L0 + sp * L1, -sp * L0 + cp * L1, L2
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _omega_from_angmom(rot, inertia, L, out, b):
     """out[b] = R I^-1 R^T L[b] (world frame) for body b."""
     for k in range(3):
@@ -240,7 +240,7 @@ def _omega_from_angmom(rot, inertia, L, out, b):
             out[b, 2] += rot[b, 2, k] * lb
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _kick_length(bodies, b, dt):
     """The time [s] over which body b is kicked: ``dt``, or ``dt/2`` for a fresh body (the
     half kick of a velocity-Verlet start; the flag is cleared)."""
@@ -250,7 +250,7 @@ def _kick_length(bodies, b, dt):
     return dt
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _kick_translation(bodies, b, k, h, inv_m, gravity, dt, damping, damp_gravity):
     """Kick of the velocity component k of body b by ``h`` (a blocked component keeps its
     velocity); returns the power of its local damping [W]."""
@@ -266,7 +266,7 @@ def _kick_translation(bodies, b, k, h, inv_m, gravity, dt, damping, damp_gravity
     return bodies.mass[b] * (a - a_free) * bodies.vel_full[b, k]
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def kick_body(bodies, b, gravity, dt, damping, damp_gravity):
     """Kick of body b (see :func:`kick`); returns the power of its local damping [W]."""
     power = 0.0
@@ -334,7 +334,7 @@ def kick_body(bodies, b, gravity, dt, damping, damp_gravity):
     return power
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _accelerate(a_contact, g, v, dt, damping, damp_gravity):
     """One component's acceleration ``(a, a_free)`` [m/s^2] from the contact part and
     gravity ``g``, with the local damping of :func:`damped` (``damp_gravity``: of both)."""
@@ -346,7 +346,7 @@ def _accelerate(a_contact, g, v, dt, damping, damp_gravity):
     return damped(a_contact, v, dt, damping) + g, a_free
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _spin_acceleration(bodies, b):
     """``(d omega_y / dt, I_y)`` of a body of a planar scene (its torque about e_y)."""
     if bodies.rot_mode[b] == ROT_AXIS:
@@ -356,7 +356,7 @@ def _spin_acceleration(bodies, b):
     return bodies.torque[b, 1] / inertia, inertia
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def kick_body_planar(bodies, b, gravity, dt, damping, damp_gravity):
     """:func:`kick_body` of a body of a planar scene (dem/planar.py: y, rx, rz blocked,
     turning about e_y only), without the y, rx and rz components that stay zero: the
@@ -420,7 +420,7 @@ def kick(bodies, gravity, dt, damping, damp_gravity, planar=False):
     return kick_general(bodies, gravity, dt, damping, damp_gravity, 0, n)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def drift_body(bodies, b, dt):
     """Position and orientation of body b, n -> n+1, from its half-step velocities."""
     if bodies.held[b]:
@@ -452,7 +452,7 @@ def drift_body(bodies, b, dt):
         _omega_from_angmom(bodies.rot, bodies.inertia, bodies.angmom, bodies.omega, b)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _turn_about_y(q, b, wy, dt):
     """q[b] <- exp(omega dt) * q[b] for omega = (0, wy, 0): :func:`_turn_world` without
     the products with the zero components (the same results to the bit)."""
@@ -467,7 +467,7 @@ def _turn_about_y(q, b, wy, dt):
     q[b, 3] = a0 * q3 - a2 * q1
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def drift_body_planar(bodies, b, dt):
     """:func:`drift_body` of a body of a planar scene, without the components that stay
     zero (the same results to the bit, as :func:`kick_body_planar`)."""
@@ -483,7 +483,7 @@ def drift_body_planar(bodies, b, dt):
     _store_matrix(bodies.rot, b, q[b, 0], q[b, 1], q[b, 2], q[b, 3])
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def advance_body_planar(bodies, b, gravity, dt, damping, damp_gravity):
     """:func:`kick_body_planar` then :func:`drift_body_planar` in one go, for the steps in
     which nothing reads the state between the two (engine._advance_bodies): the same
@@ -546,7 +546,7 @@ def drift(bodies, dt, planar=False):
         drift_general(bodies, dt, 0, n)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _place_spheres(bodies, spheres, count, listed_only, planar):
     """World centres ``x_b + R_b u_s`` of spheres ``0 .. count-1`` (``listed_only``: of
     ``spheres.listed[:count]``).  The owner's position and rotation matrix are loaded into

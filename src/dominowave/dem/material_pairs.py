@@ -26,6 +26,8 @@ import math
 
 from numba import njit
 
+from dominowave.dem.compiled import inline_kernel
+
 __all__ = [
     "RULE_GIVEN",
     "RULE_PAPER",
@@ -70,7 +72,7 @@ def pair_stiffness(k1, k2, rule):
     return 2.0 * series
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def pair_friction_restitution(mats, m1, m2):
     """Friction coefficient and restitution of a contact between materials m1 and m2.
 
@@ -87,7 +89,7 @@ def pair_friction_restitution(mats, m1, m2):
     return mu, e
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def material_pair(mats, ma, ra, mb, rb, out):
     """kn, kt, mu, restitution of a linear contact point of a body of material ``ma`` and
     rounding (or sphere) radius ``ra`` [m] with one of ``mb``, ``rb`` into ``out[0:4]``:

@@ -43,11 +43,11 @@ import functools
 import math
 
 import numpy as np
-from numba import njit
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 from dominowave.checks import check_in_range
+from dominowave.dem.compiled import inline_kernel
 
 __all__ = [
     "LAW_HERTZ",
@@ -65,19 +65,19 @@ LAW_HERTZ = 1
 NORMAL_LAWS = {"linear": LAW_LINEAR, "hertz": LAW_HERTZ}
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel(python_entry=True)
 def hertz_modulus(young_1, poisson_1, young_2, poisson_2):
     """Effective modulus E* [Pa] of two materials (Young's moduli [Pa], Poisson ratios)."""
     return 1.0 / ((1.0 - poisson_1**2) / young_1 + (1.0 - poisson_2**2) / young_2)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel(python_entry=True)
 def hertz_coefficient(modulus, radius):
     """``K = 4/3 E* sqrt(R*)`` [N/m^{3/2}] of ``F = K delta^{3/2}`` (E* [Pa], R* [m])."""
     return 4.0 / 3.0 * modulus * math.sqrt(radius)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def hertz_normal(K, c, overlap, vn):
     """Elastic and dashpot normal force [N] of one Hertz point:
     ``K delta^{3/2}`` and ``-c delta^{1/4} v_n`` (c = alpha sqrt(m_eff K), Tsuji 1992)

@@ -17,6 +17,8 @@ import math
 
 from numba import njit
 
+from dominowave.dem.compiled import inline_kernel
+
 __all__ = ["end_impulse", "linear_normal_force", "onset_averaged_overlap", "viscous_coefficient"]
 
 
@@ -37,7 +39,7 @@ def viscous_coefficient(restitution, m_eff, kn):
     return 2.0 * zeta * math.sqrt(m_eff * kn)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def onset_averaged_overlap(overlap, vn, dt, new_contact):
     """Contact onset inside a kick interval: the overlap averaged over the interval.
 
@@ -60,7 +62,7 @@ def onset_averaged_overlap(overlap, vn, dt, new_contact):
     return w, 0.5 * ramp * w * w
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def linear_normal_force(kn, cn, overlap, vn, weight):
     """Normal force [N] of the linear spring-dashpot on partner j along ``n`` (minus on
     i), as its elastic part ``k_n delta`` and its dashpot part ``-c_n v_n w``.
@@ -77,7 +79,7 @@ def linear_normal_force(kn, cn, overlap, vn, weight):
     return kn * overlap, -cn * vn * weight
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel(python_entry=True)
 def end_impulse(last_overlap, gap, kn, cn, dt):
     """Normal force [N] for one kick that supplies the impulse missed when a contact ended.
 

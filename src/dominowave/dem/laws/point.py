@@ -38,8 +38,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
-
+from dominowave.dem.compiled import inline_kernel
 from dominowave.dem.laws.hertz import hertz_normal
 from dominowave.dem.laws.linear import (
     linear_normal_force,
@@ -51,7 +50,7 @@ from dominowave.dem.laws.tangential import cundall_strack, rotate_shear
 __all__ = ["onset_dashpot", "point_energy", "point_law", "point_power"]
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel(python_entry=True)
 def onset_dashpot(kn, restitution, alpha, inverse_mass, hertz):
     """Dashpot coefficient of a new contact point: linear law ``c_n`` [N s/m] giving the
     ``restitution`` to a single-point impact of effective mass ``1 / inverse_mass`` [kg]
@@ -65,7 +64,7 @@ def onset_dashpot(kn, restitution, alpha, inverse_mass, hertz):
     return viscous_coefficient(restitution, 1.0 / inverse_mass, kn)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def point_law(
     overlap, n0, n1, n2, dv0, dv1, dv2, s0, s1, s2, turn, u0, u1, u2, vn_old, fresh,
     kn, kt, mu, cn, dt, first_step, hertz,
@@ -110,7 +109,7 @@ def point_law(
     )  # fmt: skip
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def point_energy(kn, kt, overlap, u0, u1, u2, hertz):
     """Elastic energies [J] stored at a contact point of overlap ``delta`` [m] > 0 and
     shear ``u`` [m]: the normal spring's, ``k_n delta^2 / 2`` (linear) or ``2/5 K
@@ -123,7 +122,7 @@ def point_energy(kn, kt, overlap, u0, u1, u2, hertz):
     return normal, 0.5 * kt * (u0 * u0 + u1 * u1 + u2 * u2)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def point_power(fd, n0, n1, n2, dv0, dv1, dv2, kt, u0, u1, u2):
     """Power [W] of the forces on the bodies at a contact point whose relative velocity
     (j minus i) is ``dv`` [m/s]: of the dashpot force ``F_d n`` (``fd`` [N], unit normal

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from dominowave.dem.compiled import inline_kernel
 
 __all__ = [
     "SHEAR_CONTACT_POINT",
@@ -42,7 +42,7 @@ SHEAR_CONTACT_POINT = 0  # relative velocity of the material points at the conta
 SHEAR_YADE = 1  # YADE's avoidGranularRatcheting / noRatch rate (yade_shear_velocity)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def rotate_shear(u0, u1, u2, n0, n1, n2, spin):
     """The shear displacement ``u`` carried into the new tangent plane (normal ``n``, norm
     kept), then turned about the normal by the angle ``spin`` [rad] (mean rotation of the
@@ -75,7 +75,7 @@ def rotate_shear(u0, u1, u2, n0, n1, n2, spin):
     return u0, u1, u2
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel(python_entry=True)
 def yade_shear_velocity(dc0, dc1, dc2, a0, a1, a2, n0, n1, n2, rsum, overlap):
     """YADE's relative velocity for the shear increment (its normal part is removed by the
     caller), j minus i [m/s]: ``alpha (v_cj - v_ci) - (R_i w_i + R_j w_j) x n`` with
@@ -99,7 +99,7 @@ def yade_shear_velocity(dc0, dc1, dc2, a0, a1, a2, n0, n1, n2, rsum, overlap):
     )
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def cundall_strack(u0, u1, u2, kt, mu, fn_elastic):
     """Coulomb limit of the tangential spring: the shear displacement after this step.
 

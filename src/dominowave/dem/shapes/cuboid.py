@@ -55,7 +55,7 @@ import math
 import numpy as np
 from numba import njit
 
-from dominowave.dem.compiled import inner_kernel
+from dominowave.dem.compiled import inline_kernel, inner_kernel
 
 __all__ = [
     "MAX_POINTS",
@@ -98,7 +98,7 @@ def cuboid_mass_properties(half_extents, density):
     return mass, moments
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _sign(x):
     return 1.0 if x >= 0.0 else -1.0
 
@@ -134,7 +134,7 @@ def box_plane(x, R, h, r, p0, nw, margin, normal, point, overlap, key):
     return n
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _vertex(x, R, h, k):
     """World position (3 floats) of vertex k of a box (bit m of k: + side of axis m)."""
     s0 = h[0] if k & 1 else -h[0]
@@ -198,7 +198,7 @@ def box_sphere(x, R, h, r, c, radius, margin, normal, point, overlap, key):
     return sphere_point(d, n0, n1, n2, q0, q1, q2, r, radius, margin, normal, point, overlap, key)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def sphere_point(d, n0, n1, n2, q0, q1, q2, r, radius, margin, normal, point, overlap, key):
     """The one point of a rounded box (core point ``q`` [m] nearest to a sphere's centre,
     at signed distance ``d`` [m] along the unit normal ``n`` from ``q``; rounding ``r``)
@@ -218,7 +218,7 @@ def sphere_point(d, n0, n1, n2, q0, q1, q2, r, radius, margin, normal, point, ov
     return 1
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _relative_frame(xi, Ri, xj, Rj, M):
     """The frame of box j seen from box i, into the scratch rows ``M`` (at least (5, 3)):
     the direction cosines ``M[a, b] = R_i,a . R_j,b`` and the centre offset ``x_j - x_i``
@@ -233,7 +233,7 @@ def _relative_frame(xi, Ri, xj, Rj, M):
         M[4, a] = Rj[0, a] * d0 + Rj[1, a] * d1 + Rj[2, a] * d2
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _face_gap(M, hi, hj, a, of_j):
     """Gap [m] of the two cores along face axis ``a`` of box i (``of_j`` False) or of box
     j (True) from the relative frame ``M`` (:func:`_relative_frame`): the centre offset
@@ -246,7 +246,7 @@ def _face_gap(M, hi, hj, a, of_j):
     return abs(M[3, a]) - (hi[a] + half)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel(python_entry=True)
 def faces_separate(xi, Ri, hi, xj, Rj, hj, reach, work):
     """True if a face axis of box i or j separates the two cores by at least ``reach``
     [m]: the early exit of :func:`separating_axes` on its first six axes, in the same
@@ -261,7 +261,7 @@ def faces_separate(xi, Ri, hi, xj, Rj, hj, reach, work):
     return False
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel(python_entry=True)
 def separating_axes(xi, Ri, hi, xj, Rj, hj, reach, work, frame_ready=False):
     """The separating-axis test of two core boxes over their 15 axes: the 3 + 3 face
     normals and the 9 cross products of an edge of each (Gottschalk, Lin & Manocha,
@@ -327,7 +327,7 @@ def separating_axes(xi, Ri, hi, xj, Rj, hj, reach, work, frame_ready=False):
     return False, sep_i, k_i, sep_j, k_j, sep_e, a_e, b_e, e0, e1, e2, sep_sure
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _clip(src, n_src, dst, axis, side, limit, label, close):
     """Sutherland-Hodgman: the polygon ``src[:n_src]`` (rows u, v, n, out-edge label) cut
     by the half plane ``side * src[axis] <= limit`` into ``dst``; a new corner on the cut
@@ -371,7 +371,7 @@ def _clip(src, n_src, dst, axis, side, limit, label, close):
     return m
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _incident_corner(xB, RB, hB, kB, sB, k):
     """World position (3 floats) of corner k (0..3, cyclic) of face ``(kB, sB)`` of box B;
     edge k of the face runs from corner k to corner k + 1."""
@@ -386,7 +386,7 @@ def _incident_corner(xB, RB, hB, kB, sB, k):
 
 # (inlined: a call passes its 19 arguments, the arrays as several words each, for every
 # corner where an incident edge crosses a side plane -- two per pair of fallen dominoes)
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _beyond_side_plane(xA, RA, hA, ku, kv, c0, c1, c2, n0, n1, n2, xB, RB, hB, kB, sB, row,
                        edge, plane, close):  # fmt: skip
     """The contact that a clipped corner on a side plane stands for.
@@ -573,7 +573,7 @@ def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work,
     return _merge_coincident(out, n, base, close)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _vertex_within(xB, RB, hB, kB, sB, edge, c0, c1, c2, RA, ku, kv, n0, n1, n2, row, close):
     """The end (corner 0..3) of incident edge ``edge`` within ``close`` [m] of the clipped
     corner ``row`` (u, v, height over the reference face of centre ``c``), or -1: a
@@ -629,7 +629,7 @@ def _merge_coincident(out, n, base, close):
     return m
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _edge_id(R, x, n0, n1, n2, a, s):
     """Centre (3 floats) and id (0..11) of the edge along axis ``a`` of a box that lies
     farthest along ``s n``: id = 4 a + 2 [sign of axis a+1 > 0] + [sign of axis a+2 > 0]."""
@@ -639,7 +639,7 @@ def _edge_id(R, x, n0, n1, n2, a, s):
     return s1, s2, 4 * a + (2 if s1 > 0 else 0) + (1 if s2 > 0 else 0)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _segment_closest(r0, r1, r2, u0, u1, u2, v0, v1, v2):
     """Parameters (s, t) of the closest points ``p + s u``, ``q + t v`` of two segments with
     s, t in [-1, 1] (``u``, ``v`` half-length vectors, ``r = p - q``; Ericson 2005, sec.
@@ -743,13 +743,13 @@ def _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, ties, out):
     return n
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def rows_from(out, k):
     """The output arrays from row k on."""
     return out[0][k:], out[1][k:], out[2][k:], out[3][k:]
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _copy_row(out, src, dst):
     for d in range(3):
         out[0][dst, d] = out[0][src, d]
@@ -819,7 +819,7 @@ def box_box(
     return merge_deepest(out, n, first, count, ri + rj, tol)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel(python_entry=True)
 def manifold_is_deepest(overlap, n, reach, separation, tol):
     """True if the manifold ``overlap[:n]`` is not empty and no point of the pair can be
     deeper than it by more than ``tol / 2``: ``separation`` > 0 a gap of the cores'

@@ -20,7 +20,7 @@ import math
 import numpy as np
 from numba import njit
 
-from dominowave.dem.compiled import inner_kernel
+from dominowave.dem.compiled import inline_kernel, inner_kernel
 from dominowave.dem.shapes.cuboid import (
     manifold_is_deepest,
     merge_deepest,
@@ -35,12 +35,12 @@ PLANAR_MULTIPLICITY = 2  # the two ends y = +-b of a cuboid edge parallel to y
 KEY_VERTEX = 2 * 4 * 4 * 4
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _sign(x):
     return 1.0 if x >= 0.0 else -1.0
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _corner(x, R, h, k):
     """World (x, z) of corner k of the rectangle (bit 0: + axis 0, bit 1: + axis 2)."""
     s0 = h[0] if k & 1 else -h[0]
@@ -70,7 +70,7 @@ def rect_plane(x, R, h, r, p0, nw, margin, normal, point, overlap, key):
     return n
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def _separation(d0, d2, L0, L2, Ri, hi, Rj, hj):
     """Gap [m] of the two core rectangles along the in-plane unit axis L."""
     radius = 0.0
@@ -80,7 +80,7 @@ def _separation(d0, d2, L0, L2, Ri, hi, Rj, hj):
     return abs(L0 * d0 + L2 * d2) - radius
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@inline_kernel()
 def edges_separate(xi, Ri, hi, xj, Rj, hj, reach):
     """True if an edge normal of rectangle i or j separates the two cores by at least
     ``reach`` [m]: the early exit of :func:`rect_rect`, in the same order and arithmetic
