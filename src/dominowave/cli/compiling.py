@@ -26,13 +26,13 @@ __all__ = [
 ]
 
 FIRST_RUN: dict[str, str] = {
-    "DEM clumps": "about 40 s",
-    "DEM boxes": "about 4 minutes",
+    "DEM clumps": "about a minute",
+    "DEM boxes": "2-3 minutes",
     "rods": "about 15 s",
 }
 """How long compiling takes on a 2-core machine with an empty cache, by kernel
-(benchmarks/README.md, "First run": 35-51 s for clump chains, 3.7-4.4 minutes for box
-chains, 13 s for the rods): the DEM time loop of a scene of clumps or of boxes (each
+(benchmarks/README.md, "First run": 42-46 s for the main job, 2.6-2.7 minutes for the
+box chains, 13 s for the rods): the DEM time loop of a scene of clumps or of boxes (each
 compiles only its own kernels, dem.engine.time_loop), the rod model's."""
 HEARTBEAT_S = 30.0
 """Interval of the "still compiling" lines on a terminal [s]."""

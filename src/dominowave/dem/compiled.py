@@ -19,8 +19,8 @@ the update of one body -- are inlined into every kernel that calls them
 function again at each call site; LLVM's (numba's ``forceinline``, the ``alwaysinline``
 attribute) compiles it once and copies the optimised code.  Both give the same
 arithmetic, and so the same trajectories to the bit (no fast-math: LLVM may not
-reorder a floating-point operation); the second compiles a box chain's kernels about a
-third faster (benchmarks/README.md, "First run").
+reorder a floating-point operation); the second compiles a box chain's kernels in about
+half the time, and they run faster (benchmarks/README.md, "First run").
 """
 
 from __future__ import annotations
