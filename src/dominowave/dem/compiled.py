@@ -1,13 +1,13 @@
 """How the engine's kernels are compiled: entries from Python, and inlining.
 
 numba compiles every ``@njit`` function with two entry points besides the function
-itself: a CPython wrapper, which unboxes each argument (for the engine's state, a
-named tuple of ~100 arrays) and boxes the result, and a C-callable wrapper.  A kernel
+itself: a CPython wrapper, which unboxes each argument (for the engine's state, named
+tuples of arrays) and boxes the result, and a C-callable wrapper.  A kernel
 that only the time loop or another kernel calls never runs either, yet their code is
 generated, optimised and compiled to machine code on the first run.  Leaving them out
 (numba's ``no_cpython_wrapper`` and ``no_cfunc_wrapper`` options, which its own
-``@overload`` implementations use) made the README's main job compile about a fifth
-faster (benchmarks/README.md, "First run").  The compiled code of the kernel, and so
+``@overload`` implementations use) cut the README's main job's compiling by a sixth
+(benchmarks/README.md, "First run").  The compiled code of the kernel, and so
 every trajectory, is the same to the bit.
 
 Without a CPython wrapper a call from Python would jump to a null entry point; an
