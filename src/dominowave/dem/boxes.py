@@ -82,11 +82,9 @@ from dominowave.dem.shapes.rectangle import (
 from dominowave.dem.state import Spheres
 
 # The per-step kernels are compiled without numba's reference counting (``_nrt=False``),
-# as those of contact.py: they allocate nothing.  Numba compiles a function once per
-# signature, with the flags of its first caller unless they are given: box_forces is
-# first called from Python (Simulation's energies at the start), and with the counting
-# every access to a field of the box state cost atomic increments and decrements (a box
-# chain step took 2-3 times as long).
+# as those of contact.py and the small functions they inline (dem/compiled.py): they
+# allocate nothing, and with the counting every access to a field of the box state cost
+# atomic increments and decrements (a box chain step took 2-3 times as long).
 
 __all__ = [
     "BoxContacts",
@@ -531,7 +529,7 @@ def _partner(boxes, a, k, nx, nw):
 # (inlined, as the other helpers box_forces calls for every pair or step: a call of a
 # compiled function passes every array of its tuple arguments one by one, about 0.5 us
 # for the bodies and the box state)
-@inline_kernel(python_entry=True)
+@inline_kernel()
 def _manifold(bodies, boxes, walls, a, j, planar, margin, frame_ready):
     """Contact points of box a with partner j (box, or -(wall + 1)) into boxes.m_*;
     returns their number.  ``frame_ready``: :func:`_within_reach` has just passed this

@@ -5,8 +5,8 @@ itself: a CPython wrapper, which unboxes each argument (for the engine's state, 
 tuples of arrays) and boxes the result, and a C-callable wrapper.  A kernel
 that only the time loop or another kernel calls never runs either, yet their code is
 generated, optimised and compiled to machine code on the first run.  Leaving them out
-(numba's ``no_cpython_wrapper`` and ``no_cfunc_wrapper`` options, which its own
-``@overload`` implementations use) cut the README's main job's compiling by a sixth
+(numba's ``no_cpython_wrapper`` and ``no_cfunc_wrapper`` options, with which it compiles
+its own internal functions) cut the README's main job's compiling by a sixth
 (benchmarks/README.md, "First run").  The compiled code of the kernel, and so
 every trajectory, is the same to the bit.
 
@@ -70,9 +70,11 @@ def inner_kernel(**options):
 
 def inline_kernel(*, python_entry: bool = False):
     """A small function of the kernels, compiled once and inlined by LLVM into each kernel
-    that calls it (module docstring).  Compiled without numba's reference counting: it
-    allocates nothing, and its callers' loops must not pay reference-count updates of
-    the arrays it is given.  ``python_entry``: callable from Python as well (the Python
+    that calls it (module docstring).  Compiled without numba's reference counting, so
+    that its callers' loops pay no reference-count updates of the arrays it is given:
+    it must allocate nothing, and a view of an array it returns may go only to callers
+    compiled without the counting too (``shapes.cuboid.rows_from``: box_box and
+    rect_rect).  ``python_entry``: callable from Python as well (the Python
     front end and the tests call some), with numba's wrappers; otherwise an
     :class:`InnerKernel`."""
     options = {"forceinline": True, "_nrt": False}

@@ -574,7 +574,7 @@ def lever_arm(pos, b, p0, p1, p2):
     return p0 - pos[b, 0], p1 - pos[b, 1], p2 - pos[b, 2]
 
 
-@inline_kernel(python_entry=True)
+@inline_kernel()
 def point_velocity(vel, omega, b, rx, ry, rz):
     """Velocity ``v + omega x r`` [m/s] of the material point at lever arm ``r`` of body b.
 
