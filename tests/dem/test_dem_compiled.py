@@ -1,7 +1,8 @@
 """How the engine's functions are compiled (dem.compiled): kernels called only from other
 kernels have no entry from Python and refuse a call from it with a clear error instead
 of a jump to a null entry point; small functions are inlined by LLVM into their callers;
-both give their Python function's results."""
+both give their Python function's results; an inlined function is compiled once for the
+plain types of constant arguments."""
 
 from __future__ import annotations
 
@@ -78,6 +79,35 @@ def test_an_inline_kernel_is_inlined_into_its_caller_with_the_same_arithmetic():
     with pytest.raises(TypeError, match="_halved is compiled to be called from other"):
         _halved(1.0)
     assert _doubled(1.5) == 3.0  # (python_entry: callable from Python too)
+
+
+@inline_kernel()
+def _scaled(x, factor):
+    return factor * x
+
+
+_scaled_by_numba = njit(_scaled.py_func)  # (numba's own rule, for the contrast)
+
+
+@inner_kernel()
+def _scaled_if(x, factor, flag):
+    return factor * x if flag else x
+
+
+def _constant_arguments(x):
+    total = _scaled(x, 2) + _scaled(x, 3) + _scaled_by_numba(x, 2) + _scaled_by_numba(x, 3)
+    return total + _scaled_if(x, 2, True) + _scaled_if(x, 3, True) + _scaled_if(x, 2, False)
+
+
+def test_a_kernel_is_compiled_once_for_the_plain_types_of_constant_arguments():
+    caller = njit(_constant_arguments)  # (not cached: so that it is compiled here)
+    assert caller(1.5) == 1.5 * 2 + 1.5 * 3 + 1.5 * 2 + 1.5 * 3 + 1.5 * 2 + 1.5 * 3 + 1.5
+    assert list(_scaled.overloads) == [(types.float64, types.int64)]
+    assert sorted(str(args[1]) for args in _scaled_by_numba.overloads) == [
+        "Literal[int](2)",
+        "Literal[int](3)",
+    ]
+    assert list(_scaled_if.overloads) == [(types.float64, types.int64, types.boolean)]
 
 
 def test_the_engine_s_steps_are_inner_kernels_and_its_python_entries_are_not():

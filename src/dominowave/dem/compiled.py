@@ -21,19 +21,41 @@ attribute) compiles it once and copies the optimised code.  Both give the same
 arithmetic, and so the same trajectories to the bit (no fast-math: LLVM may not
 reorder a floating-point operation); the second compiles a box chain's kernels in about
 half the time, and they run faster (benchmarks/README.md, "First run").
+
+numba compiles a function once per tuple of argument types, and a constant argument
+(``log_change(changes, n, c, ONSET)``, ``_place_spheres(..., True, PLANAR)``) has a
+literal type of its own value: each constant at each call site would be one more
+compilation of the callee.  Such a version buys nothing: numba removes a branch on a
+constant it finds in the function (a global, or a closure's variable, as the time
+loop's ``PLANAR``), not on one passed as an argument, and once inlined LLVM propagates
+the constant anyway.  A kernel that Python does not call, and an inlined function, are
+therefore compiled for the plain types of constant arguments (:class:`OneVersion`).
 """
 
 from __future__ import annotations
 
-from numba import njit
-from numba.core import config
+import functools
+
+from numba.core import config, types
 from numba.core.registry import CPUDispatcher
 
-__all__ = ["InnerKernel", "inline_kernel", "inner_kernel"]
+__all__ = ["InlineKernel", "InnerKernel", "OneVersion", "inline_kernel", "inner_kernel"]
 
 
-class InnerKernel(CPUDispatcher):
-    """A numba dispatcher whose compiled versions are reachable from compiled code only.
+class OneVersion:
+    """A numba dispatcher (mixin) that a compiled kernel calling it with a constant argument
+    reaches through the version for the constant's plain type (``int64``, ``bool``), not
+    through one for its value (``Literal[int](0)``; module docstring)."""
+
+    def get_call_template(self, args, kws):
+        args = [types.unliteral(a) for a in args]
+        kws = {k: types.unliteral(v) for k, v in kws.items()}
+        return super().get_call_template(args, kws)
+
+
+class InnerKernel(OneVersion, CPUDispatcher):
+    """A numba dispatcher whose compiled versions are reachable from compiled code only
+    (and one version for the plain types of constant arguments: :class:`OneVersion`).
 
     Compiled callers find a version through ``overloads`` (numba's typing and linking);
     the table of entry points for calls from Python stays empty, so that such a call
@@ -51,21 +73,33 @@ class InnerKernel(CPUDispatcher):
         )
 
 
+class InlineKernel(OneVersion, CPUDispatcher):
+    """The dispatcher of an inlined function that Python may call too
+    (``inline_kernel(python_entry=True)``)."""
+
+
+def _dispatcher(cls, func, targetoptions):
+    if config.DISABLE_JIT:  # (NUMBA_DISABLE_JIT: run the Python function)
+        return func
+    kernel = cls(py_func=func, locals={}, targetoptions=targetoptions)
+    kernel.enable_caching()
+    return kernel
+
+
 def inner_kernel(**options):
     """``@njit(cache=True, error_model="numpy", **options)`` for a kernel that only other
     kernels call, compiled without the CPython and C-callable wrappers
     (:class:`InnerKernel`).  ``options``: numba's target options, e.g. ``_nrt=False``."""
+    return _compiler(InnerKernel, options, python_entry=False)
+
+
+def _compiler(cls, options, python_entry):
+    """The decorator that compiles a function with the dispatcher ``cls``, numba's target
+    ``options``, and the CPython and C-callable wrappers if ``python_entry``."""
     targetoptions = {"nopython": True, "error_model": "numpy", **options}
-    targetoptions.update(no_cpython_wrapper=True, no_cfunc_wrapper=True)
-
-    def compile_lazily(func):
-        if config.DISABLE_JIT:  # (NUMBA_DISABLE_JIT: run the Python function)
-            return func
-        kernel = InnerKernel(py_func=func, locals={}, targetoptions=targetoptions)
-        kernel.enable_caching()
-        return kernel
-
-    return compile_lazily
+    if not python_entry:
+        targetoptions.update(no_cpython_wrapper=True, no_cfunc_wrapper=True)
+    return functools.partial(_dispatcher, cls, targetoptions=targetoptions)
 
 
 def inline_kernel(*, python_entry: bool = False):
@@ -76,8 +110,9 @@ def inline_kernel(*, python_entry: bool = False):
     compiled without the counting too (``shapes.cuboid.rows_from``: box_box and
     rect_rect).  ``python_entry``: callable from Python as well (the Python
     front end and the tests call some), with numba's wrappers; otherwise an
-    :class:`InnerKernel`."""
+    :class:`InnerKernel`.  Either is compiled for the plain types of constant arguments
+    (:class:`OneVersion`)."""
     options = {"forceinline": True, "_nrt": False}
     if python_entry:
-        return njit(cache=True, error_model="numpy", **options)
-    return inner_kernel(**options)
+        return _compiler(InlineKernel, options, python_entry=True)
+    return _compiler(InnerKernel, options, python_entry=False)

@@ -297,7 +297,7 @@ def _sleep_and_wake(bodies, spheres, contacts, boxes, settings, t, ledger):
     return changed
 
 
-@inner_kernel(_nrt=False)
+@inline_kernel()
 def _log_event(rec, t, bi, bj, kind):
     k = rec.ev_n[0]
     rec.ev_time[k] = t
@@ -683,6 +683,8 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
         start time of the run [s]; entries STOP_ARG_*).  ``work``: (2, 3) scratch array
         (rows WORK_*).  ``boxes``: the rounded-cuboid bodies and their contacts (boxes.py;
         zero-length without).  Returns ``(code, steps_done)``; see the module constants.
+        Every sphere is at its place on its body when it returns (``spheres.pos``; the
+        steps place only those of the Verlet list).
         ``rec.energy_now`` holds the energies of the last step done (time
         ``clock[CLOCK_TIME] - dt``).
 
@@ -701,10 +703,12 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
         rebuild_due = needs_rebuild(bodies, skin, contacts.n[0])
         # (in here only a release or a sleep changes the held flags)
         first_moving, stop_moving = _moving_range(bodies)
+        outcome, steps = DONE_STEPS, n_steps
         for done in range(n_steps):
             t = rec.clock[CLOCK_TIME]
             if t >= t_end - 0.5 * dt:
-                return DONE_TIME, done
+                outcome, steps = DONE_TIME, done
+                break
             last = done == n_steps - 1 or t + dt >= t_end - 0.5 * dt
             # room for this step's records, otherwise hand back to Python before changing
             # state
@@ -715,33 +719,41 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
                 cf_room += boxes.rows.i.shape[0] + boxes.dormant.i.shape[0]
                 cf_room += boxes.sphere_rows.i.shape[0]
             if settings.record_pairs and rec.ev_time.shape[0] - rec.ev_n[0] < room:
-                return GROW_EVENTS, done
+                outcome, steps = GROW_EVENTS, done
+                break
             step = rec.step[0]
             traj_due = rec.traj_every[0] > 0 and step % rec.traj_every[0] == 0
             energy_due = rec.energy_every[0] > 0 and step % rec.energy_every[0] == 0
             if traj_due and rec.traj_n[0] == rec.traj_t.shape[0]:
-                return GROW_TRAJECTORY, done
+                outcome, steps = GROW_TRAJECTORY, done
+                break
             if energy_due and rec.energy_n[0] == rec.energy_t.shape[0]:
-                return GROW_ENERGY, done
+                outcome, steps = GROW_ENERGY, done
+                break
             forces_due = traj_due and rec.cf_on[0] == 1
             if forces_due and rec.cf_first.shape[0] - rec.cf_n[0] < cf_room:
-                return GROW_CONTACT_FORCES, done
+                outcome, steps = GROW_CONTACT_FORCES, done
+                break
             build_due = rebuild_due
             if BOXES:
                 build_due = build_due or min(boxes.n_cand[0], boxes.n_sphere_cand[0]) < 0
             if build_due:
                 if not _finite(bodies):
-                    return ABORT_NAN, done
+                    outcome, steps = ABORT_NAN, done
+                    break
                 update_sphere_positions(bodies, spheres, PLANAR)  # the search sees every sphere
                 if build_verlet_list(spheres, walls, bodies, mats, contacts, skin) < 0:
-                    return GROW_CONTACTS, done
+                    outcome, steps = GROW_CONTACTS, done
+                    break
                 rec.n_rebuilds[0] += 1
                 # (the box list with the spheres': both rely on the same displacement test)
                 if BOXES:
                     if build_box_candidates(bodies, boxes, walls, skin) < 0:
-                        return GROW_BOX_CANDIDATES, done
+                        outcome, steps = GROW_BOX_CANDIDATES, done
+                        break
                     if build_box_sphere_candidates(bodies, spheres, boxes, walls, skin) < 0:
-                        return GROW_BOX_CANDIDATES, done
+                        outcome, steps = GROW_BOX_CANDIDATES, done
+                        break
             first = step == 0
             if contacts.n[0] == 0:  # (no sphere pairs listed, as in a scene of boxes only)
                 _zero_forces(bodies)  # (compute_forces' first act: a call costs more)
@@ -837,7 +849,8 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
                         box_energies(boxes, rec.energy_now)
                         box_sphere_energies(boxes, rec.energy_now)
                     if not _finite(bodies):
-                        return ABORT_NAN, done
+                        outcome, steps = ABORT_NAN, done
+                        break
                     rec.clock[CLOCK_ENERGY_SCALE] = max(
                         rec.clock[CLOCK_ENERGY_SCALE],
                         active_energy(rec.energy_now, settings.track_energy),
@@ -848,7 +861,8 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
                     # (not `excess > slack`: an overflowing energy reads NaN, and NaN > x is
                     # False)
                     if not excess <= slack:
-                        return ABORT_RUNAWAY, done
+                        outcome, steps = ABORT_RUNAWAY, done
+                        break
                     if code < 0 and stop[STOP_ARG_KINETIC_BELOW] >= 0.0:
                         kinetic_energy(bodies, kin)
                         kinetic = kin[E_KINETIC_TRANSLATIONAL] + kin[E_KINETIC_ROTATIONAL]
@@ -874,7 +888,13 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
             rec.clock[CLOCK_TIME] = t + dt
             rec.step[0] = step + 1
             if code >= 0:
-                return code, done + 1
-        return DONE_STEPS, n_steps
+                outcome, steps = code, done + 1
+                break
+        # the loop moves only the spheres of the Verlet list: place all for Python (not
+        # before the first step: the spheres still sit at the scene's centres, which the
+        # first step uses, and which differ from the placed ones by round-off)
+        if rec.step[0] > 0:
+            update_sphere_positions(bodies, spheres, PLANAR)
+        return outcome, steps
 
     return run_loop

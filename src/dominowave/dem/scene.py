@@ -58,6 +58,18 @@ def _vector(name, value):
     return v
 
 
+def _body(blocked, velocity, angular_velocity, held, **shape) -> dict:
+    """The checked description of a body (``Scene.add_*``'s common arguments, and its
+    shape's own entries)."""
+    return {
+        "blocked": parse_blocked(blocked),
+        "velocity": _vector("velocity", velocity),
+        "angular_velocity": _vector("angular_velocity", angular_velocity),
+        "held": bool(held),
+        **shape,
+    }
+
+
 class Scene:
     """Collects materials, bodies and walls; :meth:`build` returns a :class:`Simulation`.
 
@@ -203,14 +215,7 @@ class Scene:
             check_positive(f"radius of sphere {k} of body {body}", r)
         mats = np.broadcast_to(np.asarray(materials), (n,))
         mats = np.array([self._material_id("materials", m) for m in mats])
-        self._bodies.append(
-            {
-                "blocked": parse_blocked(blocked),
-                "velocity": _vector("velocity", velocity),
-                "angular_velocity": _vector("angular_velocity", angular_velocity),
-                "held": bool(held),
-            }
-        )
+        self._bodies.append(_body(blocked, velocity, angular_velocity, held))
         for c, r, m in zip(centres, radii, mats, strict=True):
             self._spheres.append((body, c, r, m))
         return body
@@ -272,23 +277,16 @@ class Scene:
         moments = i_default if inertia is None else np.asarray(inertia, float).reshape(3)
         if inertia is not None:
             check_positive("inertia", moments)
-        self._bodies.append(
-            {
-                "blocked": parse_blocked(blocked),
-                "velocity": _vector("velocity", velocity),
-                "angular_velocity": _vector("angular_velocity", angular_velocity),
-                "held": bool(held),
-                "box": {
-                    "centre": centre,
-                    "core": half - float(rounding),
-                    "rounding": float(rounding),
-                    "material": mat,
-                    "axes": R,
-                    "mass": m_default if mass is None else float(mass),
-                    "moments": moments,
-                },
-            }
-        )
+        box = {
+            "centre": centre,
+            "core": half - float(rounding),
+            "rounding": float(rounding),
+            "material": mat,
+            "axes": R,
+            "mass": m_default if mass is None else float(mass),
+            "moments": moments,
+        }
+        self._bodies.append(_body(blocked, velocity, angular_velocity, held, box=box))
         return body
 
     # ------------------------------------------------------------------ build

@@ -21,7 +21,6 @@ from dominowave.dem.boxes import (
 from dominowave.dem.contact import build_verlet_list, compute_forces, compute_forces_planar
 from dominowave.dem.energy import E_TOTAL, ENERGY_NAMES, N_ENERGIES, N_MECHANICAL, energies
 from dominowave.dem.engine import Recorder, SceneKind, Settings, time_loop
-from dominowave.dem.integrate import update_sphere_positions
 from dominowave.dem.laws.tangential import SHEAR_CONTACT_POINT
 from dominowave.dem.material_pairs import RULE_GIVEN
 from dominowave.dem.planar import planar_violation
@@ -511,12 +510,7 @@ class Simulation:
                 np.empty((2, 3)),  # scratch vectors of the loop
                 self.boxes,
             )
-            done_total += done
-            # the loop moves only the spheres of the Verlet list: place all for Python
-            # (not before the first step: the spheres still sit at the scene's centres,
-            # which the first step uses, and which differ from the placed ones by round-off)
-            if self.rec.step[0] > 0:
-                update_sphere_positions(self.bodies, self.spheres, self.settings.planar)
+            done_total += done  # (the loop places every sphere before it returns)
             if not engine.GROW_CONTACTS <= code < engine.ABORT_NAN:
                 return code, done_total
             self._grow(code)

@@ -69,6 +69,7 @@ __all__ = [
     "rows_from",
     "separating_axes",
     "sphere_point",
+    "unit_sign",
 ]
 
 MAX_POINTS = 25  # (at most 16 are returned; the rest is scratch)
@@ -99,7 +100,9 @@ def cuboid_mass_properties(half_extents, density):
 
 
 @inline_kernel()
-def _sign(x):
+def unit_sign(x):
+    """+1 for ``x >= 0``, else -1: the side of a point or a direction, never 0 (a point
+    on the plane between two features takes the + one)."""
     return 1.0 if x >= 0.0 else -1.0
 
 
@@ -171,13 +174,13 @@ def point_box_distance(x, R, h, p0, p1, p2):
     # inside: the face of least depth
     d0, d1, d2 = h[0] - abs(q0), h[1] - abs(q1), h[2] - abs(q2)
     if d0 <= d1 and d0 <= d2:
-        m, depth, s = 0, d0, _sign(q0)
+        m, depth, s = 0, d0, unit_sign(q0)
         q0 = s * h[0]
     elif d1 <= d2:
-        m, depth, s = 1, d1, _sign(q1)
+        m, depth, s = 1, d1, unit_sign(q1)
         q1 = s * h[1]
     else:
-        m, depth, s = 2, d2, _sign(q2)
+        m, depth, s = 2, d2, unit_sign(q2)
         q2 = s * h[2]
     c0 = x[0] + R[0, 0] * q0 + R[0, 1] * q1 + R[0, 2] * q2
     c1 = x[1] + R[1, 0] * q0 + R[1, 1] * q1 + R[1, 2] * q2
@@ -316,7 +319,7 @@ def separating_axes(xi, Ri, hi, xj, Rj, hj, reach, work, frame_ready=False):
             if length >= SURE_EDGE_ANGLE and s > sep_sure:
                 sep_sure = s
             if s > sep_e:
-                sep_e, a_e, b_e, side = s, a, b, _sign(along)
+                sep_e, a_e, b_e, side = s, a, b, unit_sign(along)
     e0 = e1 = e2 = 0.0
     if sep_e > -np.inf:
         L0 = Ri[1, a_e] * Rj[2, b_e] - Ri[2, a_e] * Rj[1, b_e]
@@ -477,7 +480,7 @@ def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work,
     """
     normal, point, overlap, key = out
     d0, d1, d2 = xB[0] - xA[0], xB[1] - xA[1], xB[2] - xA[2]
-    sA = _sign(d0 * RA[0, kA] + d1 * RA[1, kA] + d2 * RA[2, kA])
+    sA = unit_sign(d0 * RA[0, kA] + d1 * RA[1, kA] + d2 * RA[2, kA])
     n0, n1, n2 = sA * RA[0, kA], sA * RA[1, kA], sA * RA[2, kA]
     ku, kv = (kA + 1) % 3, (kA + 2) % 3
     c0 = xA[0] + hA[kA] * n0
@@ -491,7 +494,7 @@ def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work,
         if dot > best:
             best = dot
             kB = m
-    sB = -_sign(n0 * RB[0, kB] + n1 * RB[1, kB] + n2 * RB[2, kB])
+    sB = -unit_sign(n0 * RB[0, kB] + n1 * RB[1, kB] + n2 * RB[2, kB])
     poly = work[0]
     for k in range(4):  # corners in cyclic order; edge k runs from corner k to k + 1
         e0, e1, e2 = _incident_corner(xB, RB, hB, kB, sB, k)
@@ -634,8 +637,8 @@ def _edge_id(R, x, n0, n1, n2, a, s):
     """Centre (3 floats) and id (0..11) of the edge along axis ``a`` of a box that lies
     farthest along ``s n``: id = 4 a + 2 [sign of axis a+1 > 0] + [sign of axis a+2 > 0]."""
     k1, k2 = (a + 1) % 3, (a + 2) % 3
-    s1 = _sign(s * (n0 * R[0, k1] + n1 * R[1, k1] + n2 * R[2, k1]))
-    s2 = _sign(s * (n0 * R[0, k2] + n1 * R[1, k2] + n2 * R[2, k2]))
+    s1 = unit_sign(s * (n0 * R[0, k1] + n1 * R[1, k1] + n2 * R[2, k1]))
+    s2 = unit_sign(s * (n0 * R[0, k2] + n1 * R[1, k2] + n2 * R[2, k2]))
     return s1, s2, 4 * a + (2 if s1 > 0 else 0) + (1 if s2 > 0 else 0)
 
 

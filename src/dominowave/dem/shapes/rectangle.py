@@ -27,17 +27,13 @@ from dominowave.dem.shapes.cuboid import (
     point_box_distance,
     rows_from,
     sphere_point,
+    unit_sign,
 )
 
 __all__ = ["PLANAR_MULTIPLICITY", "edges_separate", "rect_plane", "rect_rect", "rect_sphere"]
 
 PLANAR_MULTIPLICITY = 2  # the two ends y = +-b of a cuboid edge parallel to y
 KEY_VERTEX = 2 * 4 * 4 * 4
-
-
-@inline_kernel()
-def _sign(x):
-    return 1.0 if x >= 0.0 else -1.0
 
 
 @inline_kernel()
@@ -99,13 +95,13 @@ def _edge_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, out):
     """Clip the incident edge of B against the reference edge (face axis ``kA``) of A."""
     normal, point, overlap, key = out
     d0, d2 = xB[0] - xA[0], xB[2] - xA[2]
-    sA = _sign(d0 * RA[0, kA] + d2 * RA[2, kA])
+    sA = unit_sign(d0 * RA[0, kA] + d2 * RA[2, kA])
     n0, n2 = sA * RA[0, kA], sA * RA[2, kA]
     ku = 2 - kA
     t0, t2 = RA[0, ku], RA[2, ku]
     c0, c2 = xA[0] + hA[kA] * n0, xA[2] + hA[kA] * n2
     kB = 0 if abs(n0 * RB[0, 0] + n2 * RB[2, 0]) >= abs(n0 * RB[0, 2] + n2 * RB[2, 2]) else 2
-    sB = -_sign(n0 * RB[0, kB] + n2 * RB[2, kB])
+    sB = -unit_sign(n0 * RB[0, kB] + n2 * RB[2, kB])
     mB = 2 - kB
     f0, f2 = xB[0] + sB * hB[kB] * RB[0, kB], xB[2] + sB * hB[kB] * RB[2, kB]
     # the incident edge's two corners in reference coordinates (u along the edge, n up)
@@ -256,7 +252,7 @@ def rect_sphere(x, R, h, r, c, radius, margin, normal, point, overlap, key):
         n0, n1, n2 = u0 / d, u1 / d, u2 / d
         cy = c[1] - oy
     else:  # inside: the edge of least depth
-        s0, s2 = _sign(q0), _sign(q2)
+        s0, s2 = unit_sign(q0), unit_sign(q2)
         if h[0] - abs(q0) <= h[2] - abs(q2):
             d = abs(q0) - h[0]
             n0, n2 = s0 * R[0, 0], s0 * R[2, 0]
