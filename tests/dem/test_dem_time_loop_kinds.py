@@ -16,24 +16,32 @@ import pytest
 from numba.core import analysis, compiler, ir
 
 from dominowave.chain import ChainParams, DominoChain, Push
-from dominowave.dem import SceneKind, Simulation, contact, engine, integrate
+from dominowave.dem import SceneKind, Simulation, box_sphere, boxes, contact, engine, integrate
 from dominowave.dem.engine import time_loop
+from dominowave.dem.shapes import cuboid, rectangle
 
-BOX_KERNELS = {"box_forces", "build_box_candidates", "_bookkeep_boxes", "box_power"}
-BOX_SPHERE_KERNELS = {"box_sphere_forces", "box_sphere_power"}
+BOX_KERNELS = {"build_box_candidates", "_bookkeep_boxes", "box_power", "box_sphere_power"}
 # the kernels of one source compiled for each kind of scene (contact._sphere_driver,
-# engine._body_pass), and the integrator's
+# engine._body_pass, boxes._box_driver, box_sphere._box_sphere_driver), and the
+# integrator's
 GENERAL = {contact.compute_forces, contact.contact_power, engine._advance_general,
            integrate.kick_general, integrate.drift_general}  # fmt: skip
 PLANAR = {contact.compute_forces_planar, contact.contact_power_planar, engine._advance_planar,
           integrate.kick_planar, integrate.drift_planar}  # fmt: skip
+BOX_GENERAL = {boxes.box_forces_general, box_sphere.box_sphere_forces_general}
+BOX_PLANAR = {boxes.box_forces_planar, box_sphere.box_sphere_forces_planar}
+# the geometry of the box pairs in 3D (shapes.cuboid) and in a plane (shapes.rectangle)
+GEOMETRY_GENERAL = {cuboid.box_box, cuboid.box_plane, cuboid.box_sphere, cuboid.faces_separate}
+GEOMETRY_PLANAR = {rectangle.rect_rect, rectangle.rect_plane, rectangle.rect_sphere,
+                   rectangle.edges_separate}  # fmt: skip
 
 
-def _called_kernels(kind: SceneKind) -> set:
-    """The compiled functions the loop of ``kind`` calls once numba has pruned the branches
-    of its constants (the untyped IR that numba types next)."""
-    func_ir = compiler.run_frontend(time_loop(kind).py_func)
-    analysis.dead_branch_prune(func_ir, ())
+def _called_kernels(kernel) -> set:
+    """The compiled functions ``kernel`` calls once numba has pruned the branches of its
+    constants (the untyped IR that numba types next)."""
+    func_ir = compiler.run_frontend(kernel.py_func)
+    # (the arguments unknown: a branch on an argument stays)
+    analysis.dead_branch_prune(func_ir, (None,) * func_ir.arg_count)
     kernels = set()
     for block in func_ir.blocks.values():
         for stmt in block.body:
@@ -43,19 +51,44 @@ def _called_kernels(kind: SceneKind) -> set:
     return kernels
 
 
+def _compiled_with(kernel) -> set:
+    """Every compiled function that compiling ``kernel`` compiles: those it calls, those
+    they call, and so on."""
+    seen, todo = set(), [kernel]
+    while todo:
+        for callee in _called_kernels(todo.pop()) - seen:
+            seen.add(callee)
+            todo.append(callee)
+    return seen
+
+
 @pytest.mark.parametrize("planar", [True, False])
 @pytest.mark.parametrize("boxes", [False, True])
 def test_a_kind_calls_only_its_own_kernels(planar, boxes):
-    called = _called_kernels(SceneKind(planar, boxes))
+    called = _called_kernels(time_loop(SceneKind(planar, boxes)))
     names = {kernel.py_func.__name__ for kernel in called}
     assert "needs_rebuild" in names and "energies" in names  # (the IR was read)
     own, other = (PLANAR, GENERAL) if planar else (GENERAL, PLANAR)
     assert own <= called and not called & other
     assert {"build_verlet_list", "_bookkeep"} <= names  # (in every kind)
+    own_boxes, other_boxes = (BOX_PLANAR, BOX_GENERAL) if planar else (BOX_GENERAL, BOX_PLANAR)
     if boxes:
-        assert BOX_KERNELS | BOX_SPHERE_KERNELS <= names
+        assert BOX_KERNELS <= names and own_boxes <= called and not called & other_boxes
     else:
-        assert not names & (BOX_KERNELS | BOX_SPHERE_KERNELS)
+        assert not names & BOX_KERNELS and not called & (BOX_GENERAL | BOX_PLANAR)
+
+
+@pytest.mark.parametrize("planar", [True, False])
+def test_a_box_scene_compiles_the_geometry_of_its_own_kind_only(planar):
+    """A planar box chain compiles no 3D box geometry, a 3D one no planar geometry: the
+    loop, and everything it calls, calls only its kind's."""
+    compiled = _compiled_with(time_loop(SceneKind(planar, True)))
+    own, other = (
+        (GEOMETRY_PLANAR, GEOMETRY_GENERAL) if planar else (GEOMETRY_GENERAL, GEOMETRY_PLANAR)
+    )
+    assert own <= compiled and not compiled & other
+    clumps = _compiled_with(time_loop(SceneKind(planar, False)))
+    assert not clumps & (GEOMETRY_GENERAL | GEOMETRY_PLANAR)
 
 
 @pytest.mark.parametrize(

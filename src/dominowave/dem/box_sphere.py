@@ -60,6 +60,8 @@ __all__ = [
     "box_sphere_contact_forces",
     "box_sphere_energies",
     "box_sphere_forces",
+    "box_sphere_forces_general",
+    "box_sphere_forces_planar",
     "box_sphere_power",
     "build_box_sphere_candidates",
 ]
@@ -99,77 +101,100 @@ def _drop(old, boxes, spheres, bodies, o, code, ns, ledger):
     return o
 
 
+def _box_sphere_driver(PLANAR):  # (capital: a constant of the compiled kernel)
+    """``box_sphere_forces`` of a scene of the kind ``PLANAR``: the planar geometry
+    (shapes.rectangle.rect_sphere) or the 3D one (shapes.cuboid.box_sphere), so that a
+    scene compiles only its own (one source, as boxes._box_driver)."""
+
+    @inner_kernel(_nrt=False)
+    def forces(bodies, spheres, boxes, mats, dt, ledger, first_step):
+        """Add the forces and torques of every box-sphere contact to the bodies (after
+        box_forces; the pairs of :func:`build_box_sphere_candidates`' list, or all pairs
+        without one: the same pairs pass, in the same order), rebuild
+        ``boxes.sphere_rows``, book the change of the energy stored in their shear springs
+        in ``ledger[LEDGER_FRICTION]``, append the body pairs whose contact started or
+        ended to ``boxes.changes``."""
+        old, new = boxes.sphere_rows, boxes.sphere_next
+        nx = boxes.body.shape[0]
+        ns = spheres.body.shape[0]
+        if ns == 0:  # (a scene of boxes only: nothing to do, every step)
+            return
+        props = boxes.props
+        c_s = boxes.work[0, 0, :3]  # (scratch: the sphere's centre)
+        o = 0
+        n_new = 0
+        for a in range(nx):
+            listed = boxes.n_sphere_cand[0] >= 0
+            lo, hi = (
+                (boxes.sphere_cand_start[a], boxes.sphere_cand_start[a + 1]) if listed else (0, ns)
+            )
+            if lo == hi:  # (most boxes: no sphere near)
+                continue
+            ba = boxes.body[a]
+            xa, Ra, ha, ra = bodies.pos[ba], bodies.rot[ba], boxes.half[a], boxes.radius[a]
+            reach = _reach_of(boxes, a)
+            for k in range(lo, hi):
+                s = boxes.sphere_cand[k] - a * ns if listed else k
+                bs = spheres.body[s]
+                if bs == ba or (bodies.held[ba] == 1 and bodies.held[bs] == 1):
+                    continue
+                _sphere_centre(bodies, spheres, s, c_s)
+                radius = spheres.radius[s]
+                margin = _margin(boxes, spheres, a, s)
+                d2 = 0.0
+                for d in range(3):
+                    d2 += (c_s[d] - xa[d]) ** 2
+                if d2 >= (reach + radius + margin) ** 2:
+                    continue
+                code = a * ns + s
+                o = _drop(old, boxes, spheres, bodies, o, code, ns, ledger)
+                q = o if o < old.n[0] and old.i[o] * ns + old.j[o] == code else -1
+                if q >= 0:
+                    o += 1
+                if PLANAR:
+                    m = rect_sphere(xa, Ra, ha, ra, c_s, radius, margin, boxes.m_normal,
+                                    boxes.m_point, boxes.m_overlap, boxes.m_key)  # fmt: skip
+                else:
+                    m = box_sphere(xa, Ra, ha, ra, c_s, radius, margin, boxes.m_normal,
+                                   boxes.m_point, boxes.m_overlap, boxes.m_key)  # fmt: skip
+                overlap = boxes.m_overlap[0] if m > 0 else -margin
+                if overlap <= 0.0:
+                    if q >= 0:
+                        if m > 0:
+                            _end(bodies, old, q, overlap, dt, ba, bs, False, ledger, False)
+                        else:
+                            _release(old, q, ledger)
+                        speed = (old.overlap[q] - overlap) / dt
+                        _log_bodies(boxes, ba, bs, END, _lag(overlap, speed, dt, first_step))
+                    continue
+                c = n_new
+                n_new += 1
+                _open_row(new, c, a, s, 0, 1.0, boxes.m_normal[0], boxes.m_point[0])
+                fresh = q < 0
+                if fresh:
+                    material_pair(mats, boxes.material[a], ra, spheres.material[s], radius, props)
+                _point_row(bodies, old, new, c, q, props, ba, bs, False, overlap, dt, first_step,
+                           False, ledger)  # fmt: skip
+                if fresh:
+                    _log_bodies(boxes, ba, bs, ONSET, _lag(overlap, -new.vn[c], dt, first_step))
+        _drop(old, boxes, spheres, bodies, o, 2**62, ns, ledger)
+        _copy_rows(new, old, n_new)
+
+    return forces
+
+
+box_sphere_forces_planar = _box_sphere_driver(True)
+box_sphere_forces_general = _box_sphere_driver(False)
+
+
 @inner_kernel(_nrt=False)
 def box_sphere_forces(bodies, spheres, boxes, mats, dt, ledger, first_step, planar):
-    """Add the forces and torques of every box-sphere contact to the bodies (after
-    box_forces; the pairs of :func:`build_box_sphere_candidates`' list, or all pairs
-    without one: the same pairs pass, in the same order), rebuild
-    ``boxes.sphere_rows``, book the change of the energy stored in their shear springs
-    in ``ledger[LEDGER_FRICTION]``, append the body pairs whose contact started or
-    ended to ``boxes.changes``."""
-    old, new = boxes.sphere_rows, boxes.sphere_next
-    nx = boxes.body.shape[0]
-    ns = spheres.body.shape[0]
-    if ns == 0:  # (a scene of boxes only: nothing to do, every step)
-        return
-    props = boxes.props
-    c_s = boxes.work[0, 0, :3]  # (scratch: the sphere's centre)
-    o = 0
-    n_new = 0
-    for a in range(nx):
-        listed = boxes.n_sphere_cand[0] >= 0
-        lo, hi = (boxes.sphere_cand_start[a], boxes.sphere_cand_start[a + 1]) if listed else (0, ns)
-        if lo == hi:  # (most boxes: no sphere near)
-            continue
-        ba = boxes.body[a]
-        xa, Ra, ha, ra = bodies.pos[ba], bodies.rot[ba], boxes.half[a], boxes.radius[a]
-        reach = _reach_of(boxes, a)
-        for k in range(lo, hi):
-            s = boxes.sphere_cand[k] - a * ns if listed else k
-            bs = spheres.body[s]
-            if bs == ba or (bodies.held[ba] == 1 and bodies.held[bs] == 1):
-                continue
-            _sphere_centre(bodies, spheres, s, c_s)
-            radius = spheres.radius[s]
-            margin = _margin(boxes, spheres, a, s)
-            d2 = 0.0
-            for d in range(3):
-                d2 += (c_s[d] - xa[d]) ** 2
-            if d2 >= (reach + radius + margin) ** 2:
-                continue
-            code = a * ns + s
-            o = _drop(old, boxes, spheres, bodies, o, code, ns, ledger)
-            q = o if o < old.n[0] and old.i[o] * ns + old.j[o] == code else -1
-            if q >= 0:
-                o += 1
-            if planar:
-                m = rect_sphere(xa, Ra, ha, ra, c_s, radius, margin, boxes.m_normal,
-                                boxes.m_point, boxes.m_overlap, boxes.m_key)  # fmt: skip
-            else:
-                m = box_sphere(xa, Ra, ha, ra, c_s, radius, margin, boxes.m_normal,
-                               boxes.m_point, boxes.m_overlap, boxes.m_key)  # fmt: skip
-            overlap = boxes.m_overlap[0] if m > 0 else -margin
-            if overlap <= 0.0:
-                if q >= 0:
-                    if m > 0:
-                        _end(bodies, old, q, overlap, dt, ba, bs, False, ledger, False)
-                    else:
-                        _release(old, q, ledger)
-                    speed = (old.overlap[q] - overlap) / dt
-                    _log_bodies(boxes, ba, bs, END, _lag(overlap, speed, dt, first_step))
-                continue
-            c = n_new
-            n_new += 1
-            _open_row(new, c, a, s, 0, 1.0, boxes.m_normal[0], boxes.m_point[0])
-            fresh = q < 0
-            if fresh:
-                material_pair(mats, boxes.material[a], ra, spheres.material[s], radius, props)
-            _point_row(bodies, old, new, c, q, props, ba, bs, False, overlap, dt, first_step,
-                       False, ledger)  # fmt: skip
-            if fresh:
-                _log_bodies(boxes, ba, bs, ONSET, _lag(overlap, -new.vn[c], dt, first_step))
-    _drop(old, boxes, spheres, bodies, o, 2**62, ns, ledger)
-    _copy_rows(new, old, n_new)
+    """:func:`box_sphere_forces_planar` or :func:`box_sphere_forces_general` by ``planar``
+    (the time loop calls its kind's; this is for the benchmarks)."""
+    if planar:
+        box_sphere_forces_planar(bodies, spheres, boxes, mats, dt, ledger, first_step)
+    else:
+        box_sphere_forces_general(bodies, spheres, boxes, mats, dt, ledger, first_step)
 
 
 @inner_kernel(_nrt=False)

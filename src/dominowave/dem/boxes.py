@@ -92,6 +92,8 @@ __all__ = [
     "box_contact_forces",
     "box_energies",
     "box_forces",
+    "box_forces_general",
+    "box_forces_planar",
     "box_peak_force",
     "box_power",
     "box_state",
@@ -526,38 +528,6 @@ def _partner(boxes, a, k, nx, nw):
     return boxes.visit[k] - a * (nx + nw)
 
 
-# (inlined, as the other helpers box_forces calls for every pair or step: a call of a
-# compiled function passes every array of its tuple arguments one by one, about 0.5 us
-# for the bodies and the box state)
-@inline_kernel()
-def _manifold(bodies, boxes, walls, a, j, planar, margin, frame_ready):
-    """Contact points of box a with partner j (box, or -(wall + 1)) into boxes.m_*;
-    returns their number.  ``frame_ready``: :func:`_within_reach` has just passed this
-    pair, and nothing has written ``boxes.work`` since -- two boxes in 3D then take the
-    relative frame that its face test left there (shapes.cuboid.box_box)."""
-    normal, point, overlap, keyf = boxes.m_normal, boxes.m_point, boxes.m_overlap, boxes.m_key
-    ba = boxes.body[a]
-    xa, Ra, ha, ra = bodies.pos[ba], bodies.rot[ba], boxes.half[a], boxes.radius[a]
-    if j >= 0:
-        bb = boxes.body[j]
-        xb, Rb, hb, rb = bodies.pos[bb], bodies.rot[bb], boxes.half[j], boxes.radius[j]
-        if planar:
-            n = rect_rect(xa, Ra, ha, ra, xb, Rb, hb, rb, margin, normal, point, overlap, keyf)
-        else:
-            n = box_box(
-                xa, Ra, ha, ra, xb, Rb, hb, rb, margin, boxes.work, normal, point, overlap, keyf,
-                frame_ready,
-            )  # fmt: skip
-    else:
-        w = -j - 1
-        p0, nw = walls.point[w], walls.normal[w]
-        if planar:
-            n = rect_plane(xa, Ra, ha, ra, p0, nw, margin, normal, point, overlap, keyf)
-        else:
-            n = box_plane(xa, Ra, ha, ra, p0, nw, margin, normal, point, overlap, keyf)
-    return n
-
-
 @inline_kernel()
 def _held_pair(bodies, boxes, a, bj, wall):
     """True if box ``a`` and its partner (body ``bj``, or a wall) get no contact rows
@@ -569,52 +539,6 @@ def _held_pair(bodies, boxes, a, bj, wall):
     if wall:
         return bodies.held[ba] == 1 and boxes.engaged[a] == 0
     return bodies.held[ba] == 1 and bodies.held[bj] == 1
-
-
-@inline_kernel(python_entry=True)
-def _within_reach(bodies, boxes, walls, a, j, planar):
-    """The margin [m] of the manifold of box a with partner j (box, or -(wall + 1)) if the
-    pair may touch, else -1: the held test (:func:`_held_pair`), then for a wall the
-    support of the box along the wall normal, ``r + sum_m h_m |n . R_m|``, against its
-    distance; for two boxes their bounding spheres, then the face axes of both (the first
-    exit of the manifold's separating-axis test, without the call: most boxes within
-    their bounding spheres are apart, the spheres of a domino being 10 times as wide as
-    it is thick)."""
-    ba = boxes.body[a]
-    wall = j < 0
-    if _held_pair(bodies, boxes, a, boxes.body[j] if not wall else ba, wall):
-        return -1.0
-    if wall:
-        w = -j - 1
-        nw_ = walls.normal[w]
-        ha = boxes.half[a]
-        R = bodies.rot[ba]
-        support = boxes.radius[a]
-        for m in range(3):
-            support += ha[m] * abs(nw_[0] * R[0, m] + nw_[1] * R[1, m] + nw_[2] * R[2, m])
-        dist = 0.0
-        for d in range(3):
-            dist += (bodies.pos[ba, d] - walls.point[w, d]) * nw_[d]
-        margin = boxes.radius[a]
-        if dist - support >= margin:
-            return -1.0
-    else:
-        bj = boxes.body[j]
-        margin = 0.5 * (boxes.radius[a] + boxes.radius[j])
-        d2 = 0.0
-        for d in range(3):
-            d2 += (bodies.pos[bj, d] - bodies.pos[ba, d]) ** 2
-        if d2 >= (_reach_of(boxes, a) + _reach_of(boxes, j) + margin) ** 2:
-            return -1.0
-        xa, Ra, ha = bodies.pos[ba], bodies.rot[ba], boxes.half[a]
-        xb, Rb, hb = bodies.pos[bj], bodies.rot[bj], boxes.half[j]
-        reach = boxes.radius[a] + boxes.radius[j] + margin
-        if planar:
-            if edges_separate(xa, Ra, ha, xb, Rb, hb, reach):
-                return -1.0
-        elif faces_separate(xa, Ra, ha, xb, Rb, hb, reach, boxes.work):
-            return -1.0
-    return margin
 
 
 @inline_kernel()
@@ -852,106 +776,240 @@ def _log_bodies(boxes, bi, bj, kind, lag):
     boxes.n_changes[0] = k + 1
 
 
-# (inlined into the engine's loop: a call passes every array of the bodies and the box
-# state one by one, about 0.5 us per step; see _manifold)
+def _box_geometry(PLANAR):  # (capital: a constant of the compiled kernels)
+    """The bounding tests and the manifold of a box pair in a scene of the kind ``PLANAR``
+    (one source, compiled once for each kind, as contact._sphere_driver): those of a
+    planar scene call only the planar geometry (shapes.rectangle), those of a general
+    scene only the 3D one (shapes.cuboid), so that a scene compiles only its own.
+    Returns ``(within_reach, manifold)``."""
+
+    # (inlined, as the other helpers box_forces calls for every pair or step: a call of a
+    # compiled function passes every array of its tuple arguments one by one, about 0.5 us
+    # for the bodies and the box state)
+    @inline_kernel()
+    def manifold(bodies, boxes, walls, a, j, margin, frame_ready):
+        """Contact points of box a with partner j (box, or -(wall + 1)) into boxes.m_*;
+        returns their number.  ``frame_ready``: ``within_reach`` has just passed this
+        pair, and nothing has written ``boxes.work`` since -- two boxes in 3D then take the
+        relative frame that its face test left there (shapes.cuboid.box_box)."""
+        normal, point, overlap, keyf = boxes.m_normal, boxes.m_point, boxes.m_overlap, boxes.m_key
+        ba = boxes.body[a]
+        xa, Ra, ha, ra = bodies.pos[ba], bodies.rot[ba], boxes.half[a], boxes.radius[a]
+        if j >= 0:
+            bb = boxes.body[j]
+            xb, Rb, hb, rb = bodies.pos[bb], bodies.rot[bb], boxes.half[j], boxes.radius[j]
+            if PLANAR:
+                n = rect_rect(xa, Ra, ha, ra, xb, Rb, hb, rb, margin, normal, point, overlap, keyf)
+            else:
+                n = box_box(
+                    xa, Ra, ha, ra, xb, Rb, hb, rb, margin, boxes.work, normal, point, overlap,
+                    keyf, frame_ready,
+                )  # fmt: skip
+        else:
+            w = -j - 1
+            p0, nw = walls.point[w], walls.normal[w]
+            if PLANAR:
+                n = rect_plane(xa, Ra, ha, ra, p0, nw, margin, normal, point, overlap, keyf)
+            else:
+                n = box_plane(xa, Ra, ha, ra, p0, nw, margin, normal, point, overlap, keyf)
+        return n
+
+    @inline_kernel()
+    def within_reach(bodies, boxes, walls, a, j):
+        """The margin [m] of the manifold of box a with partner j (box, or -(wall + 1)) if the
+        pair may touch, else -1: the held test (:func:`_held_pair`), then for a wall the
+        support of the box along the wall normal, ``r + sum_m h_m |n . R_m|``, against its
+        distance; for two boxes their bounding spheres, then the face axes of both (the first
+        exit of the manifold's separating-axis test, without the call: most boxes within
+        their bounding spheres are apart, the spheres of a domino being 10 times as wide as
+        it is thick)."""
+        ba = boxes.body[a]
+        wall = j < 0
+        if _held_pair(bodies, boxes, a, boxes.body[j] if not wall else ba, wall):
+            return -1.0
+        if wall:
+            w = -j - 1
+            nw_ = walls.normal[w]
+            ha = boxes.half[a]
+            R = bodies.rot[ba]
+            support = boxes.radius[a]
+            for m in range(3):
+                support += ha[m] * abs(nw_[0] * R[0, m] + nw_[1] * R[1, m] + nw_[2] * R[2, m])
+            dist = 0.0
+            for d in range(3):
+                dist += (bodies.pos[ba, d] - walls.point[w, d]) * nw_[d]
+            margin = boxes.radius[a]
+            if dist - support >= margin:
+                return -1.0
+        else:
+            bj = boxes.body[j]
+            margin = 0.5 * (boxes.radius[a] + boxes.radius[j])
+            d2 = 0.0
+            for d in range(3):
+                d2 += (bodies.pos[bj, d] - bodies.pos[ba, d]) ** 2
+            if d2 >= (_reach_of(boxes, a) + _reach_of(boxes, j) + margin) ** 2:
+                return -1.0
+            xa, Ra, ha = bodies.pos[ba], bodies.rot[ba], boxes.half[a]
+            xb, Rb, hb = bodies.pos[bj], bodies.rot[bj], boxes.half[j]
+            reach = boxes.radius[a] + boxes.radius[j] + margin
+            if PLANAR:
+                if edges_separate(xa, Ra, ha, xb, Rb, hb, reach):
+                    return -1.0
+            elif faces_separate(xa, Ra, ha, xb, Rb, hb, reach, boxes.work):
+                return -1.0
+        return margin
+
+    return within_reach, manifold
+
+
+_within_reach_planar, _manifold_planar = _box_geometry(True)
+_within_reach_general, _manifold_general = _box_geometry(False)
+
+
+def _box_driver(PLANAR):  # (capital: a constant of the compiled kernel)
+    """:func:`box_forces` of a scene of the kind ``PLANAR``, with its kind's geometry
+    (:func:`_box_geometry`; module-level names, so that the closure holds only the
+    constant: numba keys a closure's disk cache by what it holds, and a kernel it held
+    would key it by a number drawn anew in every process)."""
+
+    # (inlined into the engine's loop: a call passes every array of the bodies and the box
+    # state one by one, about 0.5 us per step; see manifold)
+    @inline_kernel()
+    def forces(bodies, boxes, walls, mats, dt, ledger, first_step):
+        """Add the forces and torques of every box contact to the bodies (after
+        contact.compute_forces, which zeroes them), rebuild the contact rows, book the change
+        of the energy stored in the shear springs in ``ledger[LEDGER_FRICTION]``.  Body pairs
+        whose contact (any point) started or ended are listed in ``boxes.changes``.
+
+        The rows of a pair of resting bodies -- two held boxes, or a held box and a wall,
+        that have rows: bodies put to sleep (engine._sleep_and_wake) -- are not visited; they
+        are kept aside as they were (``boxes.dormant``), with no end logged, and merged back
+        when the visited pairs are built anew after a body of one of them woke
+        (:func:`_wake_rows`): a pair visited again continues its rows, shear springs and all."""
+        boxes.n_changes[0] = 0
+        nx = boxes.body.shape[0]
+        nw = walls.point.shape[0]
+        if first_step:  # (the held flags may be new: _visit_pairs)
+            boxes.n_groups[0] = -1
+        visited_anew = boxes.n_groups[0] < 0
+        n_groups = _visit_pairs(bodies, boxes, nx, nw)  # (and which held boxes are engaged)
+        if visited_anew and _woken(bodies, boxes):
+            _wake_rows(boxes, nx, nw)
+        old, new = boxes.rows, boxes.next
+        within_reach = _within_reach_planar if PLANAR else _within_reach_general
+        manifold = _manifold_planar if PLANAR else _manifold_general
+        mult = float(PLANAR_MULTIPLICITY) if PLANAR else 1.0
+        used = boxes.used
+        used[: old.n[0]] = 0
+        props = boxes.props
+        hertz = boxes.normal_law[0] == LAW_HERTZ
+        o = 0
+        n_new = 0
+        for g in range(n_groups):
+            a = _source(boxes, g)
+            ba = boxes.body[a]
+            lo, hi = _partner_range(boxes, g, a, nx, nw)
+            for kk in range(lo, hi):
+                jj = _partner(boxes, a, kk, nx, nw)
+                j = jj if jj < nx else -(jj - nx) - 1
+                wall = j < 0
+                margin = within_reach(bodies, boxes, walls, a, j)
+                if margin < 0.0:
+                    continue
+                bj = ba if wall else boxes.body[j]
+                code = _pair_code(a, j, nx, nw)
+                # old rows of pairs before this one are gone: release their springs
+                o = _drop_before(bodies, old, boxes, o, code, nx, nw, ledger)
+                o_end = o
+                while o_end < old.n[0] and _pair_code(old.i[o_end], old.j[o_end], nx, nw) == code:
+                    o_end += 1
+                m = manifold(bodies, boxes, walls, a, j, margin, True)  # (within_reach)
+                tol = _continuation_distance(boxes, a, j)
+                first_row = n_new
+                end_depth, end_speed = 0.0, 0.0
+                for k in range(m):
+                    key = boxes.m_key[k]
+                    q = -1
+                    for t in range(o, o_end):
+                        if old.key[t] == key and not used[t]:
+                            q = t
+                            break
+                    overlap = boxes.m_overlap[k]
+                    # only a touching point continues another feature's row: a point out of
+                    # contact has no spring to carry, and its gap is not the continuation of
+                    # the old point's overlap (the end impulse would read the jump between the
+                    # two features as a separation speed, ramp / dt, and kick the pair apart)
+                    if q < 0 and overlap > 0.0:
+                        q = _continued_row(
+                            old, used, o, o_end, boxes.m_key, m, boxes.m_point[k], tol
+                        )
+                    if overlap <= 0.0:
+                        if q >= 0:
+                            used[q] = 1
+                            _end(bodies, old, q, overlap, dt, ba, bj, wall, ledger, hertz)
+                            if old.overlap[q] - overlap > end_speed * dt:
+                                end_depth, end_speed = overlap, (old.overlap[q] - overlap) / dt
+                        continue
+                    c = n_new
+                    n_new += 1
+                    _open_row(new, c, a, j, key, mult, boxes.m_normal[k], boxes.m_point[k])
+                    if q < 0:
+                        _point_properties(bodies, boxes, walls, mats, a, j, props)
+                    else:
+                        used[q] = 1
+                    _point_row(bodies, old, new, c, q, props, ba, bj, wall, overlap, dt, first_step,
+                               hertz, ledger)  # fmt: skip
+                # rows of this pair whose feature left the manifold
+                for t in range(o, o_end):
+                    if not used[t]:
+                        used[t] = 1
+                        _release(old, t, ledger)
+                if o_end == o and n_new > first_row:
+                    deepest = first_row
+                    for c in range(first_row, n_new):
+                        if new.overlap[c] > new.overlap[deepest]:
+                            deepest = c
+                    lag = _lag(new.overlap[deepest], -new.vn[deepest], dt, first_step)
+                    _log(boxes, a, j, ONSET, lag)
+                elif o_end > o and n_new == first_row:
+                    _log(boxes, a, j, END, _lag(end_depth, end_speed, dt, first_step))
+                o = o_end
+        _drop_before(bodies, old, boxes, o, 2**62, nx, nw, ledger)
+        _copy_rows(new, old, n_new)
+
+    return forces
+
+
+box_forces_planar = _box_driver(True)
+box_forces_general = _box_driver(False)
+
+
+@inline_kernel(python_entry=True)
+def _within_reach(bodies, boxes, walls, a, j, planar):
+    """The bounding tests of the pair (box a, partner j) in a scene of the kind ``planar``
+    (:func:`_box_geometry`), for the benchmarks."""
+    if planar:
+        return _within_reach_planar(bodies, boxes, walls, a, j)
+    return _within_reach_general(bodies, boxes, walls, a, j)
+
+
+@inline_kernel()
+def _manifold(bodies, boxes, walls, a, j, planar, margin, frame_ready):
+    """The manifold of the pair (box a, partner j) in a scene of the kind ``planar``
+    (:func:`_box_geometry`), for the benchmarks."""
+    if planar:
+        return _manifold_planar(bodies, boxes, walls, a, j, margin, frame_ready)
+    return _manifold_general(bodies, boxes, walls, a, j, margin, frame_ready)
+
+
 @inline_kernel()
 def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
-    """Add the forces and torques of every box contact to the bodies (after
-    contact.compute_forces, which zeroes them), rebuild the contact rows, book the change
-    of the energy stored in the shear springs in ``ledger[LEDGER_FRICTION]``.  Body pairs
-    whose contact (any point) started or ended are listed in ``boxes.changes``.
-
-    The rows of a pair of resting bodies -- two held boxes, or a held box and a wall,
-    that have rows: bodies put to sleep (engine._sleep_and_wake) -- are not visited; they
-    are kept aside as they were (``boxes.dormant``), with no end logged, and merged back
-    when the visited pairs are built anew after a body of one of them woke
-    (:func:`_wake_rows`): a pair visited again continues its rows, shear springs and all."""
-    boxes.n_changes[0] = 0
-    nx = boxes.body.shape[0]
-    nw = walls.point.shape[0]
-    if first_step:  # (the held flags may be new: _visit_pairs)
-        boxes.n_groups[0] = -1
-    visited_anew = boxes.n_groups[0] < 0
-    n_groups = _visit_pairs(bodies, boxes, nx, nw)  # (and which held boxes are engaged)
-    if visited_anew and _woken(bodies, boxes):
-        _wake_rows(boxes, nx, nw)
-    old, new = boxes.rows, boxes.next
-    mult = float(PLANAR_MULTIPLICITY) if planar else 1.0
-    used = boxes.used
-    used[: old.n[0]] = 0
-    props = boxes.props
-    hertz = boxes.normal_law[0] == LAW_HERTZ
-    o = 0
-    n_new = 0
-    for g in range(n_groups):
-        a = _source(boxes, g)
-        ba = boxes.body[a]
-        lo, hi = _partner_range(boxes, g, a, nx, nw)
-        for kk in range(lo, hi):
-            jj = _partner(boxes, a, kk, nx, nw)
-            j = jj if jj < nx else -(jj - nx) - 1
-            wall = j < 0
-            margin = _within_reach(bodies, boxes, walls, a, j, planar)
-            if margin < 0.0:
-                continue
-            bj = ba if wall else boxes.body[j]
-            code = _pair_code(a, j, nx, nw)
-            # old rows of pairs before this one are gone: release their springs
-            o = _drop_before(bodies, old, boxes, o, code, nx, nw, ledger)
-            o_end = o
-            while o_end < old.n[0] and _pair_code(old.i[o_end], old.j[o_end], nx, nw) == code:
-                o_end += 1
-            m = _manifold(bodies, boxes, walls, a, j, planar, margin, True)  # (_within_reach)
-            tol = _continuation_distance(boxes, a, j)
-            first_row = n_new
-            end_depth, end_speed = 0.0, 0.0
-            for k in range(m):
-                key = boxes.m_key[k]
-                q = -1
-                for t in range(o, o_end):
-                    if old.key[t] == key and not used[t]:
-                        q = t
-                        break
-                overlap = boxes.m_overlap[k]
-                # only a touching point continues another feature's row: a point out of
-                # contact has no spring to carry, and its gap is not the continuation of
-                # the old point's overlap (the end impulse would read the jump between the
-                # two features as a separation speed, ramp / dt, and kick the pair apart)
-                if q < 0 and overlap > 0.0:
-                    q = _continued_row(old, used, o, o_end, boxes.m_key, m, boxes.m_point[k], tol)
-                if overlap <= 0.0:
-                    if q >= 0:
-                        used[q] = 1
-                        _end(bodies, old, q, overlap, dt, ba, bj, wall, ledger, hertz)
-                        if old.overlap[q] - overlap > end_speed * dt:
-                            end_depth, end_speed = overlap, (old.overlap[q] - overlap) / dt
-                    continue
-                c = n_new
-                n_new += 1
-                _open_row(new, c, a, j, key, mult, boxes.m_normal[k], boxes.m_point[k])
-                if q < 0:
-                    _point_properties(bodies, boxes, walls, mats, a, j, props)
-                else:
-                    used[q] = 1
-                _point_row(bodies, old, new, c, q, props, ba, bj, wall, overlap, dt, first_step,
-                           hertz, ledger)  # fmt: skip
-            # rows of this pair whose feature left the manifold
-            for t in range(o, o_end):
-                if not used[t]:
-                    used[t] = 1
-                    _release(old, t, ledger)
-            if o_end == o and n_new > first_row:
-                deepest = first_row
-                for c in range(first_row, n_new):
-                    if new.overlap[c] > new.overlap[deepest]:
-                        deepest = c
-                lag = _lag(new.overlap[deepest], -new.vn[deepest], dt, first_step)
-                _log(boxes, a, j, ONSET, lag)
-            elif o_end > o and n_new == first_row:
-                _log(boxes, a, j, END, _lag(end_depth, end_speed, dt, first_step))
-            o = o_end
-    _drop_before(bodies, old, boxes, o, 2**62, nx, nw, ledger)
-    _copy_rows(new, old, n_new)
+    """:func:`box_forces_planar` or :func:`box_forces_general` by ``planar`` (the time
+    loop calls its kind's; this is for the benchmarks)."""
+    if planar:
+        box_forces_planar(bodies, boxes, walls, mats, dt, ledger, first_step)
+    else:
+        box_forces_general(bodies, boxes, walls, mats, dt, ledger, first_step)
 
 
 @inline_kernel()

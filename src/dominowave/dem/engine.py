@@ -31,14 +31,16 @@ from numba import njit
 from dominowave.dem.box_sphere import (
     box_rows_contact_forces,
     box_sphere_energies,
-    box_sphere_forces,
+    box_sphere_forces_general,
+    box_sphere_forces_planar,
     box_sphere_power,
     build_box_sphere_candidates,
 )
 from dominowave.dem.boxes import (
     _reach_of,
     box_energies,
-    box_forces,
+    box_forces_general,
+    box_forces_planar,
     box_peak_force,
     box_power,
     build_box_candidates,
@@ -642,7 +644,8 @@ def _advance_bodies(bodies, settings, first, stop):
 
 SceneKind = namedtuple("SceneKind", ["planar", "boxes"])
 """What a scene holds, which decides the kernels its time loop calls (bools): ``planar``
-(the planar kernels, contact._sphere_driver and _body_pass, or the general ones) and
+(the planar kernels, contact._sphere_driver, _body_pass, boxes._box_driver and
+box_sphere._box_sphere_driver, or the general ones) and
 ``boxes`` (rounded-cuboid
 contacts: boxes.py, box_sphere.py).  The sphere kernels (contact.py) are in every loop:
 a scene of boxes alone runs them over an empty Verlet list, and leaving them out of its
@@ -768,9 +771,15 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
                 )
             released = False
             if BOXES:
-                box_forces(bodies, boxes, walls, mats, dt, ledger, first, PLANAR)
+                if PLANAR:
+                    box_forces_planar(bodies, boxes, walls, mats, dt, ledger, first)
+                else:
+                    box_forces_general(bodies, boxes, walls, mats, dt, ledger, first)
                 if spheres.body.shape[0] > 0:  # (the call alone costs ~0.5 us: _zero_forces)
-                    box_sphere_forces(bodies, spheres, boxes, mats, dt, ledger, first, PLANAR)
+                    if PLANAR:
+                        box_sphere_forces_planar(bodies, spheres, boxes, mats, dt, ledger, first)
+                    else:
+                        box_sphere_forces_general(bodies, spheres, boxes, mats, dt, ledger, first)
                 if boxes.n_changes[0] > 0:
                     released = _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t)
             if n_changes > 0:
