@@ -27,11 +27,11 @@ __all__ = [
 
 FIRST_RUN: dict[str, str] = {
     "DEM clumps": "about a minute",
-    "DEM boxes": "2-3 minutes",
+    "DEM boxes": "about 2 minutes",
     "rods": "about 15 s",
 }
 """How long compiling takes on a 2-core machine with an empty cache, by kernel
-(benchmarks/README.md, "First run": 42-46 s for the main job, 2.6-2.7 minutes for the
+(benchmarks/README.md, "First run": 40-45 s for the main job, 1.8-2.3 minutes for the
 box chains, 13 s for the rods): the DEM time loop of a scene of clumps or of boxes (each
 compiles only its own kernels, dem.engine.time_loop), the rod model's."""
 HEARTBEAT_S = 30.0

@@ -79,18 +79,13 @@ class InlineKernel(OneVersion, CPUDispatcher):
 
 
 def _dispatcher(cls, func, targetoptions):
+    """The dispatcher ``cls`` of ``func``, with numba's disk cache; or ``func`` itself
+    under ``NUMBA_DISABLE_JIT``."""
     if config.DISABLE_JIT:  # (NUMBA_DISABLE_JIT: run the Python function)
         return func
     kernel = cls(py_func=func, locals={}, targetoptions=targetoptions)
     kernel.enable_caching()
     return kernel
-
-
-def inner_kernel(**options):
-    """``@njit(cache=True, error_model="numpy", **options)`` for a kernel that only other
-    kernels call, compiled without the CPython and C-callable wrappers
-    (:class:`InnerKernel`).  ``options``: numba's target options, e.g. ``_nrt=False``."""
-    return _compiler(InnerKernel, options, python_entry=False)
 
 
 def _compiler(cls, options, python_entry):
@@ -100,6 +95,13 @@ def _compiler(cls, options, python_entry):
     if not python_entry:
         targetoptions.update(no_cpython_wrapper=True, no_cfunc_wrapper=True)
     return functools.partial(_dispatcher, cls, targetoptions=targetoptions)
+
+
+def inner_kernel(**options):
+    """``@njit(cache=True, error_model="numpy", **options)`` for a kernel that only other
+    kernels call, compiled without the CPython and C-callable wrappers
+    (:class:`InnerKernel`).  ``options``: numba's target options, e.g. ``_nrt=False``."""
+    return _compiler(InnerKernel, options, python_entry=False)
 
 
 def inline_kernel(*, python_entry: bool = False):

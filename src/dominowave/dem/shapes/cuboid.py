@@ -70,6 +70,7 @@ __all__ = [
     "separating_axes",
     "sphere_point",
     "unit_sign",
+    "vertex_owner",
 ]
 
 MAX_POINTS = 25  # (at most 16 are returned; the rest is scratch)
@@ -704,6 +705,20 @@ def _edge_manifold(xi, Ri, hi, ri, a, xj, Rj, hj, rj, b, n0, n1, n2, sep, margin
     return 1
 
 
+@inline_kernel()
+def vertex_owner(best_i, best_j, ri, hi, rj, hj, margin):
+    """``(owner, best, tol)`` of the nearest-vertex contact of two rounded boxes (or
+    rectangles) i and j, given the least core distance [m] of a vertex of each to the
+    other core: the body whose vertex is nearer (0: i, 1: j; i owns a tie within ``tol``,
+    a vertex on a vertex; -1 if the pair is out of reach, the gap beyond ``margin``), the
+    least distance [m], and the round-off tolerance [m] of a tie."""
+    best = min(best_i, best_j)
+    if ri + rj - best <= -margin:
+        return -1, best, 0.0
+    tol = 1e-9 * (ri + rj + max(hi[0], hi[1], hi[2]) + max(hj[0], hj[1], hj[2]))
+    return (0 if best_i <= best + tol else 1), best, tol
+
+
 @inner_kernel(_nrt=False)
 def _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, ties, out):
     """The vertices of one box nearest the other core, as contact points: the box owning
@@ -717,11 +732,9 @@ def _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, ties, out):
         best_i = min(best_i, point_box_distance(xj, Rj, hj, v0, v1, v2)[0])
         v0, v1, v2 = _vertex(xj, Rj, hj, k)
         best_j = min(best_j, point_box_distance(xi, Ri, hi, v0, v1, v2)[0])
-    best = min(best_i, best_j)
-    if ri + rj - best <= -margin:
+    owner, best, tol = vertex_owner(best_i, best_j, ri, hi, rj, hj, margin)
+    if owner < 0:
         return 0
-    tol = 1e-9 * (ri + rj + max(hi[0], hi[1], hi[2]) + max(hj[0], hj[1], hj[2]))
-    owner = 0 if best_i <= best + tol else 1  # (i owns a tie: a vertex on a vertex)
     x, R, h = (xi, Ri, hi) if owner == 0 else (xj, Rj, hj)
     xo, Ro, ho = (xj, Rj, hj) if owner == 0 else (xi, Ri, hi)
     r_own = ri if owner == 0 else rj

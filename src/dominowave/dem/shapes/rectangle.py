@@ -28,6 +28,7 @@ from dominowave.dem.shapes.cuboid import (
     rows_from,
     sphere_point,
     unit_sign,
+    vertex_owner,
 )
 
 __all__ = ["PLANAR_MULTIPLICITY", "edges_separate", "rect_plane", "rect_rect", "rect_sphere"]
@@ -158,11 +159,9 @@ def _nearest_corners(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, out):
         best_i = min(best_i, point_box_distance(xj, Rj, hj, v0, xj[1], v2)[0])
         v0, v2 = _corner(xj, Rj, hj, k)
         best_j = min(best_j, point_box_distance(xi, Ri, hi, v0, xi[1], v2)[0])
-    best = min(best_i, best_j)
-    if ri + rj - best <= -margin:
+    owner, best, tol = vertex_owner(best_i, best_j, ri, hi, rj, hj, margin)
+    if owner < 0:
         return 0
-    tol = 1e-9 * (ri + rj + max(hi[0], hi[1], hi[2]) + max(hj[0], hj[1], hj[2]))
-    owner = 0 if best_i <= best + tol else 1  # (i owns a tie: a corner on a corner)
     x, R, h = (xi, Ri, hi) if owner == 0 else (xj, Rj, hj)
     xo, Ro, ho = (xj, Rj, hj) if owner == 0 else (xi, Ri, hi)
     r_own = ri if owner == 0 else rj
