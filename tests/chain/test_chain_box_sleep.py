@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from dominowave.chain import DominoChain, Push, analyse_events
+from dominowave.chain.frames import FIELDS
 from dominowave.chain.presets import standard_domino
 
 
@@ -65,6 +66,31 @@ def test_the_events_of_a_sleeping_chain_come_from_its_moving_frames_alone(asleep
     for name, value in stepper.result().events.table().items():
         np.testing.assert_array_equal(value, every.table()[name], err_msg=name)
         np.testing.assert_array_equal(np.signbit(value), np.signbit(every.table()[name]))
+
+
+def test_validate_the_aftermath_ends_at_rest_where_a_longer_one_repeats_its_last_frame(asleep):
+    """The tail after the last touch ends once every domino is held (asleep), before
+    ``tail_time``, at a recorded frame: run on from there to the end of the tail, no
+    body moves, no contact starts or ends, and every frame repeats the last one."""
+    stepper, _ = asleep
+    assert stepper.done and stepper.stop_reason == "touched"
+    assert stepper.time < stepper.tail_end - 0.1 * stepper.chain.tail_time
+    assert np.all(stepper.sim.bodies.held == 1)
+    last = stepper.frames.dense()
+    assert stepper.time - last["times"][-1] == pytest.approx(stepper.sim.dt)  # (its step)
+
+    rerun = DominoChain(stepper.chain.params).stepper(stepper.push)
+    rerun.set_state(stepper.get_state())
+    before = rerun.sim.get_state()
+    res = rerun.sim.run(until=stepper.tail_end, trajectory_every=stepper.every)
+    assert res.n_steps > 1000
+    after = rerun.sim.get_state()
+    for key in ("pos", "quat", "vel", "omega", "angmom", "held"):
+        np.testing.assert_array_equal(after[f"bodies.{key}"], before[f"bodies.{key}"], key)
+    assert res.events.time.size == 0
+    for key in FIELDS:
+        frames = getattr(res, key)
+        np.testing.assert_array_equal(frames, np.broadcast_to(last[key][-1], frames.shape))
 
 
 def test_clump_chains_do_not_sleep():

@@ -175,3 +175,18 @@ def test_every_held_body_of_a_mixed_scene_is_released_alike_in_pieces_and_resume
         for name in ("pos", "quat", "vel", "omega", "held"):
             np.testing.assert_array_equal(getattr(sim.bodies, name), getattr(whole.bodies, name))
         np.testing.assert_array_equal(sim.release_time, whole.release_time)
+
+
+def test_a_run_stops_at_rest_once_every_box_is_held_and_at_a_frame():
+    """``StopCondition(at_rest=True)``: with a box moving, the run goes on; with every box
+    held it stops at the next recorded frame (at once without frames), where nothing can
+    move again."""
+    sim = _row(planar=True)
+    res = sim.run(n_steps=200, stop=StopCondition(at_rest=True))
+    assert res.stop_reason == "n_steps"  # box 0 moves
+    sim = _row(planar=True)
+    sim.bodies.held[0] = 1
+    res = sim.run(n_steps=200, stop=StopCondition(at_rest=True))
+    assert (res.stop_reason, res.n_steps) == ("at_rest", 1)
+    res = sim.run(n_steps=200, stop=StopCondition(at_rest=True), trajectory_every=7)
+    assert (res.stop_reason, res.n_steps, res.times.size) == ("at_rest", 7, 1)

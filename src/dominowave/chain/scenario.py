@@ -283,10 +283,11 @@ class DominoChain:
     ``ChainRun.cut_short``),
     ``tail_time`` [s] run on after the wave reached the last domino, to record the
     aftermath (default ``5 sqrt(l/g)``; 0: none, for a run that wants the arrivals
-    only).  ``safety`` (instead of ``dt``): the step as
-    that fraction of the engine's critical estimate for the built scene
-    (``dem.Scene.build``, timestep.py), e.g. for a Hertz chain (``normal_law =
-    "hertz"``), whose collisions the linear theory's ``T_c`` does not describe.
+    only); it ends sooner once every domino is at rest (held: asleep or never
+    touched).  ``safety`` (instead of ``dt``): the step as that fraction of the
+    engine's critical estimate for the built scene (``dem.Scene.build``, timestep.py),
+    e.g. for a Hertz chain (``normal_law = "hertz"``), whose collisions the linear
+    theory's ``T_c`` does not describe.
 
     ``fidelity`` (a numerical setting too): a chain of given materials (a box chain given
     ``young``, e.g. the presets) runs with the softest contact spring whose estimated

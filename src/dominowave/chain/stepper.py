@@ -3,7 +3,9 @@
 ``ChainStepper(chain, push)`` owns the ``dem`` simulation of one run and advances it
 in two phases, as the paper's runs do: (1) until the wave touches the last domino, dies
 out (no new contact for ``chain.quiet_time``) or ``chain.max_time`` is reached; (2) if
-it touched the last domino, a tail of ``chain.tail_time`` for the aftermath.
+it touched the last domino, a tail of ``chain.tail_time`` for the aftermath, which ends
+sooner once every domino is at rest (held: asleep, or never touched), where nothing
+moves again (``dem.StopCondition.at_rest``).
 
 It satisfies the stepper protocol of :mod:`dominowave.sweep.longrun`:
 ``advance(n_steps) -> done``, ``time``, ``end_time``, ``steps``, ``toppled``,
@@ -111,11 +113,12 @@ class ChainStepper:
             res = sim.run(
                 n_steps=limit,
                 until=self.tail_end,
+                stop=dem.StopCondition(at_rest=True),
                 trajectory_every=self.every,
                 record_contact_forces=self.contact_forces,
             )
             self._keep(res)
-            self.done = res.stop_reason == "until"
+            self.done = res.stop_reason in ("until", "at_rest")
             return res.n_steps
         onset = float(sim.rec.last_onset[0])  # last body-body contact onset [s], -inf: none
         since = max(onset, 0.0)  # phase 1 starts at t = 0

@@ -104,6 +104,7 @@ DONE_TIME = 1
 STOP_NO_ONSET = 2
 STOP_TOUCHED = 3
 STOP_KINETIC = 4
+STOP_AT_REST = 5
 GROW_CONTACTS = 10
 GROW_EVENTS = 11
 GROW_TRAJECTORY = 12
@@ -113,11 +114,12 @@ GROW_BOX_CANDIDATES = 15
 ABORT_NAN = 20
 ABORT_RUNAWAY = 21
 
-# entries of run_loop's (4,) ``stop`` argument (see run_loop)
+# entries of run_loop's (5,) ``stop`` argument (see run_loop)
 STOP_ARG_QUIET = 0
 STOP_ARG_TOUCHED_BODY = 1
 STOP_ARG_KINETIC_BELOW = 2
 STOP_ARG_RUN_START = 3
+STOP_ARG_AT_REST = 4
 
 # entries of Recorder.clock
 CLOCK_TIME = 0  # time [s]
@@ -683,9 +685,10 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
         """Advance up to ``n_steps`` steps or until ``time >= t_end`` or a stop condition.
 
         ``stop`` = (no_onset_for [s] or inf, touched_body or -1, kinetic_below [J] or -1,
-        start time of the run [s]; entries STOP_ARG_*).  ``work``: (2, 3) scratch array
-        (rows WORK_*).  ``boxes``: the rounded-cuboid bodies and their contacts (boxes.py;
-        zero-length without).  Returns ``(code, steps_done)``; see the module constants.
+        start time of the run [s], 1 to stop at rest or 0; entries STOP_ARG_*).
+        ``work``: (2, 3) scratch array (rows WORK_*).  ``boxes``: the rounded-cuboid
+        bodies and their contacts (boxes.py; zero-length without).  Returns
+        ``(code, steps_done)``; see the module constants.
         Every sphere is at its place on its body when it returns (``spheres.pos``; the
         steps place only those of the Verlet list).
         ``rec.energy_now`` holds the energies of the last step done (time
@@ -800,6 +803,11 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
                 t, dt, max(rec.last_onset[0], stop[STOP_ARG_RUN_START]), stop[STOP_ARG_QUIET]
             ):
                 code = STOP_NO_ONSET
+            elif stop[STOP_ARG_AT_REST] > 0.0 and first_moving >= stop_moving:
+                # every body is held (untouched or asleep) and the walls stand still:
+                # nothing moves again.  Stopped at a frame, the record ends at rest.
+                if traj_due or rec.traj_every[0] == 0:
+                    code = STOP_AT_REST
             check_due = (step + 1) % settings.check_every == 0 or last or code >= 0
             if not (traj_due or energy_due or check_due or settings.track_energy):
                 # nothing reads the state between kick and drift: one pass over the bodies

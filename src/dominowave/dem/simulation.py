@@ -41,6 +41,7 @@ STOP_REASONS = {
     engine.STOP_NO_ONSET: "no_onset",
     engine.STOP_TOUCHED: "touched",
     engine.STOP_KINETIC: "kinetic",
+    engine.STOP_AT_REST: "at_rest",
 }
 
 STATE_FORMAT = 4
@@ -115,11 +116,15 @@ class StopCondition:
     touched_body : stop at the first body-body contact onset involving this body.
     kinetic_below : stop when the total kinetic energy is below this [J] (tested every
         ``check_every`` steps).
+    at_rest : stop when every body is held (boxes not yet touched, or asleep:
+        ``Scene.build``'s ``sleep_speed``), at a trajectory frame if frames are recorded.
+        Exact: nothing moves again, so a longer run would only repeat that frame.
     """
 
     no_onset_for: float | None = None
     touched_body: int | None = None
     kinetic_below: float | None = None
+    at_rest: bool = False
 
 
 @dataclass(frozen=True)
@@ -475,7 +480,7 @@ class Simulation:
     def _stop_array(self, stop: StopCondition) -> np.ndarray:
         """``stop`` as the time loop reads it (entries engine.STOP_ARG_*), the run starting
         now."""
-        stop_array = np.empty(4)
+        stop_array = np.empty(5)
         stop_array[engine.STOP_ARG_QUIET] = (
             np.inf if stop.no_onset_for is None else stop.no_onset_for
         )
@@ -486,6 +491,7 @@ class Simulation:
             -1.0 if stop.kinetic_below is None else stop.kinetic_below
         )
         stop_array[engine.STOP_ARG_RUN_START] = self.time
+        stop_array[engine.STOP_ARG_AT_REST] = float(stop.at_rest)
         return stop_array
 
     def _advance(self, n_steps, t_end, stop_array):
