@@ -111,13 +111,23 @@ def rotate_vectors(quat: np.ndarray, vectors: np.ndarray) -> np.ndarray:
     matrix product.
     """
     quat = np.asarray(quat, dtype=float)
-    body = np.einsum("nji,nj->ni", _quat_matrices(quat[0]), vectors)  # R(q_0)^T v, (N, 3)
+    return _turn(quat, _in_body(quat[0], vectors))
+
+
+def _in_body(quat: np.ndarray, vectors: np.ndarray) -> np.ndarray:
+    """``R(q)^T v``: world vectors (N, 3) in the frames of bodies at orientations (N, 4)."""
+    return np.einsum("nji,nj->ni", _quat_matrices(quat), vectors)
+
+
+def _turn(quat: np.ndarray, body: np.ndarray) -> np.ndarray:
+    """``R(q) u`` for body vectors ``u`` (..., 3) and unit quaternions (..., 4), broadcast
+    together: ``u + w t + q x t`` with ``t = 2 q x u`` (q the vector part)."""
     w, x, y, z = np.moveaxis(quat, -1, 0)
-    u0, u1, u2 = body[:, 0], body[:, 1], body[:, 2]
+    u0, u1, u2 = np.moveaxis(body, -1, 0)
     t0 = 2.0 * (y * u2 - z * u1)
     t1 = 2.0 * (z * u0 - x * u2)
     t2 = 2.0 * (x * u1 - y * u0)
-    out = np.empty((*w.shape, 3))
+    out = np.empty((*np.broadcast_shapes(w.shape, u0.shape), 3))
     out[..., 0] = u0 + w * t0 + (y * t2 - z * t1)
     out[..., 1] = u1 + w * t1 + (z * t0 - x * t2)
     out[..., 2] = u2 + w * t2 + (x * t1 - y * t0)
@@ -255,28 +265,39 @@ class _Motion:
     v_top: np.ndarray
 
 
-def _motion(track: Track, axis, base_offset, top_offset, floor_height) -> _Motion:
-    """The motion of one domino from its track (see :class:`_Motion`); ``axis``,
-    ``base_offset``, ``top_offset`` (3,) as in ``ChainRecord``, ``floor_height`` [m]."""
-    com = track.com
-    # the three vectors turned at once, as three bodies with the domino's orientation
-    quat = np.broadcast_to(track.quat[:, None], (track.quat.shape[0], 3, 4))
-    turned = rotate_vectors(quat, np.stack([axis, base_offset, top_offset]))
-    theta = _tilt(turned[:, 0])
+def _motions(tracks: tuple[Track, ...], axis, base_offset, top_offset, floor_height):
+    """The motion of every domino from its track (a :class:`_Motion` each), computed on the
+    tracks joined end to end; ``axis``, ``base_offset``, ``top_offset`` (N, 3) as in
+    ``ChainRecord``, ``floor_height`` (N,) [m]."""
+    sizes = np.array([track.frames.size for track in tracks])
+    owner = np.repeat(np.arange(sizes.size), sizes)  # (K,) the domino of each row
+    first = np.cumsum(sizes) - sizes  # (N,) each track's row of frame 0
+    com, quat, v, w = (
+        np.concatenate([getattr(track, k) for track in tracks])
+        for k in ("com", "quat", "velocity", "angular_velocity")
+    )
+    # the three vectors of each domino in its body frame at frame 0: (N, 3 vectors, 3)
+    vectors = np.stack([axis, base_offset, top_offset], axis=1)
+    body = _in_body(np.repeat(quat[first], 3, axis=0), vectors.reshape(-1, 3))
+    turned = _turn(quat[:, None], body.reshape(-1, 3, 3)[owner])  # (K, 3, 3)
     base = com + turned[:, 1]
     top_rel = turned[:, 2]
-    v, w = track.velocity, track.angular_velocity
     v_top = np.empty_like(top_rel)
     for a, b, c in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
         v_top[:, a] = v[:, a] + (w[:, b] * top_rel[:, c] - w[:, c] * top_rel[:, b])
-    return _Motion(
-        theta=theta,
-        slip=base[:, 0] - base[0, 0],
-        below_floor=(com + top_rel)[:, 2] < floor_height,
-        top_speed=np.linalg.norm(v_top, axis=-1),
-        base=base,
-        v_top=v_top,
+    columns = (
+        _tilt(turned[:, 0]),  # theta
+        base[:, 0] - base[first, 0][owner],  # slip
+        (com + top_rel)[:, 2] < np.asarray(floor_height)[owner],  # below_floor
+        np.linalg.norm(v_top, axis=-1),  # top_speed
+        base,
+        v_top,
     )
+    split = np.cumsum(sizes)[:-1]
+    return [
+        _Motion(*rows)
+        for rows in zip(*(np.split(column, split) for column in columns), strict=True)
+    ]
 
 
 def _first_time(times: np.ndarray, track: Track, mask: np.ndarray) -> float:
@@ -353,16 +374,9 @@ def analyse_events(
     tracks = record.domino_tracks()
     n = len(tracks)
     height = record.top_offset[:, 2] - record.base_offset[:, 2]
-    motion = [
-        _motion(
-            track,
-            record.axis[k],
-            record.base_offset[k],
-            record.top_offset[k],
-            floor_tolerance * height[k],
-        )
-        for k, track in enumerate(tracks)
-    ]
+    motion = _motions(
+        tracks, record.axis, record.base_offset, record.top_offset, floor_tolerance * height
+    )
     # the contacts of each domino with the next
     intervals = [contact_intervals(record, k, k + 1) for k in range(n - 1)]
 
