@@ -26,6 +26,9 @@ reported with its speed:
 
 Wall time of dominowave: the whole ``DominoChain(p).run(push)`` with warm kernels (one
 warm-up run first); of MuJoCo: its stepping loop (model build and settling excluded).
+The last column divides each run's wall time by that of MuJoCo's default run in the
+same round, the median over the rounds: a ratio that a slow drift of a shared machine
+moves less than the times themselves.
 
 Usage::
 
@@ -48,6 +51,7 @@ from dominowave.chain.presets import standard_domino
 from dominowave.chain.wave import speed_from
 
 GAP, FRICTION, N, FIT_FROM = 0.00938, 0.3, 40, 10
+MUJOCO_DEFAULT = "MuJoCo, default contacts, dt 1e-3 s"
 
 
 def dominowave_run(
@@ -107,19 +111,24 @@ def main() -> None:
         })  # fmt: skip
     for ratio in (float(r) for r in args.ratios.split(",") if r):
         configs[f"dominowave, k/k* = {ratio:g}"] = lambda r=ratio: dominowave_run(r)
-    configs["MuJoCo, default contacts, dt 1e-3 s"] = lambda: mujoco_run(1e-3, 0.02)
+    configs[MUJOCO_DEFAULT] = lambda: mujoco_run(1e-3, 0.02)
     configs["MuJoCo, 2 ms contacts, dt 2e-4 s"] = lambda: mujoco_run(2e-4, 0.002)
     dominowave_run(1e4)  # warm the kernels: compiling is not time to solution
     results = {name: [] for name in configs}
     for _ in range(args.repeat):
         for name, run in configs.items():
             results[name].append(run())
-    print(f"| code | speed [m/s] | wall [s], median of {args.repeat} |")
-    print("| --- | --- | --- |")
+    # each run against MuJoCo's default run of its own round: a drift of the machine
+    # between rounds slows both alike
+    reference = [w for _, w in results[MUJOCO_DEFAULT]]
+    print(f"| code | speed [m/s] | wall [s], median of {args.repeat} | over MuJoCo's, median |")
+    print("| --- | --- | --- | --- |")
     for name, runs in results.items():
         speeds = {round(v, 4) for v, _ in runs}
         wall = statistics.median(w for _, w in runs)
-        print(f"| {name} | {', '.join(f'{v:.4f}' for v in sorted(speeds))} | {wall:.3g} |")
+        ratio = statistics.median(w / r for (_, w), r in zip(runs, reference, strict=True))
+        print(f"| {name} | {', '.join(f'{v:.4f}' for v in sorted(speeds))} | {wall:.3g} |"
+              f" {ratio:.2f} |")  # fmt: skip
 
 
 if __name__ == "__main__":
