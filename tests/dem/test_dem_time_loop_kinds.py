@@ -30,6 +30,16 @@ PLANAR = {contact.compute_forces_planar, contact.contact_power_planar, engine._a
           integrate.kick_planar, integrate.drift_planar}  # fmt: skip
 BOX_GENERAL = {boxes.box_forces_general, box_sphere.box_sphere_forces_general}
 BOX_PLANAR = {boxes.box_forces_planar, box_sphere.box_sphere_forces_planar}
+# what only spheres need: their list, contacts and records, and the box-sphere contacts
+SPHERE_KERNELS = GENERAL - {engine._advance_general, integrate.kick_general,
+                            integrate.drift_general} | {
+    contact.compute_forces_planar, contact.contact_power_planar, contact.build_verlet_list,
+    engine._bookkeep, engine._record_peak_force, engine._record_contact_forces,
+    integrate.update_listed_sphere_positions, integrate.update_sphere_positions,
+    box_sphere.build_box_sphere_candidates, box_sphere.box_sphere_energies,
+    box_sphere.box_sphere_power, *BOX_GENERAL - {boxes.box_forces_general},
+    *BOX_PLANAR - {boxes.box_forces_planar}, cuboid.box_sphere, rectangle.rect_sphere,
+}  # fmt: skip
 # the geometry of the box pairs in 3D (shapes.cuboid) and in a plane (shapes.rectangle)
 GEOMETRY_GENERAL = {cuboid.box_box, cuboid.box_plane, cuboid.box_sphere, cuboid.faces_separate}
 GEOMETRY_PLANAR = {rectangle.rect_rect, rectangle.rect_plane, rectangle.rect_sphere,
@@ -89,6 +99,55 @@ def test_a_box_scene_compiles_the_geometry_of_its_own_kind_only(planar):
     assert own <= compiled and not compiled & other
     clumps = _compiled_with(time_loop(SceneKind(planar, False)))
     assert not clumps & (GEOMETRY_GENERAL | GEOMETRY_PLANAR)
+
+
+@pytest.mark.parametrize("planar", [True, False])
+def test_a_scene_of_boxes_alone_compiles_no_sphere_kernel(planar):
+    """The loop of a scene of boxes without spheres (every box chain) compiles none of the
+    sphere kernels, which the loop of boxes with spheres compiles (its kind's)."""
+    alone = _compiled_with(time_loop(SceneKind(planar, True, spheres=False)))
+    with_spheres = _compiled_with(time_loop(SceneKind(planar, True, spheres=True)))
+    own_boxes = boxes.box_forces_planar if planar else boxes.box_forces_general
+    assert own_boxes in alone and own_boxes in with_spheres
+    assert not alone & SPHERE_KERNELS
+    own_spheres = contact.compute_forces_planar if planar else contact.compute_forces
+    assert {own_spheres, contact.build_verlet_list, box_sphere.build_box_sphere_candidates} <= (
+        with_spheres & SPHERE_KERNELS
+    )
+
+
+@pytest.mark.parametrize("model", ["2d", "3d"])
+def test_validate_a_box_chain_runs_alike_with_the_sphere_kernels(model, monkeypatch):
+    """A box chain run with its own loop (no sphere kernels) and with the loop that holds
+    them ends in the same state to the bit, its records too."""
+    p = ChainParams(shape="box", model=model, n_dominoes=4, friction_dominoes=0.3)
+    push = Push(omega=1.2 * math.sqrt(p.g / p.height))
+    own_kind = Simulation.kind.fget
+    with_spheres = property(lambda sim: own_kind(sim)._replace(spheres=True))
+    states = []
+    for spheres in (False, True):
+        if spheres:
+            monkeypatch.setattr(Simulation, "kind", with_spheres)
+        sim, _ = DominoChain(p).build(push, record=True, track_energy=True)
+        assert sim.kind.spheres == spheres
+        res = sim.run(
+            n_steps=3000, trajectory_every=97, energy_every=89, record_contact_forces=True
+        )
+        states.append((sim.get_state(), res))
+    (mine, mine_res), (every, every_res) = states
+    # (the box-sphere list: never built without spheres, built empty with them)
+    assert mine.pop("boxes.n_sphere_cand")[0] < 0 and every.pop("boxes.n_sphere_cand")[0] == 0
+    assert mine.keys() == every.keys()
+    for key in mine:
+        np.testing.assert_array_equal(mine[key], every[key], err_msg=key)
+    for key in ("positions", "quaternions", "energy_times"):
+        np.testing.assert_array_equal(getattr(mine_res, key), getattr(every_res, key), key)
+    for key, value in mine_res.energy.items():
+        np.testing.assert_array_equal(value, every_res.energy[key], err_msg=key)
+    for key in ("start", "first", "second", "point", "force"):
+        np.testing.assert_array_equal(
+            getattr(mine_res.contact_frames, key), getattr(every_res.contact_frames, key), key
+        )
 
 
 @pytest.mark.parametrize(

@@ -73,8 +73,9 @@ __all__ = [
 def scene_kind(params: ChainParams) -> dem.SceneKind:
     """What the DEM scene of a chain ``params`` holds, which decides the kernels its time
     loop compiles and runs (``dem.engine.time_loop``): the planar kernels for the 2D
-    model, box contacts for boxes."""
-    return dem.SceneKind(planar=params.model == "2d", boxes=params.shape == "box")
+    model, box contacts for boxes, sphere contacts for clumps."""
+    boxes = params.shape == "box"
+    return dem.SceneKind(planar=params.model == "2d", boxes=boxes, spheres=not boxes)
 
 
 def member_push_factor(seed: int, member: int, jitter: float) -> float:

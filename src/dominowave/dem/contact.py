@@ -45,6 +45,7 @@ __all__ = [
     "idle_pair",
     "lever_arm",
     "log_change",
+    "mark_build",
     "needs_rebuild",
     "needs_rebuild_after_drift",
     "point_velocity",
@@ -393,12 +394,19 @@ def build_verlet_list(spheres, walls, bodies, mats, contacts, skin):
     src = np.empty(n_new, np.int64)
     _merge_history(spheres, walls, bodies, mats, contacts, keys, first, src, np.empty(4))
     _list_spheres(spheres, contacts, np.zeros(spheres.pos.shape[0], np.uint8))
+    mark_build(bodies)
+    return n_new
+
+
+@inner_kernel(_nrt=False)
+def mark_build(bodies):
+    """Keep every body's position and orientation at this list build: the reference of
+    the displacement test (:func:`needs_rebuild`)."""
     for b in range(bodies.mass.shape[0]):
         for d in range(3):
             bodies.pos_at_build[b, d] = bodies.pos[b, d]
         for d in range(4):
             bodies.quat_at_build[b, d] = bodies.quat[b, d]
-    return n_new
 
 
 @inner_kernel(_nrt=False)

@@ -58,6 +58,7 @@ from dominowave.dem.contact import (
     compute_forces_planar,
     contact_power,
     contact_power_planar,
+    mark_build,
     moved_beyond,
     needs_rebuild,
     needs_rebuild_after_drift,
@@ -644,14 +645,14 @@ def _advance_bodies(bodies, settings, first, stop):
     return _advance_general(bodies, settings, first, stop)
 
 
-SceneKind = namedtuple("SceneKind", ["planar", "boxes"])
+SceneKind = namedtuple("SceneKind", ["planar", "boxes", "spheres"], defaults=(True,))
 """What a scene holds, which decides the kernels its time loop calls (bools): ``planar``
 (the planar kernels, contact._sphere_driver, _body_pass, boxes._box_driver and
-box_sphere._box_sphere_driver, or the general ones) and
-``boxes`` (rounded-cuboid
-contacts: boxes.py, box_sphere.py).  The sphere kernels (contact.py) are in every loop:
-a scene of boxes alone runs them over an empty Verlet list, and leaving them out of its
-loop would save seconds of its minutes of compiling, for one more loop to compile."""
+box_sphere._box_sphere_driver, or the general ones), ``boxes`` (rounded-cuboid
+contacts: boxes.py, box_sphere.py) and ``spheres`` (sphere contacts: contact.py, and
+with boxes box_sphere.py; default True).  A scene of boxes alone (every box chain)
+compiles no sphere kernel: a quarter of its compiling (benchmarks/README.md, "First
+run")."""
 
 
 @functools.cache
@@ -672,8 +673,8 @@ def time_loop(kind: SceneKind):
     return _compile_run_loop(*kind)
 
 
-def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled loop)
-    """:func:`run_loop` for the kind ``(PLANAR, BOXES)`` (:func:`time_loop`).
+def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the compiled loop)
+    """:func:`run_loop` for the kind ``(PLANAR, BOXES, SPHERES)`` (:func:`time_loop`).
 
     The flags are tested by name in every ``if`` (numba prunes a branch whose condition
     is a constant; it does not follow a constant through a variable or a ``not``)."""
@@ -742,26 +743,36 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
                 break
             build_due = rebuild_due
             if BOXES:
-                build_due = build_due or min(boxes.n_cand[0], boxes.n_sphere_cand[0]) < 0
+                if SPHERES:
+                    build_due = build_due or min(boxes.n_cand[0], boxes.n_sphere_cand[0]) < 0
+                else:
+                    build_due = build_due or boxes.n_cand[0] < 0
             if build_due:
                 if not _finite(bodies):
                     outcome, steps = ABORT_NAN, done
                     break
-                update_sphere_positions(bodies, spheres, PLANAR)  # the search sees every sphere
-                if build_verlet_list(spheres, walls, bodies, mats, contacts, skin) < 0:
-                    outcome, steps = GROW_CONTACTS, done
-                    break
+                if SPHERES:
+                    update_sphere_positions(bodies, spheres, PLANAR)  # (the search sees all)
+                    if build_verlet_list(spheres, walls, bodies, mats, contacts, skin) < 0:
+                        outcome, steps = GROW_CONTACTS, done
+                        break
+                else:
+                    mark_build(bodies)  # (what build_verlet_list does without spheres)
                 rec.n_rebuilds[0] += 1
                 # (the box list with the spheres': both rely on the same displacement test)
                 if BOXES:
                     if build_box_candidates(bodies, boxes, walls, skin) < 0:
                         outcome, steps = GROW_BOX_CANDIDATES, done
                         break
-                    if build_box_sphere_candidates(bodies, spheres, boxes, walls, skin) < 0:
-                        outcome, steps = GROW_BOX_CANDIDATES, done
-                        break
+                    if SPHERES:
+                        if build_box_sphere_candidates(bodies, spheres, boxes, walls, skin) < 0:
+                            outcome, steps = GROW_BOX_CANDIDATES, done
+                            break
             first = step == 0
-            if contacts.n[0] == 0:  # (no sphere pairs listed, as in a scene of boxes only)
+            if not SPHERES:  # (a scene of boxes alone)
+                _zero_forces(bodies)
+                n_changes = 0
+            elif contacts.n[0] == 0:  # (no sphere pairs listed)
                 _zero_forces(bodies)  # (compute_forces' first act: a call costs more)
                 n_changes = 0
             elif PLANAR:
@@ -778,21 +789,22 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
                     box_forces_planar(bodies, boxes, walls, mats, dt, ledger, first)
                 else:
                     box_forces_general(bodies, boxes, walls, mats, dt, ledger, first)
-                if spheres.body.shape[0] > 0:  # (the call alone costs ~0.5 us: _zero_forces)
+                if SPHERES:
                     if PLANAR:
                         box_sphere_forces_planar(bodies, spheres, boxes, mats, dt, ledger, first)
                     else:
                         box_sphere_forces_general(bodies, spheres, boxes, mats, dt, ledger, first)
                 if boxes.n_changes[0] > 0:
                     released = _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t)
-            if n_changes > 0:
+            if SPHERES and n_changes > 0:
                 released |= _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, first)
             if released:  # (the held flags changed)
                 first_moving, stop_moving = _moving_range(bodies)
                 if BOXES:
                     held_flags_changed(bodies, boxes)
             if settings.record_peak_force:
-                _record_peak_force(spheres, contacts, rec)
+                if SPHERES:
+                    _record_peak_force(spheres, contacts, rec)
                 if BOXES:
                     box_peak_force(boxes, spheres, rec.peak_force)
             # stop conditions, decided at t_n
@@ -826,13 +838,17 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
                         bodies, g, dt, settings.damping, damp_gravity, first_moving, stop_moving
                     )
                 if settings.track_energy:
-                    if PLANAR:
+                    if not SPHERES:  # (what contact_power writes without sphere pairs)
+                        p_contacts[POWER_VISCOUS] = 0.0
+                        p_contacts[POWER_FRICTION] = 0.0
+                    elif PLANAR:
                         contact_power_planar(bodies, spheres, walls, contacts, p_contacts)
                     else:
                         contact_power(bodies, spheres, walls, contacts, p_contacts)
                     if BOXES:
                         box_power(bodies, boxes, p_contacts)
-                        box_sphere_power(bodies, spheres, boxes, p_contacts)
+                        if SPHERES:
+                            box_sphere_power(bodies, spheres, boxes, p_contacts)
                     # trapezoidal rule for the work of the non-conservative forces since
                     # t_{n-1}
                     if step > 0:
@@ -846,7 +862,10 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
                     rec.power[LAST_POWER_DAMPING] = p_damping
                     rec.power[LAST_POWER_FRICTION] = p_contacts[POWER_FRICTION]
                 if forces_due:  # (before _record_frame: the frame index is traj_n)
-                    _record_contact_forces(spheres, walls, contacts, rec)
+                    if SPHERES:
+                        _record_contact_forces(spheres, walls, contacts, rec)
+                    else:  # (the frame's rows start with its box rows)
+                        rec.cf_start[rec.traj_n[0]] = rec.cf_n[0]
                     if BOXES:
                         _record_box_contact_forces(spheres, rec, boxes)
                 if traj_due:
@@ -857,14 +876,16 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
                     energies(bodies, contacts, settings.gravity, ledger, rec.energy_val[k])
                     if BOXES:
                         box_energies(boxes, rec.energy_val[k])
-                        box_sphere_energies(boxes, rec.energy_val[k])
+                        if SPHERES:
+                            box_sphere_energies(boxes, rec.energy_val[k])
                     rec.energy_n[0] = k + 1
                 # sanity checks at t_n, before the drift
                 if check_due:
                     energies(bodies, contacts, settings.gravity, ledger, rec.energy_now)
                     if BOXES:
                         box_energies(boxes, rec.energy_now)
-                        box_sphere_energies(boxes, rec.energy_now)
+                        if SPHERES:
+                            box_sphere_energies(boxes, rec.energy_now)
                     if not _finite(bodies):
                         outcome, steps = ABORT_NAN, done
                         break
@@ -901,7 +922,8 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
                 rebuild_due = needs_rebuild_after_drift(
                     bodies, skin, contacts.n[0], first_moving, stop_moving
                 )
-            update_listed_sphere_positions(bodies, spheres, PLANAR)
+            if SPHERES:
+                update_listed_sphere_positions(bodies, spheres, PLANAR)
             rec.clock[CLOCK_TIME] = t + dt
             rec.step[0] = step + 1
             if code >= 0:
@@ -910,7 +932,7 @@ def _compile_run_loop(PLANAR, BOXES):  # (capitals: constants of the compiled lo
         # the loop moves only the spheres of the Verlet list: place all for Python (not
         # before the first step: the spheres still sit at the scene's centres, which the
         # first step uses, and which differ from the placed ones by round-off)
-        if rec.step[0] > 0:
+        if SPHERES and rec.step[0] > 0:
             update_sphere_positions(bodies, spheres, PLANAR)
         return outcome, steps
 

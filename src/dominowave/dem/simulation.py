@@ -525,8 +525,12 @@ class Simulation:
     def kind(self) -> SceneKind:
         """What the scene holds, which decides the kernels of its time loop
         (engine.time_loop): planar kernels (as decided at the start of the last run), box
-        contacts."""
-        return SceneKind(planar=self.settings.planar, boxes=self.boxes.body.size > 0)
+        contacts, sphere contacts."""
+        return SceneKind(
+            planar=self.settings.planar,
+            boxes=self.boxes.body.size > 0,
+            spheres=self.spheres.body.size > 0,
+        )
 
     @property
     def planar(self) -> bool:
