@@ -4,7 +4,9 @@ Both chains of ``box_chain_speed.py`` (the paper's clump chain and the same chai
 rounded cuboids, same dt, engines only) are run to step --at; from that state a compiled
 copy of ``engine.run_loop``'s step -- the same kernels in the same order, for a run
 without recorders, energy ledger or stop conditions, as the chain benchmarks run --
-advances --steps steps and reads the processor's cycle counter between its phases:
+advances --steps steps and reads the processor's cycle counter between its phases (the
+copy calls the sphere kernels in the box chain too, where they find nothing to do; a box
+chain's own loop leaves them out, ``engine.SceneKind``):
 
 * head: the loop's tests at the start of a step (time, buffer room, recorders due);
 * list: the Verlet-list builds (the spheres': placement of every sphere and the

@@ -71,7 +71,8 @@ def test_the_events_of_a_sleeping_chain_come_from_its_moving_frames_alone(asleep
 def test_validate_the_aftermath_ends_at_rest_where_a_longer_one_repeats_its_last_frame(asleep):
     """The tail after the last touch ends once every domino is held (asleep), before
     ``tail_time``, at a recorded frame: run on from there to the end of the tail, no
-    body moves, no contact starts or ends, and every frame repeats the last one."""
+    body moves, no contact starts or ends, and every frame repeats the last one; the
+    record ends where that run ends."""
     stepper, _ = asleep
     assert stepper.done and stepper.stop_reason == "touched"
     assert stepper.time < stepper.tail_end - 0.1 * stepper.chain.tail_time
@@ -88,6 +89,7 @@ def test_validate_the_aftermath_ends_at_rest_where_a_longer_one_repeats_its_last
     for key in ("pos", "quat", "vel", "omega", "angmom", "held"):
         np.testing.assert_array_equal(after[f"bodies.{key}"], before[f"bodies.{key}"], key)
     assert res.events.time.size == 0
+    assert stepper.record(dense=False).end_time == rerun.sim.time  # (where the tail ends)
     for key in FIELDS:
         frames = getattr(res, key)
         np.testing.assert_array_equal(frames, np.broadcast_to(last[key][-1], frames.shape))

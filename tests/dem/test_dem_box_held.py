@@ -179,14 +179,23 @@ def test_every_held_body_of_a_mixed_scene_is_released_alike_in_pieces_and_resume
 
 def test_a_run_stops_at_rest_once_every_box_is_held_and_at_a_frame():
     """``StopCondition(at_rest=True)``: with a box moving, the run goes on; with every box
-    held it stops at the next recorded frame (at once without frames), where nothing can
-    move again."""
-    sim = _row(planar=True)
-    res = sim.run(n_steps=200, stop=StopCondition(at_rest=True))
+    held it stops at the next recorded frame (at once without frames), and nothing has
+    moved.  Alone, without ``n_steps`` or ``until``, it is refused: a scene need never
+    come to rest."""
+    res = _row(planar=True).run(n_steps=200, stop=StopCondition(at_rest=True))
     assert res.stop_reason == "n_steps"  # box 0 moves
-    sim = _row(planar=True)
-    sim.bodies.held[0] = 1
+    scene = Scene(gravity=(0.0, 0.0, -G))
+    m = scene.add_material(Material(density=RHO, kn=2e4, friction=0.5))
+    scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), m)
+    for x in (0.0, 0.03):
+        scene.add_box((x, 0.0, HALF[2]), HALF, ROUND, m, held=True)
+    sim = scene.build(safety=0.05)
+    start = sim.positions()
     res = sim.run(n_steps=200, stop=StopCondition(at_rest=True))
     assert (res.stop_reason, res.n_steps) == ("at_rest", 1)
     res = sim.run(n_steps=200, stop=StopCondition(at_rest=True), trajectory_every=7)
-    assert (res.stop_reason, res.n_steps, res.times.size) == ("at_rest", 7, 1)
+    assert (res.stop_reason, res.n_steps, res.times.size) == ("at_rest", 7, 1)  # (step 7)
+    np.testing.assert_array_equal(sim.positions(), start)
+    assert not sim.bodies.vel.any() and not sim.bodies.omega.any()
+    with pytest.raises(ValueError, match="needs n_steps or until"):
+        sim.run(stop=StopCondition(at_rest=True))

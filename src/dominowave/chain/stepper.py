@@ -5,7 +5,9 @@ in two phases, as the paper's runs do: (1) until the wave touches the last domin
 out (no new contact for ``chain.quiet_time``) or ``chain.max_time`` is reached; (2) if
 it touched the last domino, a tail of ``chain.tail_time`` for the aftermath, which ends
 sooner once every domino is at rest (held: asleep, or never touched), where nothing
-moves again (``dem.StopCondition.at_rest``).
+moves again (``dem.StopCondition.at_rest``).  The record of such a run ends where the
+whole tail would have ended (a contact still open then ends there, as in the longer
+run), with the frames and events of the longer run: it would only repeat the last frame.
 
 It satisfies the stepper protocol of :mod:`dominowave.sweep.longrun`:
 ``advance(n_steps) -> done``, ``time``, ``end_time``, ``steps``, ``toppled``,
@@ -74,6 +76,7 @@ class ChainStepper:
         self.done = False
         self.stop_reason = ""
         self.tail_end = math.nan
+        self.record_end = math.nan  # [s] where the record ends if not now (stopped at rest)
         self.wall_time = 0.0
         self.reached = 0
         self.frames = SparseFrames(chain.initial_frame(self.sim, push))
@@ -119,6 +122,8 @@ class ChainStepper:
             )
             self._keep(res)
             self.done = res.stop_reason in ("until", "at_rest")
+            if res.stop_reason == "at_rest":
+                self.record_end = _clock_at(sim.time, sim.dt, self.tail_end)
             return res.n_steps
         onset = float(sim.rec.last_onset[0])  # last body-body contact onset [s], -inf: none
         since = max(onset, 0.0)  # phase 1 starts at t = 0
@@ -172,6 +177,7 @@ class ChainStepper:
         state["done"] = np.array(self.done)
         state["stop_reason"] = np.array(_REASONS.index(self.stop_reason), np.int64)
         state["tail_end"] = np.array(self.tail_end)
+        state["record_end"] = np.array(self.record_end)
         state["wall_time"] = np.array(self.wall_time)
         return state
 
@@ -199,6 +205,8 @@ class ChainStepper:
         self.done = bool(state["done"])
         self.stop_reason = _REASONS[int(state["stop_reason"])]
         self.tail_end = float(state["tail_end"])
+        # (a state saved before runs stopped at rest comes from a run that did not)
+        self.record_end = float(state.get("record_end", math.nan))
         self.wall_time = float(state["wall_time"])
         self.reached = _highest_hit(self.events["body_j"][0], self.events["kind"][0])
 
@@ -215,10 +223,11 @@ class ChainStepper:
         fit (:mod:`dominowave.chain.frames`)."""
         self._compact()
         events = {k: v[0] for k, v in self.events.items()}
+        end = self.time if math.isnan(self.record_end) else self.record_end
         if dense:
-            return self.chain.record(self.frames.dense(), events, end_time=self.time)
+            return self.chain.record(self.frames.dense(), events, end_time=end)
         frames = {"times": self.frames.times}
-        return self.chain.record(frames, events, self.time, tracks=self.frames.tracks())
+        return self.chain.record(frames, events, end, tracks=self.frames.tracks())
 
     def contact_frames(self) -> dem.ContactFrames | None:
         """The recorded contact forces of every frame of :meth:`record` (None if not
@@ -243,6 +252,14 @@ class ChainStepper:
             stop_reason=self.stop_reason or "running",
             keep_record=keep_record,
         )
+
+
+def _clock_at(t: float, dt: float, t_end: float) -> float:
+    """The time [s] at which the engine's clock, now at ``t``, stops a run ``until=t_end``:
+    the time loop's own arithmetic (one ``+ dt`` per step until ``t >= t_end - dt/2``)."""
+    while t < t_end - 0.5 * dt:
+        t = t + dt
+    return t
 
 
 def _empty_contacts(n_frames: int) -> dict[str, list[np.ndarray]]:

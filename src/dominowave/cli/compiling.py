@@ -31,7 +31,7 @@ FIRST_RUN: dict[str, str] = {
     "rods": "about 15 s",
 }
 """How long compiling takes on a 2-core machine with an empty cache, by kernel
-(benchmarks/README.md, "First run": 40-45 s for the main job, 95-100 s for the box
+(benchmarks/README.md, "First run": 40-50 s for the main job, 95-100 s for the box
 chains, 13 s for the rods): the DEM time loop of a scene of clumps or of boxes (each
 compiles only its own kernels, dem.engine.time_loop), the rod model's."""
 HEARTBEAT_S = 30.0

@@ -651,8 +651,8 @@ SceneKind = namedtuple("SceneKind", ["planar", "boxes", "spheres"], defaults=(Tr
 box_sphere._box_sphere_driver, or the general ones), ``boxes`` (rounded-cuboid
 contacts: boxes.py, box_sphere.py) and ``spheres`` (sphere contacts: contact.py, and
 with boxes box_sphere.py; default True).  A scene of boxes alone (every box chain)
-compiles no sphere kernel: a quarter of its compiling (benchmarks/README.md, "First
-run")."""
+compiles no sphere kernel: a fifth to a quarter of its compiling (benchmarks/README.md,
+"First run")."""
 
 
 @functools.cache
@@ -769,20 +769,20 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
                             outcome, steps = GROW_BOX_CANDIDATES, done
                             break
             first = step == 0
-            if not SPHERES:  # (a scene of boxes alone)
-                _zero_forces(bodies)
-                n_changes = 0
-            elif contacts.n[0] == 0:  # (no sphere pairs listed)
+            if SPHERES and contacts.n[0] > 0:
+                if PLANAR:
+                    n_changes = compute_forces_planar(
+                        bodies, spheres, walls, contacts, dt, ledger, changes, first,
+                        shear_kinematics,
+                    )  # fmt: skip
+                else:
+                    n_changes = compute_forces(
+                        bodies, spheres, walls, contacts, dt, ledger, changes, first,
+                        shear_kinematics,
+                    )  # fmt: skip
+            else:  # (no sphere pairs listed, or no spheres at all)
                 _zero_forces(bodies)  # (compute_forces' first act: a call costs more)
                 n_changes = 0
-            elif PLANAR:
-                n_changes = compute_forces_planar(
-                    bodies, spheres, walls, contacts, dt, ledger, changes, first, shear_kinematics
-                )
-            else:
-                n_changes = compute_forces(
-                    bodies, spheres, walls, contacts, dt, ledger, changes, first, shear_kinematics
-                )
             released = False
             if BOXES:
                 if PLANAR:
@@ -838,13 +838,14 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
                         bodies, g, dt, settings.damping, damp_gravity, first_moving, stop_moving
                     )
                 if settings.track_energy:
-                    if not SPHERES:  # (what contact_power writes without sphere pairs)
+                    if SPHERES:
+                        if PLANAR:
+                            contact_power_planar(bodies, spheres, walls, contacts, p_contacts)
+                        else:
+                            contact_power(bodies, spheres, walls, contacts, p_contacts)
+                    else:  # (what contact_power writes without sphere pairs)
                         p_contacts[POWER_VISCOUS] = 0.0
                         p_contacts[POWER_FRICTION] = 0.0
-                    elif PLANAR:
-                        contact_power_planar(bodies, spheres, walls, contacts, p_contacts)
-                    else:
-                        contact_power(bodies, spheres, walls, contacts, p_contacts)
                     if BOXES:
                         box_power(bodies, boxes, p_contacts)
                         if SPHERES:

@@ -380,14 +380,26 @@ class Simulation:
         afterwards the contact state of the last step is used.
         """
         contacts, boxes = self.contacts, self.boxes
+        spheres = self.kind.spheres
         if self.rec.step[0] == 0:
-            while (
-                build_verlet_list(
-                    self.spheres, self.walls, self.bodies, self.mats, contacts, self.settings.skin
-                )
-                < 0
-            ):
-                contacts = _grown_contacts(contacts)
+            if spheres:
+                while (
+                    build_verlet_list(
+                        self.spheres,
+                        self.walls,
+                        self.bodies,
+                        self.mats,
+                        contacts,
+                        self.settings.skin,
+                    )
+                    < 0
+                ):
+                    contacts = _grown_contacts(contacts)
+            else:  # (what the list builds do without spheres; the loop of boxes alone
+                # compiles neither, engine.SceneKind)
+                contacts.n[0] = boxes.n_sphere_cand[0] = 0
+                self.bodies.pos_at_build[:] = self.bodies.pos
+                self.bodies.quat_at_build[:] = self.bodies.quat
             self.contacts = contacts
             self.rec = self.rec._replace(changes=np.zeros((contacts.i.shape[0], 2), np.int64))
             if boxes.body.size:
@@ -403,7 +415,8 @@ class Simulation:
         energies(self.bodies, contacts, self.settings.gravity, self.rec.ledger, self.rec.energy_now)
         if boxes.body.size:
             box_energies(boxes, self.rec.energy_now)
-            box_sphere_energies(boxes, self.rec.energy_now)
+            if spheres:
+                box_sphere_energies(boxes, self.rec.energy_now)
 
     def _first_step(self) -> Simulation:
         """A copy of this simulation, at its first step, after that step: its sphere
@@ -446,6 +459,11 @@ class Simulation:
         stop = stop or StopCondition()
         if n_steps is None and until is None and stop == StopCondition():
             raise ValueError("run needs n_steps, until or a stop condition")
+        if n_steps is None and until is None and stop == StopCondition(at_rest=True):
+            raise ValueError(
+                "run with only stop=StopCondition(at_rest=True) needs n_steps or until: a"
+                " scene need never come to rest"
+            )
         if n_steps is not None:
             check_in_range("n_steps", n_steps, 0, math.inf, lo_inclusive=True)
         if until is not None:
