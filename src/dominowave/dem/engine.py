@@ -651,8 +651,8 @@ SceneKind = namedtuple("SceneKind", ["planar", "boxes", "spheres"], defaults=(Tr
 box_sphere._box_sphere_driver, or the general ones), ``boxes`` (rounded-cuboid
 contacts: boxes.py, box_sphere.py) and ``spheres`` (sphere contacts: contact.py, and
 with boxes box_sphere.py; default True).  A scene of boxes alone (every box chain)
-compiles no sphere kernel: a fifth to a quarter of its compiling (benchmarks/README.md,
-"First run")."""
+compiles no sphere kernel: its first run is a tenth to a quarter shorter
+(benchmarks/README.md, "First run")."""
 
 
 @functools.cache
