@@ -10,18 +10,28 @@ on Ctrl-C, on ``kill -INT`` and on ``kill`` (SIGTERM, what a batch system or
 package -- final checkpoint, cancelled sweep points -- runs for both). It also
 re-arms SIGINT when the command was started with SIGINT ignored, as a shell does
 for a background job (``cmd &``), where ``kill -INT`` would otherwise do nothing.
+
+A signal can arrive while Python runs code whose exceptions it must drop: a
+weakref callback (the import system's module locks use them), a finalizer. The
+:class:`Interrupted` raised there would only be printed ("Exception ignored in
+...") and the command would run on to its end and exit 0. :func:`install` therefore
+also hooks :data:`sys.unraisablehook`: such an exception is not printed, and the
+signal is sent again a moment later, once that code has returned.
 """
 
 from __future__ import annotations
 
 import contextlib
 import signal
+import sys
 import threading
 from collections.abc import Iterator
 
 __all__ = ["Interrupted", "defer", "exit_code", "ignore_sigint", "install"]
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+RESEND_S = 0.01
+"""Delay [s] before a signal that Python had to drop is sent again."""
 
 
 class Interrupted(KeyboardInterrupt):
@@ -40,11 +50,39 @@ def _raise(signum, frame):
     raise Interrupted(signum)
 
 
+def _deliver_again(unraisable) -> None:
+    """``sys.unraisablehook``: an :class:`Interrupted` that Python had to drop is sent
+    again as its signal to the main thread; anything else goes to the previous hook.
+
+    Sent from a timer thread a little later: a signal sent from here would be
+    handled here, inside the same callback, and dropped again. Should it land in
+    such code once more, it comes back here and is sent once more.
+    """
+    if isinstance(unraisable.exc_value, Interrupted):
+        resend = threading.Timer(
+            RESEND_S,
+            signal.pthread_kill,
+            (threading.main_thread().ident, unraisable.exc_value.signum),
+        )
+        resend.daemon = True
+        resend.start()
+    else:
+        _previous_unraisablehook(unraisable)
+
+
+_previous_unraisablehook = sys.unraisablehook
+
+
 def install() -> None:
-    """Make SIGINT and SIGTERM raise :class:`Interrupted` (main thread only)."""
+    """Make SIGINT and SIGTERM raise :class:`Interrupted` (main thread only), also
+    when the signal arrives inside a weakref callback or a finalizer."""
+    global _previous_unraisablehook
     if threading.current_thread() is threading.main_thread():
         for signum in STOP_SIGNALS:
             signal.signal(signum, _raise)
+        if sys.unraisablehook is not _deliver_again:
+            _previous_unraisablehook = sys.unraisablehook
+            sys.unraisablehook = _deliver_again
 
 
 def exit_code(exc: KeyboardInterrupt) -> int:

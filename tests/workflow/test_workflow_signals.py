@@ -111,3 +111,45 @@ def test_an_interrupted_fig6_writes_no_summary_and_resumes(tmp_path):
     assert "interrupted: no summary or figure written" in " ".join(stdout.split())
     assert not (out / "summary.csv").exists()
     assert any(not p.name.startswith(".") for p in points.iterdir())
+
+
+DROPPED_SIGNAL = """
+import signal, time, weakref
+from dominowave import signals
+
+signals.install()
+
+
+class Thing:
+    pass
+
+
+def callback(ref):  # Python must drop what a weakref callback raises
+    signal.raise_signal(signal.SIGINT)
+    for _ in range(1000):  # the handler runs in here, and its Interrupted is dropped
+        pass
+
+
+thing = Thing()
+ref = weakref.ref(thing, callback)
+try:
+    del thing
+    time.sleep(30)
+    print("ran on")
+except signals.Interrupted as exc:
+    print("stopped by", exc)
+"""
+
+
+def test_a_signal_that_lands_in_a_weakref_callback_still_stops_the_command():
+    """A signal handled where Python drops exceptions (a weakref callback, as in the
+    import system's module locks, or a finalizer) must not be lost: the command
+    would run on to its end and exit 0."""
+    started = time.monotonic()
+    run = subprocess.run(
+        [sys.executable, "-c", DROPPED_SIGNAL], capture_output=True, text=True, timeout=60
+    )
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == "stopped by SIGINT"
+    assert "Exception ignored" not in run.stderr
+    assert time.monotonic() - started < 20
