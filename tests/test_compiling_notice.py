@@ -9,6 +9,7 @@ import types
 import pytest
 from typer.testing import CliRunner
 
+from dominowave import kernel_cache
 from dominowave.cli import app, compiling
 from dominowave.dem import SceneKind
 
@@ -21,12 +22,12 @@ def test_kernels_cached_reads_numbas_own_index(tmp_path, monkeypatch):
     )
     monkeypatch.syspath_prepend(str(tmp_path))
     module = importlib.import_module("fresh_kernel")
-    assert not compiling.kernels_cached(module.twice)
+    assert not kernel_cache.kernels_cached(module.twice)
     assert module.twice(3) == 6
-    assert compiling.kernels_cached(module.twice)  # compiled in this process
+    assert kernel_cache.kernels_cached(module.twice)  # compiled in this process
     del sys.modules["fresh_kernel"]
     again = importlib.import_module("fresh_kernel")
-    assert not again.twice.signatures and compiling.kernels_cached(again.twice)
+    assert not again.twice.signatures and kernel_cache.kernels_cached(again.twice)
 
 
 def test_kernels_cached_tells_the_kinds_of_one_compiled_loop_apart(tmp_path, monkeypatch):
@@ -42,8 +43,8 @@ def test_kernels_cached_tells_the_kinds_of_one_compiled_loop_apart(tmp_path, mon
     assert module.loop(True)(2) == 4
     del sys.modules["kinds_kernel"]
     again = importlib.import_module("kinds_kernel")
-    assert compiling.kernels_cached(again.loop(True))
-    assert not compiling.kernels_cached(again.loop(False))
+    assert kernel_cache.kernels_cached(again.loop(True))
+    assert not kernel_cache.kernels_cached(again.loop(False))
 
 
 def test_chain_says_it_is_compiling_when_the_cache_is_missing(monkeypatch):

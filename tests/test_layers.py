@@ -15,7 +15,7 @@ import pytest
 
 SRC = Path(__file__).parents[1] / "src"
 INSTRUMENTS = ("theory", "rods", "dem")
-SHARED = ("dominowave.checks", "dominowave.units")
+SHARED = ("dominowave.checks", "dominowave.units", "dominowave.kernel_cache")
 
 
 def _modules() -> dict[str, Path]:

@@ -14,7 +14,7 @@ cli/compiling.py).
 
 What a kernel can reach: the kernels live in the instruments ``dem/`` and ``rods/``,
 which import nothing of the package but their own folder and the shared modules
-``checks.py`` and ``units.py`` (tests/test_layers.py holds them to it).  So a kernel's
+``checks.py``, ``units.py`` and this one (tests/test_layers.py holds them to it).  So a kernel's
 stamp hashes its own top-level folder and :data:`SHARED`; an edit of the command line,
 the chain layer or the documentation recompiles nothing, an edit of ``dem/`` only the
 DEM.  A kernel in a module at the package's top level, or outside the package, gets the
@@ -27,6 +27,10 @@ locators are internal API (``numba.core.caching``): where they are missing (anot
 numba), or where ``NUMBA_CACHE_LOCATOR_CLASSES`` chooses the locators, the package's
 kernels keep numba's own stamp.  The stamp is taken once per process, at the first
 kernel cache look-up: a file edited while a process runs is seen by the next process.
+
+:func:`kernels_cached` tells from numba's index whether a kernel's first call will load
+it or compile it (the command line says so before a run; a scene's time loop is
+compiled ahead in a second process if not: ``dem/compile_ahead.py``).
 """
 
 from __future__ import annotations
@@ -35,12 +39,12 @@ import functools
 import hashlib
 from pathlib import Path
 
-__all__ = ["SHARED", "install", "kernel_stamp", "package_stamp"]
+__all__ = ["SHARED", "install", "kernel_stamp", "kernels_cached", "package_stamp"]
 
 PACKAGE_DIR = Path(__file__).resolve().parent
 """The installed package: the folder of this module."""
 SHARED = ("checks.py", "units.py", "kernel_cache.py")
-"""Top-level modules an instrument may import (and this one, which makes the stamp)."""
+"""Top-level modules an instrument may import (this one also makes the stamp)."""
 
 
 def _digest(package_dir: Path, paths) -> str:
@@ -124,3 +128,24 @@ def install(package_dir: Path = PACKAGE_DIR) -> bool:
         )
         setattr(impl, marker, True)
     return True
+
+
+def kernels_cached(dispatcher) -> bool:
+    """Whether ``dispatcher`` (a ``numba.njit(cache=True)`` function) has a fresh
+    on-disk cache, so its first call loads machine code instead of compiling.
+
+    A function that numba builds anew for each value it closes over (the DEM time loop
+    of each kind of scene) shares one index with its siblings: its own entries are those
+    whose key ends with the hashes of its code and of its closure values (numba's
+    ``Cache._index_key``)."""
+    if dispatcher.signatures:  # compiled (or loaded) in this process already
+        return True
+    cache = getattr(dispatcher, "_cache", None)
+    index = getattr(getattr(cache, "_cache_file", None), "_load_index", None)
+    if index is None:  # not a cached dispatcher, or another numba's internals
+        return False
+    try:
+        own = cache._index_key(None, dispatcher.targetctx.codegen())[-1]
+        return any(key[-1] == own for key in index())
+    except Exception:  # an unreadable index (numba recompiles and rewrites it), or
+        return False  # another numba's internals

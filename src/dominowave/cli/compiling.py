@@ -18,9 +18,10 @@ import time
 
 import typer
 
+from dominowave.kernel_cache import kernels_cached
+
 __all__ = [
     "FIRST_RUN",
-    "kernels_cached",
     "notice_if_compiling",
     "study_kernels",
 ]
@@ -46,27 +47,6 @@ def _kernel(need):
         return "rods", importlib.import_module("dominowave.rods.kernel").advance
     engine = importlib.import_module("dominowave.dem.engine")
     return ("DEM boxes" if need.boxes else "DEM clumps"), engine.time_loop(need)
-
-
-def kernels_cached(dispatcher) -> bool:
-    """Whether ``dispatcher`` (a ``numba.njit(cache=True)`` function) has a fresh
-    on-disk cache, so its first call loads machine code instead of compiling.
-
-    A function that numba builds anew for each value it closes over (the DEM time loop
-    of each kind of scene) shares one index with its siblings: its own entries are those
-    whose key ends with the hashes of its code and of its closure values (numba's
-    ``Cache._index_key``)."""
-    if dispatcher.signatures:  # compiled (or loaded) in this process already
-        return True
-    cache = getattr(dispatcher, "_cache", None)
-    index = getattr(getattr(cache, "_cache_file", None), "_load_index", None)
-    if index is None:  # not a cached dispatcher, or another numba's internals
-        return False
-    try:
-        own = cache._index_key(None, dispatcher.targetctx.codegen())[-1]
-        return any(key[-1] == own for key in index())
-    except Exception:  # an unreadable index (numba recompiles and rewrites it), or
-        return False  # another numba's internals
 
 
 def notice_if_compiling(*needs, by_workers: bool = False) -> bool:

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from dominowave.checks import check_finite, check_in_range, check_positive
-from dominowave.dem import engine
+from dominowave.dem import compile_ahead, engine
 from dominowave.dem.box_sphere import box_sphere_energies
 from dominowave.dem.boxes import (
     box_energies,
@@ -265,6 +265,9 @@ class Simulation:
         )
         if not track_energy:  # not tracked: the dissipated energies and the total are nan
             self.rec.ledger[:] = np.nan
+        # on a first run a second process compiles the time loop meanwhile (compile_ahead)
+        kind = self.kind._replace(planar=self.planar_kernels and self.planar)
+        self._ahead = compile_ahead.start(kind, self._loop_args(0, 0.0, np.empty(5)))
         self._refresh_energy()
 
     # ------------------------------------------------------------------ properties
@@ -517,27 +520,35 @@ class Simulation:
         steps, to ``t_end`` [s] or a stop condition (``stop_array``, engine.STOP_ARG_*),
         growing a full buffer and going on; returns ``(code, steps done)`` with a code
         of engine.DONE_*, STOP_* or ABORT_*."""
+        if self._ahead is not None:  # the loop compiled by a second process (compile_ahead)
+            self._ahead.wait()
+            self._ahead = None
         run_loop = time_loop(self.kind)
         done_total = 0
         while True:
-            code, done = run_loop(
-                self.bodies,
-                self.spheres,
-                self.walls,
-                self.mats,
-                self.contacts,
-                self.settings,
-                self.rec,
-                n_steps - done_total,
-                t_end,
-                stop_array,
-                np.empty((2, 3)),  # scratch vectors of the loop
-                self.boxes,
-            )
+            code, done = run_loop(*self._loop_args(n_steps - done_total, t_end, stop_array))
             done_total += done  # (the loop places every sphere before it returns)
             if not engine.GROW_CONTACTS <= code < engine.ABORT_NAN:
                 return code, done_total
             self._grow(code)
+
+    def _loop_args(self, n_steps, t_end, stop_array) -> tuple:
+        """The arguments of the time loop (engine.run_loop) for a run of up to ``n_steps``
+        steps, to ``t_end`` [s] or ``stop_array`` (engine.STOP_ARG_*)."""
+        return (
+            self.bodies,
+            self.spheres,
+            self.walls,
+            self.mats,
+            self.contacts,
+            self.settings,
+            self.rec,
+            n_steps,
+            t_end,
+            stop_array,
+            np.empty((2, 3)),  # scratch vectors of the loop
+            self.boxes,
+        )
 
     @property
     def kind(self) -> SceneKind:

@@ -1,0 +1,118 @@
+"""Compiling a scene's time loop in a second process while this one compiles the rest.
+
+On the first run after an install (or an edit of ``dem/``) numba compiles the kernels
+one after the other, on one core: a scene first compiles the kernels that its set-up
+calls from Python (the contact list, the energies, the pair properties), then its time
+loop (:func:`dominowave.dem.engine.time_loop`), the larger part.  numba compiles in one
+thread at a time, but its disk cache is shared by processes: while this process
+compiles the set-up's kernels, :func:`start` has a second one compile the time loop for
+the scene's argument types and write it to the cache, and :meth:`Ahead.wait`, before
+the first run, waits for it.  The run then loads the loop from the cache, as every later
+run does: the machine code, and so every trajectory, is the same.  On 2 cores the
+README's main job takes a quarter less time (benchmarks/README.md, "First run").
+
+It is left out where it cannot pay: with the loop compiled or cached already, with one
+core, in a process that is itself another's worker (a Dask worker shares the cores with
+its siblings), and under ``NUMBA_DISABLE_JIT``.  One second process at a time compiles a
+loop; a process that ends stops the ones it started.  Should the second process fail,
+the run compiles its loop itself, as it would without it.
+"""
+
+from __future__ import annotations
+
+import atexit
+import importlib
+import multiprocessing
+import os
+import pickle
+import subprocess
+import sys
+
+from numba.core import config
+
+from dominowave.kernel_cache import kernels_cached
+
+__all__ = ["Ahead", "start"]
+
+_RUNNING: dict[tuple, Ahead] = {}
+"""The second processes started, by (factory, its arguments, argument types)."""
+
+
+class Ahead:
+    """A second process compiling a kernel; :meth:`wait` for it before the kernel's first
+    call.  ``process``: its :class:`subprocess.Popen`."""
+
+    def __init__(self, process: subprocess.Popen):
+        self.process = process
+
+    def wait(self) -> bool:
+        """Wait until the kernel is compiled and in the cache; whether it is (the second
+        process succeeded).  An interrupt while waiting stops the second process too."""
+        try:
+            return self.process.wait() == 0
+        except BaseException:
+            self.stop()
+            raise
+
+    def stop(self) -> None:
+        """Stop the second process if it still runs."""
+        if self.process.poll() is None:
+            self.process.kill()
+            self.process.wait()
+
+
+def _cores() -> int:
+    """The cores this process may run on."""
+    if hasattr(os, "sched_getaffinity"):
+        return len(os.sched_getaffinity(0))
+    return os.cpu_count() or 1
+
+
+def start(kind, args: tuple) -> Ahead | None:
+    """Start compiling the time loop of ``kind`` (a :class:`~dominowave.dem.SceneKind`)
+    for the types of ``args``, its arguments as the run will pass them, in a second
+    process; ``None`` where that cannot pay (module docstring)."""
+    return start_compiling("dominowave.dem.engine", "time_loop", (tuple(kind),), args)
+
+
+def start_compiling(module: str, factory: str, factory_args: tuple, args: tuple):
+    """Start compiling the kernel ``module.factory(*factory_args)`` (a numba dispatcher
+    with ``cache=True``; picklable ``factory_args``) for the types of ``args`` in a second
+    process: an :class:`Ahead`, or ``None`` where that cannot pay (module docstring)."""
+    if config.DISABLE_JIT or _cores() < 2 or multiprocessing.parent_process() is not None:
+        return None
+    kernel = getattr(importlib.import_module(module), factory)(*factory_args)
+    if kernels_cached(kernel):
+        return None
+    task = (module, factory, factory_args, tuple(kernel.typeof_pyval(a) for a in args))
+    running = _RUNNING.get(task)
+    if running is not None and running.process.poll() is None:
+        return running
+    process = subprocess.Popen(
+        [sys.executable, "-m", __name__],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    with process.stdin:
+        process.stdin.write(pickle.dumps(task))
+    _RUNNING[task] = Ahead(process)
+    return _RUNNING[task]
+
+
+@atexit.register
+def _stop_all() -> None:
+    """At exit, stop the second processes still compiling: nothing will run their kernel."""
+    for ahead in _RUNNING.values():
+        ahead.stop()
+
+
+def _compile_task() -> None:
+    """The second process: compile, and so write to the cache, the kernel that
+    :func:`start_compiling` named on its standard input."""
+    module, factory, factory_args, signature = pickle.load(sys.stdin.buffer)
+    getattr(importlib.import_module(module), factory)(*factory_args).compile(signature)
+
+
+if __name__ == "__main__":
+    _compile_task()
