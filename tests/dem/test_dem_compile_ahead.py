@@ -105,3 +105,15 @@ def test_a_scene_asks_for_the_loop_its_first_run_calls(monkeypatch):
     loop = time_loop(kind)
     assert tuple(loop.typeof_pyval(a) for a in args) in loop.signatures
     assert isinstance(args[9], np.ndarray) and args[9].shape == (5,)  # the stop array
+
+
+def test_a_scene_of_boxes_compiles_its_loop_itself(monkeypatch):
+    """Its set-up runs the loop (the first contact rows), so it could only wait."""
+    asked = []
+    monkeypatch.setattr(compile_ahead, "start", lambda kind, args: asked.append(kind))
+    scene = Scene(gravity=(0.0, 0.0, -9.81))
+    m = scene.add_material(Material(density=1000.0, kn=1e4, friction=0.3))
+    scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), m)
+    scene.add_box((0.0, 0.0, 0.0251), (0.0025, 0.0125, 0.025), 0.00025, m)
+    scene.build(safety=0.1)
+    assert asked == []

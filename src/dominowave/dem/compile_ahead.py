@@ -9,9 +9,11 @@ compiles the set-up's kernels, :func:`start` has a second one compile the time l
 the scene's argument types and write it to the cache, and :meth:`Ahead.wait`, before
 the first run, waits for it.  The run then loads the loop from the cache, as every later
 run does: the machine code, and so every trajectory, is the same.  On 2 cores the
-README's main job takes a quarter less time (benchmarks/README.md, "First run").
+README's main job takes a sixth to a quarter less time (benchmarks/README.md, "First
+run").
 
-It is left out where it cannot pay: with the loop compiled or cached already, with one
+It is left out where it cannot pay: for a scene of boxes, whose set-up runs the loop
+first (``Simulation._first_step``), with the loop compiled or cached already, with one
 core, in a process that is itself another's worker (a Dask worker shares the cores with
 its siblings), and under ``NUMBA_DISABLE_JIT``.  One second process at a time compiles a
 loop; a process that ends stops the ones it started.  Should the second process fail,

@@ -265,9 +265,13 @@ class Simulation:
         )
         if not track_energy:  # not tracked: the dissipated energies and the total are nan
             self.rec.ledger[:] = np.nan
-        # on a first run a second process compiles the time loop meanwhile (compile_ahead)
-        kind = self.kind._replace(planar=self.planar_kernels and self.planar)
-        self._ahead = compile_ahead.start(kind, self._loop_args(0, 0.0, np.empty(5)))
+        # on a first run a second process compiles the time loop while the set-up's
+        # kernels compile here (compile_ahead); a scene of boxes runs the loop in its
+        # set-up (_first_step) and would only wait for it
+        self._ahead = None
+        if not self.boxes.body.size:
+            kind = self.kind._replace(planar=self.planar_kernels and self.planar)
+            self._ahead = compile_ahead.start(kind, self._loop_args(0, 0.0, np.empty(5)))
         self._refresh_energy()
 
     # ------------------------------------------------------------------ properties
