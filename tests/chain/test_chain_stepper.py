@@ -9,7 +9,7 @@ import pytest
 from dominowave import dem
 from dominowave.chain.build import ChainParams
 from dominowave.chain.scenario import DominoChain
-from dominowave.chain.stepper import steps_until_quiet
+from dominowave.chain.stepper import STATE_FORMAT, steps_until_quiet
 
 SMALL = ChainParams(n_dominoes=6, d_over_l=0.5, damping=0.02, friction_dominoes=0.1)
 """Six dominoes with damping and friction: the wave reaches the end (both phases run)."""
@@ -100,6 +100,25 @@ def test_run_restored_from_its_state_ends_bit_identically(one_shot, phase):
     while not resumed.advance(1234):
         pass
     assert_same_bits(resumed.result(keep_record=True), one_shot)
+
+
+def test_a_state_of_the_first_format_resumes_and_a_newer_one_is_refused(one_shot):
+    """Format 1 (no ``stepper_format``, no ``record_end``): a run that did not stop at
+    rest, whose record ends at its time; it resumes to the bits of the run."""
+    first = DominoChain(SMALL).stepper()
+    first.advance(2500)
+    state = first.get_state()
+    assert int(state["stepper_format"]) == STATE_FORMAT
+    older = {k: v for k, v in state.items() if k not in ("stepper_format", "record_end")}
+    resumed = DominoChain(SMALL).stepper()
+    resumed.set_state(older)
+    while not resumed.advance(1234):
+        pass
+    assert_same_bits(resumed.result(keep_record=True), one_shot)
+    newer = {**state, "stepper_format": np.array(STATE_FORMAT + 1)}
+    refused = f"stepper_format = {STATE_FORMAT + 1}: .* formats 1 to {STATE_FORMAT} "
+    with pytest.raises(ValueError, match=refused):
+        DominoChain(SMALL).stepper().set_state(newer)
 
 
 def test_quiet_stop_is_independent_of_chunks():

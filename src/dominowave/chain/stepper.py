@@ -55,6 +55,11 @@ _CONTACT_SHAPES = (((), np.int64), ((), np.int64), ((), np.int64), ((3,), float)
 """Row shape and dtype of each of them (empty pieces)."""
 _REASONS = ("", "touched", "no_onset", "until")
 """Why phase 1 ended ('' while it runs), coded by index in the checkpoint."""
+STATE_FORMAT = 2
+"""Version of the layout of :meth:`ChainStepper.get_state` (key ``stepper_format``; the
+simulation's own state has its version, ``dem.simulation.STATE_FORMAT``).  1 (states
+without the key): no ``record_end``, as runs did not stop at rest: the record ends at
+the run's time."""
 
 
 class ChainStepper:
@@ -179,6 +184,7 @@ class ChainStepper:
         state["tail_end"] = np.array(self.tail_end)
         state["record_end"] = np.array(self.record_end)
         state["wall_time"] = np.array(self.wall_time)
+        state["stepper_format"] = np.array(STATE_FORMAT)
         return state
 
     @property
@@ -190,7 +196,15 @@ class ChainStepper:
         return tuple(f"{group}.{k}" for group, keys in groups.items() for k in keys)
 
     def set_state(self, state: dict[str, np.ndarray]) -> None:
-        """Restore a state of :meth:`get_state` (from a stepper of the same chain and push)."""
+        """Restore a state of :meth:`get_state` (from a stepper of the same chain and push),
+        of any :data:`STATE_FORMAT` up to this one."""
+        version = int(state.get("stepper_format", 1))
+        if not 1 <= version <= STATE_FORMAT:
+            newer = " (a newer dominowave wrote it)" if version > STATE_FORMAT else ""
+            raise ValueError(
+                f"stepper_format = {version}: this version of dominowave reads formats 1 to"
+                f" {STATE_FORMAT}{newer}"
+            )
         self.sim.set_state({k[4:]: v for k, v in state.items() if k.startswith("sim.")})
         self.frames = SparseFrames.from_dense({k: state[f"frames.{k}"] for k in _FRAMES})
         self.events = {k: [np.array(state[f"events.{k}"])] for k in _EVENTS}
@@ -205,8 +219,7 @@ class ChainStepper:
         self.done = bool(state["done"])
         self.stop_reason = _REASONS[int(state["stop_reason"])]
         self.tail_end = float(state["tail_end"])
-        # (a state saved before runs stopped at rest comes from a run that did not)
-        self.record_end = float(state.get("record_end", math.nan))
+        self.record_end = float(state["record_end"]) if version >= 2 else math.nan
         self.wall_time = float(state["wall_time"])
         self.reached = _highest_hit(self.events["body_j"][0], self.events["kind"][0])
 
