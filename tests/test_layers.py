@@ -15,7 +15,12 @@ import pytest
 
 SRC = Path(__file__).parents[1] / "src"
 INSTRUMENTS = ("theory", "rods", "dem")
-SHARED = ("dominowave.checks", "dominowave.units", "dominowave.kernel_cache")
+SHARED = (
+    "dominowave.checks",
+    "dominowave.units",
+    "dominowave.kernel_cache",
+    "dominowave.compile_ahead",
+)
 
 
 def _modules() -> dict[str, Path]:

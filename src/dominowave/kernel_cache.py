@@ -14,7 +14,8 @@ cli/compiling.py).
 
 What a kernel can reach: the kernels live in the instruments ``dem/`` and ``rods/``,
 which import nothing of the package but their own folder and the shared modules
-``checks.py``, ``units.py`` and this one (tests/test_layers.py holds them to it).  So a kernel's
+``checks.py``, ``units.py``, ``compile_ahead.py`` and this one (tests/test_layers.py
+holds them to it).  So a kernel's
 stamp hashes its own top-level folder and :data:`SHARED`; an edit of the command line,
 the chain layer or the documentation recompiles nothing, an edit of ``dem/`` only the
 DEM.  A kernel in a module at the package's top level, or outside the package, gets the
@@ -30,7 +31,7 @@ kernel cache look-up: a file edited while a process runs is seen by the next pro
 
 :func:`kernels_cached` tells from numba's index whether a kernel's first call will load
 it or compile it (the command line says so before a run; a scene's time loop is
-compiled ahead in a second process if not: ``dem/compile_ahead.py``).
+compiled ahead in a second process if not: :mod:`dominowave.compile_ahead`).
 """
 
 from __future__ import annotations
@@ -43,7 +44,7 @@ __all__ = ["SHARED", "install", "kernel_stamp", "kernels_cached", "package_stamp
 
 PACKAGE_DIR = Path(__file__).resolve().parent
 """The installed package: the folder of this module."""
-SHARED = ("checks.py", "units.py", "kernel_cache.py")
+SHARED = ("checks.py", "units.py", "kernel_cache.py", "compile_ahead.py")
 """Top-level modules an instrument may import (this one also makes the stamp)."""
 
 

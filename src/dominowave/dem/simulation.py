@@ -9,8 +9,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from dominowave import compile_ahead
 from dominowave.checks import check_finite, check_in_range, check_positive
-from dominowave.dem import compile_ahead, engine
+from dominowave.dem import engine
 from dominowave.dem.box_sphere import box_sphere_energies
 from dominowave.dem.boxes import (
     box_energies,
@@ -271,7 +272,9 @@ class Simulation:
         self._ahead = None
         if not self.boxes.body.size:
             kind = self.kind._replace(planar=self.planar_kernels and self.planar)
-            self._ahead = compile_ahead.start(kind, self._loop_args(0, 0.0, np.empty(5)))
+            self._ahead = compile_ahead.start_compiling(
+                engine.__name__, "time_loop", (tuple(kind),), self._loop_args(0, 0.0, np.empty(5))
+            )
         self._refresh_energy()
 
     # ------------------------------------------------------------------ properties

@@ -1,5 +1,5 @@
-"""A second process compiles a time loop into the disk cache while the first compiles the
-rest (dem/compile_ahead.py); the first loads it from there."""
+"""A second process compiles a kernel into the disk cache while the first compiles the
+others (compile_ahead.py), as a DEM scene's time loop; the first loads it from there."""
 
 from __future__ import annotations
 
@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 from numba.core import config
 
-from dominowave.dem import Material, Scene, compile_ahead
+from dominowave import compile_ahead
+from dominowave.dem import Material, Scene
 from dominowave.dem.engine import time_loop
 from dominowave.kernel_cache import kernels_cached
 
@@ -93,15 +94,16 @@ def test_a_scene_asks_for_the_loop_its_first_run_calls(monkeypatch):
     """The kind and argument types given to the second process at build are those of the
     first run's call of the loop, or its work would be lost."""
     asked = []
-    monkeypatch.setattr(compile_ahead, "start", lambda kind, args: asked.append((kind, args)))
+    monkeypatch.setattr(compile_ahead, "start_compiling", lambda *task: asked.append(task))
     scene = Scene(gravity=(0.0, 0.0, -9.81))
     m = scene.add_material(Material(density=1000.0, kn=1e4, friction=0.3))
     scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), m)
     scene.add_sphere((0.0, 0.0, 0.011), 0.01, m)
     sim = scene.build(safety=0.1)
-    ((kind, args),) = asked
+    ((module, factory, (kind,), args),) = asked
     sim.run(n_steps=3)
-    assert kind == sim.kind
+    assert getattr(importlib.import_module(module), factory) is time_loop
+    assert kind == tuple(sim.kind)
     loop = time_loop(kind)
     assert tuple(loop.typeof_pyval(a) for a in args) in loop.signatures
     assert isinstance(args[9], np.ndarray) and args[9].shape == (5,)  # the stop array
@@ -110,7 +112,7 @@ def test_a_scene_asks_for_the_loop_its_first_run_calls(monkeypatch):
 def test_a_scene_of_boxes_compiles_its_loop_itself(monkeypatch):
     """Its set-up runs the loop (the first contact rows), so it could only wait."""
     asked = []
-    monkeypatch.setattr(compile_ahead, "start", lambda kind, args: asked.append(kind))
+    monkeypatch.setattr(compile_ahead, "start_compiling", lambda *task: asked.append(task))
     scene = Scene(gravity=(0.0, 0.0, -9.81))
     m = scene.add_material(Material(density=1000.0, kn=1e4, friction=0.3))
     scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), m)

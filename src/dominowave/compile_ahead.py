@@ -1,23 +1,21 @@
-"""Compiling a scene's time loop in a second process while this one compiles the rest.
+"""Compiling a kernel in a second process while this one compiles the others.
 
-On the first run after an install (or an edit of ``dem/``) numba compiles the kernels
-one after the other, on one core: a scene first compiles the kernels that its set-up
-calls from Python (the contact list, the energies, the pair properties), then its time
-loop (:func:`dominowave.dem.engine.time_loop`), the larger part.  numba compiles in one
-thread at a time, but its disk cache is shared by processes: while this process
-compiles the set-up's kernels, :func:`start` has a second one compile the time loop for
-the scene's argument types and write it to the cache, and :meth:`Ahead.wait`, before
-the first run, waits for it.  The run then loads the loop from the cache, as every later
-run does: the machine code, and so every trajectory, is the same.  On 2 cores the
-README's main job takes a sixth to a quarter less time (benchmarks/README.md, "First
-run").
+On the first run after an install (or an edit of the code a kernel reaches) numba
+compiles the kernels one after the other, on one core, in one thread at a time.  Its
+disk cache, though, is shared by processes.  A DEM scene first compiles the kernels that
+its set-up calls from Python (the contact list, the energies, the pair properties), then
+its time loop, the larger part: :func:`start_compiling` has a second process compile
+the loop for the scene's argument types and write it to the cache meanwhile, and
+:meth:`Ahead.wait`, before the loop's first call, waits for it
+(``dem.Simulation``).  The call then loads the kernel from the cache, as every later run
+does: the machine code, and so every trajectory, is the same.  On 2 cores the README's
+main job takes a sixth to a quarter less time (benchmarks/README.md, "First run").
 
-It is left out where it cannot pay: for a scene of boxes, whose set-up runs the loop
-first (``Simulation._first_step``), with the loop compiled or cached already, with one
+It is left out where it cannot pay: for a kernel compiled or cached already, with one
 core, in a process that is itself another's worker (a Dask worker shares the cores with
 its siblings), and under ``NUMBA_DISABLE_JIT``.  One second process at a time compiles a
-loop; a process that ends stops the ones it started.  Should the second process fail,
-the run compiles its loop itself, as it would without it.
+kernel for given types; a process that ends stops the ones it started.  Should the
+second process fail, the first call compiles the kernel itself, as without it.
 """
 
 from __future__ import annotations
@@ -34,10 +32,10 @@ from numba.core import config
 
 from dominowave.kernel_cache import kernels_cached
 
-__all__ = ["Ahead", "start"]
+__all__ = ["Ahead", "start_compiling"]
 
 _RUNNING: dict[tuple, Ahead] = {}
-"""The second processes started, by (factory, its arguments, argument types)."""
+"""The second processes started, by (module, factory, its arguments, argument types)."""
 
 
 class Ahead:
@@ -70,17 +68,11 @@ def _cores() -> int:
     return os.cpu_count() or 1
 
 
-def start(kind, args: tuple) -> Ahead | None:
-    """Start compiling the time loop of ``kind`` (a :class:`~dominowave.dem.SceneKind`)
-    for the types of ``args``, its arguments as the run will pass them, in a second
-    process; ``None`` where that cannot pay (module docstring)."""
-    return start_compiling("dominowave.dem.engine", "time_loop", (tuple(kind),), args)
-
-
 def start_compiling(module: str, factory: str, factory_args: tuple, args: tuple):
     """Start compiling the kernel ``module.factory(*factory_args)`` (a numba dispatcher
-    with ``cache=True``; picklable ``factory_args``) for the types of ``args`` in a second
-    process: an :class:`Ahead`, or ``None`` where that cannot pay (module docstring)."""
+    with ``cache=True``; picklable ``factory_args``) for the types of ``args``, the
+    arguments of its first call, in a second process: an :class:`Ahead`, or ``None``
+    where that cannot pay (module docstring)."""
     if config.DISABLE_JIT or _cores() < 2 or multiprocessing.parent_process() is not None:
         return None
     kernel = getattr(importlib.import_module(module), factory)(*factory_args)
@@ -104,7 +96,7 @@ def start_compiling(module: str, factory: str, factory_args: tuple, args: tuple)
 
 @atexit.register
 def _stop_all() -> None:
-    """At exit, stop the second processes still compiling: nothing will run their kernel."""
+    """At exit, stop the second processes still compiling: nothing will call their kernel."""
     for ahead in _RUNNING.values():
         ahead.stop()
 
