@@ -52,22 +52,28 @@ def _raise(signum, frame):
 
 def _deliver_again(unraisable) -> None:
     """``sys.unraisablehook``: an :class:`Interrupted` that Python had to drop is sent
-    again as its signal to the main thread; anything else goes to the previous hook.
+    again as its signal to the main thread; anything else, and anything at exit, goes
+    to the previous hook.
 
     Sent from a timer thread a little later: a signal sent from here would be
     handled here, inside the same callback, and dropped again. Should it land in
     such code once more, it comes back here and is sent once more.
     """
-    if isinstance(unraisable.exc_value, Interrupted):
+    # (at exit the signal would cut the next exit handler instead: the process ends anyway)
+    exiting = sys.is_finalizing() or not threading.main_thread().is_alive()
+    if isinstance(unraisable.exc_value, Interrupted) and not exiting:
         resend = threading.Timer(
             RESEND_S,
             signal.pthread_kill,
             (threading.main_thread().ident, unraisable.exc_value.signum),
         )
         resend.daemon = True
-        resend.start()
-    else:
-        _previous_unraisablehook(unraisable)
+        try:
+            resend.start()
+            return
+        except RuntimeError:  # (no new thread: the interpreter is shutting down)
+            pass
+    _previous_unraisablehook(unraisable)
 
 
 _previous_unraisablehook = sys.unraisablehook

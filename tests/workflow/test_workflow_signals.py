@@ -153,3 +153,26 @@ def test_a_signal_that_lands_in_a_weakref_callback_still_stops_the_command():
     assert run.stdout.strip() == "stopped by SIGINT"
     assert "Exception ignored" not in run.stderr
     assert time.monotonic() - started < 20
+
+
+AT_EXIT = """
+import atexit, time
+from dominowave import signals
+
+
+def last():
+    time.sleep(0.5)  # (longer than signals.RESEND_S)
+    print("the last exit handler ran", flush=True)
+
+
+signals.install()
+atexit.register(last)
+atexit.register(signals._raise, 2, None)  # dropped, at exit
+"""
+
+
+def test_a_signal_dropped_at_exit_is_not_sent_again_into_the_other_exit_handlers():
+    run = subprocess.run(
+        [sys.executable, "-c", AT_EXIT], capture_output=True, text=True, timeout=60
+    )
+    assert "the last exit handler ran" in run.stdout, run.stderr
