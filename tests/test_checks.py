@@ -5,7 +5,13 @@ import math
 import numpy as np
 import pytest
 
-from dominowave.checks import check_finite, check_in_range, check_nonnegative, check_positive
+from dominowave.checks import (
+    check_finite,
+    check_format,
+    check_in_range,
+    check_nonnegative,
+    check_positive,
+)
 from dominowave.units import beta_from_spacing, k_star, spacing_from_beta, speed_scale
 
 
@@ -46,3 +52,11 @@ def test_first_bad_element_of_a_2d_array_is_reported():
     grid = np.array([[0.5, 0.2], [1.5, -1.0]])
     with pytest.raises(ValueError, match=r"d_over_l = 1\.5 is outside the valid range \(0, 1\)"):
         check_in_range("d_over_l", grid, 0.0, 1.0)
+
+
+def test_check_format_reads_the_versions_it_knows_and_names_a_newer_one():
+    assert check_format("state_format", 2, 4) == 2
+    with pytest.raises(ValueError, match=r"state_format = 5: .* formats 1 to 4 \(a newer"):
+        check_format("state_format", 5, 4)
+    with pytest.raises(ValueError, match=r"state_format = 0: .* formats 1 to 4$"):
+        check_format("state_format", 0, 4)

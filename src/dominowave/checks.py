@@ -16,6 +16,7 @@ import numpy as np
 
 __all__ = [
     "check_finite",
+    "check_format",
     "check_in_range",
     "check_memory",
     "check_nonnegative",
@@ -111,3 +112,14 @@ def check_memory(nbytes: float, what: str, culprits: str) -> None:
             f" this machine can hold ({limit / 2**30:.3g} GiB, {MEMORY_FRACTION:.0%} of the"
             " memory available now); choose smaller values"
         )
+
+
+def check_format(key: str, version: int, newest: int) -> int:
+    """``version``, the format ``key`` of a saved state, if this version of the package
+    reads it (1 to ``newest``); else ``ValueError`` naming both."""
+    if not 1 <= version <= newest:
+        newer = " (a newer dominowave wrote it)" if version > newest else ""
+        raise ValueError(
+            f"{key} = {version}: this version of dominowave reads formats 1 to {newest}{newer}"
+        )
+    return version

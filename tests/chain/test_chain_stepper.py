@@ -115,6 +115,11 @@ def test_a_state_of_the_first_format_resumes_and_a_newer_one_is_refused(one_shot
     while not resumed.advance(1234):
         pass
     assert_same_bits(resumed.result(keep_record=True), one_shot)
+    # (states saved with record_end but before the key: their record_end is kept)
+    with_end = {**older, "record_end": np.array(1.5)}
+    kept = DominoChain(SMALL).stepper()
+    kept.set_state(with_end)
+    assert kept.record_end == 1.5
     newer = {**state, "stepper_format": np.array(STATE_FORMAT + 1)}
     refused = f"stepper_format = {STATE_FORMAT + 1}: .* formats 1 to {STATE_FORMAT} "
     with pytest.raises(ValueError, match=refused):

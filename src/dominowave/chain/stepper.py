@@ -38,6 +38,7 @@ import numpy as np
 from dominowave import dem
 from dominowave.chain.events import ChainRecord
 from dominowave.chain.frames import FIELDS, SparseFrames
+from dominowave.checks import check_format
 from dominowave.dem.engine import steps_until_quiet
 
 __all__ = ["ChainStepper", "steps_until_quiet"]
@@ -58,8 +59,8 @@ _REASONS = ("", "touched", "no_onset", "until")
 STATE_FORMAT = 2
 """Version of the layout of :meth:`ChainStepper.get_state` (key ``stepper_format``; the
 simulation's own state has its version, ``dem.simulation.STATE_FORMAT``).  1 (states
-without the key): no ``record_end``, as runs did not stop at rest: the record ends at
-the run's time."""
+without the key): ``record_end`` may be missing, from a run that did not stop at rest,
+whose record ends at the run's time."""
 
 
 class ChainStepper:
@@ -198,13 +199,7 @@ class ChainStepper:
     def set_state(self, state: dict[str, np.ndarray]) -> None:
         """Restore a state of :meth:`get_state` (from a stepper of the same chain and push),
         of any :data:`STATE_FORMAT` up to this one."""
-        version = int(state.get("stepper_format", 1))
-        if not 1 <= version <= STATE_FORMAT:
-            newer = " (a newer dominowave wrote it)" if version > STATE_FORMAT else ""
-            raise ValueError(
-                f"stepper_format = {version}: this version of dominowave reads formats 1 to"
-                f" {STATE_FORMAT}{newer}"
-            )
+        version = check_format("stepper_format", int(state.get("stepper_format", 1)), STATE_FORMAT)
         self.sim.set_state({k[4:]: v for k, v in state.items() if k.startswith("sim.")})
         self.frames = SparseFrames.from_dense({k: state[f"frames.{k}"] for k in _FRAMES})
         self.events = {k: [np.array(state[f"events.{k}"])] for k in _EVENTS}
@@ -219,7 +214,10 @@ class ChainStepper:
         self.done = bool(state["done"])
         self.stop_reason = _REASONS[int(state["stop_reason"])]
         self.tail_end = float(state["tail_end"])
-        self.record_end = float(state["record_end"]) if version >= 2 else math.nan
+        # (format 1: saved before runs stopped at rest, or just after, without the key)
+        self.record_end = float(
+            state["record_end"] if version >= 2 else state.get("record_end", math.nan)
+        )
         self.wall_time = float(state["wall_time"])
         self.reached = _highest_hit(self.events["body_j"][0], self.events["kind"][0])
 

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from dominowave import compile_ahead
-from dominowave.checks import check_finite, check_in_range, check_positive
+from dominowave.checks import check_finite, check_format, check_in_range, check_positive
 from dominowave.dem import engine
 from dominowave.dem.box_sphere import box_sphere_energies
 from dominowave.dem.boxes import (
@@ -67,14 +67,8 @@ def _upgraded(state: dict, n_materials: int) -> dict:
     one stiffness column split into E and k_n by the rule); a state of a newer format is
     refused."""
     version = int(np.asarray(state.get("state_format", 1)))
-    if version == STATE_FORMAT:
+    if check_format("state_format", version, STATE_FORMAT) == STATE_FORMAT:
         return state
-    if not 1 <= version < STATE_FORMAT:
-        newer = " (a newer dominowave wrote it)" if version > STATE_FORMAT else ""
-        raise ValueError(
-            f"state_format = {version}: this version of dominowave reads formats 1 to"
-            f" {STATE_FORMAT}{newer}"
-        )
     nm = n_materials
     nb = np.asarray(state["bodies.mass"]).shape[0]
     state = {
