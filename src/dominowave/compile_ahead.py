@@ -6,16 +6,19 @@ disk cache, though, is shared by processes.  A DEM scene first compiles the kern
 its set-up calls from Python (the contact list, the energies, the pair properties), then
 its time loop, the larger part: :func:`start_compiling` has a second process compile
 the loop for the scene's argument types and write it to the cache meanwhile, and
-:meth:`Ahead.wait`, before the loop's first call, waits for it
-(``dem.Simulation``).  The call then loads the kernel from the cache, as every later run
-does: the machine code, and so every trajectory, is the same.  On 2 cores the README's
-main job takes a sixth to a quarter less time (benchmarks/README.md, "First run").
+:func:`wait`, before the loop's first call, waits for it (``dem.Simulation``).  The
+call then loads the kernel from the cache, as every later run does: the machine code,
+and so every trajectory, is the same.  On 2 cores the README's main job takes a tenth
+to a quarter less time (benchmarks/README.md, "First run").
 
 It is left out where it cannot pay: for a kernel compiled or cached already, with one
 core, in a process that is itself another's worker (a Dask worker shares the cores with
 its siblings), and under ``NUMBA_DISABLE_JIT``.  One second process at a time compiles a
-kernel for given types; a process that ends stops the ones it started.  Should the
-second process fail, the first call compiles the kernel itself, as without it.
+kernel for given types.  It ends with the process that started it: stopped at that
+one's exit or on an interrupt while waiting, and ending itself when it finds its parent
+gone (killed).  A scene built and never run leaves it compiling until then.  Should the
+second process fail, or fail to start, the first call compiles the kernel itself, as
+without it.
 """
 
 from __future__ import annotations
@@ -27,20 +30,24 @@ import os
 import pickle
 import subprocess
 import sys
+import threading
+import time
 
 from numba.core import config
 
 from dominowave.kernel_cache import kernels_cached
 
-__all__ = ["Ahead", "start_compiling"]
+__all__ = ["start_compiling", "stop", "wait"]
 
-_RUNNING: dict[tuple, Ahead] = {}
-"""The second processes started, by (module, factory, its arguments, argument types)."""
+_RUNNING: dict[tuple, _Ahead] = {}
+"""The second processes started, by task: (module, factory, its arguments, argument
+types)."""
+PARENT_POLL_S = 0.5
+"""How often [s] a second process looks whether its parent is still there."""
 
 
-class Ahead:
-    """A second process compiling a kernel; :meth:`wait` for it before the kernel's first
-    call.  ``process``: its :class:`subprocess.Popen`."""
+class _Ahead:
+    """A second process compiling a kernel.  ``process``: its :class:`subprocess.Popen`."""
 
     def __init__(self, process: subprocess.Popen):
         self.process = process
@@ -71,27 +78,48 @@ def _cores() -> int:
 def start_compiling(module: str, factory: str, factory_args: tuple, args: tuple):
     """Start compiling the kernel ``module.factory(*factory_args)`` (a numba dispatcher
     with ``cache=True``; picklable ``factory_args``) for the types of ``args``, the
-    arguments of its first call, in a second process: an :class:`Ahead`, or ``None``
-    where that cannot pay (module docstring)."""
+    arguments of its first call, in a second process.  Returns the task to
+    :func:`wait` for (or :func:`stop`), a picklable tuple, or ``None`` where a second
+    process cannot pay or could not start (module docstring)."""
     if config.DISABLE_JIT or _cores() < 2 or multiprocessing.parent_process() is not None:
         return None
-    kernel = getattr(importlib.import_module(module), factory)(*factory_args)
-    if kernels_cached(kernel):
+    try:
+        kernel = getattr(importlib.import_module(module), factory)(*factory_args)
+        if kernels_cached(kernel):
+            return None
+        task = (module, factory, factory_args, tuple(kernel.typeof_pyval(a) for a in args))
+        running = _RUNNING.get(task)
+        if running is not None and running.process.poll() is None:
+            return task
+        message = pickle.dumps(task)
+        process = subprocess.Popen(
+            [sys.executable, "-m", __name__],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+            # (this process's path: the package as it imported it, wherever from)
+            env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)},
+        )
+        with process.stdin:
+            process.stdin.write(message)
+    except Exception:  # (the first call compiles the kernel, as without a second process)
         return None
-    task = (module, factory, factory_args, tuple(kernel.typeof_pyval(a) for a in args))
-    running = _RUNNING.get(task)
-    if running is not None and running.process.poll() is None:
-        return running
-    process = subprocess.Popen(
-        [sys.executable, "-m", __name__],
-        stdin=subprocess.PIPE,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
-    with process.stdin:
-        process.stdin.write(pickle.dumps(task))
-    _RUNNING[task] = Ahead(process)
-    return _RUNNING[task]
+    _RUNNING[task] = _Ahead(process)
+    return task
+
+
+def wait(task) -> bool:
+    """Wait for the second process of ``task`` (of :func:`start_compiling`); whether it
+    compiled the kernel into the cache."""
+    ahead = _RUNNING.get(task)
+    return ahead is not None and ahead.wait()
+
+
+def stop(task) -> None:
+    """Stop the second process of ``task`` if it still runs (its kernel is not needed)."""
+    ahead = _RUNNING.get(task)
+    if ahead is not None:
+        ahead.stop()
 
 
 @atexit.register
@@ -101,12 +129,20 @@ def _stop_all() -> None:
         ahead.stop()
 
 
-def _compile_task() -> None:
+def _end_with(parent: int) -> None:
+    """End this process once ``parent`` is gone (a second process is reparented then)."""
+    while os.getppid() == parent:
+        time.sleep(PARENT_POLL_S)
+    os._exit(1)
+
+
+def _compile_task(parent: int) -> None:
     """The second process: compile, and so write to the cache, the kernel that
-    :func:`start_compiling` named on its standard input."""
+    :func:`start_compiling` named on its standard input, unless ``parent`` ends first."""
+    threading.Thread(target=_end_with, args=(parent,), daemon=True).start()
     module, factory, factory_args, signature = pickle.load(sys.stdin.buffer)
     getattr(importlib.import_module(module), factory)(*factory_args).compile(signature)
 
 
 if __name__ == "__main__":
-    _compile_task()
+    _compile_task(os.getppid())

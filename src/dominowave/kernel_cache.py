@@ -14,8 +14,8 @@ cli/compiling.py).
 
 What a kernel can reach: the kernels live in the instruments ``dem/`` and ``rods/``,
 which import nothing of the package but their own folder and the shared modules
-``checks.py``, ``units.py``, ``compile_ahead.py`` and this one (tests/test_layers.py
-holds them to it).  So a kernel's
+``checks.py``, ``units.py``, this one and ``compile_ahead.py`` (tests/test_layers.py
+holds them to it; the last compiles kernels and holds none, so it is not stamped).  So a kernel's
 stamp hashes its own top-level folder and :data:`SHARED`; an edit of the command line,
 the chain layer or the documentation recompiles nothing, an edit of ``dem/`` only the
 DEM.  A kernel in a module at the package's top level, or outside the package, gets the
@@ -44,8 +44,8 @@ __all__ = ["SHARED", "install", "kernel_stamp", "kernels_cached", "package_stamp
 
 PACKAGE_DIR = Path(__file__).resolve().parent
 """The installed package: the folder of this module."""
-SHARED = ("checks.py", "units.py", "kernel_cache.py", "compile_ahead.py")
-"""Top-level modules an instrument may import (this one also makes the stamp)."""
+SHARED = ("checks.py", "units.py", "kernel_cache.py")
+"""Top-level modules whose code a kernel may reach (this one also makes the stamp)."""
 
 
 def _digest(package_dir: Path, paths) -> str:

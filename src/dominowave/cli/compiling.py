@@ -27,12 +27,13 @@ __all__ = [
 ]
 
 FIRST_RUN: dict[str, str] = {
-    "DEM clumps": "about 35 s",
+    "DEM clumps": "35-50 s",
     "DEM boxes": "about 100 s",
     "rods": "about 15 s",
 }
 """How long compiling takes on a 2-core machine with an empty cache, by kernel
 (benchmarks/README.md, "First run": 32-38 s for the main job and the 3D clump chain,
+about 45 s in a worker process, which compiles the loop itself,
 95-100 s for the box chains, 13 s for the rods): the DEM time loop of a scene of clumps
 or of boxes (each compiles only its own kernels, dem.engine.time_loop), the rod
 model's."""

@@ -263,10 +263,10 @@ class Simulation:
         # on a first run a second process compiles the time loop while the set-up's
         # kernels compile here (compile_ahead); a scene of boxes runs the loop in its
         # set-up (_first_step) and would only wait for it
-        self._ahead = None
+        self._compiling = None
         if not self.boxes.body.size:
             kind = self.kind._replace(planar=self.planar_kernels and self.planar)
-            self._ahead = compile_ahead.start_compiling(
+            self._compiling = compile_ahead.start_compiling(
                 engine.__name__, "time_loop", (tuple(kind),), self._loop_args(0, 0.0, np.empty(5))
             )
         self._refresh_energy()
@@ -521,9 +521,12 @@ class Simulation:
         steps, to ``t_end`` [s] or a stop condition (``stop_array``, engine.STOP_ARG_*),
         growing a full buffer and going on; returns ``(code, steps done)`` with a code
         of engine.DONE_*, STOP_* or ABORT_*."""
-        if self._ahead is not None:  # the loop compiled by a second process (compile_ahead)
-            self._ahead.wait()
-            self._ahead = None
+        if self._compiling is not None:  # the loop compiled by a second process
+            if self._compiling[2] == (tuple(self.kind),):
+                compile_ahead.wait(self._compiling)
+            else:  # (planar_kernels changed since the build: it compiles another loop)
+                compile_ahead.stop(self._compiling)
+            self._compiling = None
         run_loop = time_loop(self.kind)
         done_total = 0
         while True:
