@@ -74,6 +74,9 @@ def test_no_second_process_where_it_cannot_pay(fresh_kernels, monkeypatch):
     monkeypatch.setattr(compile_ahead, "_cores", lambda: 2)
     monkeypatch.setattr(config, "DISABLE_JIT", True)
     assert compile_ahead.start_compiling(*args) is None
+    monkeypatch.setattr(config, "DISABLE_JIT", False)
+    monkeypatch.setattr(compile_ahead, "ENABLED", False)
+    assert compile_ahead.start_compiling(*args) is None
 
 
 def test_a_failed_second_process_leaves_the_kernel_to_the_first(fresh_kernels, monkeypatch):

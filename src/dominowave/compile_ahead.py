@@ -13,12 +13,12 @@ to a quarter less time (benchmarks/README.md, "First run").
 
 It is left out where it cannot pay: for a kernel compiled or cached already, with one
 core, in a process that is itself another's worker (a Dask worker shares the cores with
-its siblings), and under ``NUMBA_DISABLE_JIT``.  One second process at a time compiles a
-kernel for given types.  It ends with the process that started it: stopped at that
-one's exit or on an interrupt while waiting, and ending itself when it finds its parent
-gone (killed).  A scene built and never run leaves it compiling until then.  Should the
-second process fail, or fail to start, the first call compiles the kernel itself, as
-without it.
+its siblings), under ``NUMBA_DISABLE_JIT``, and where :data:`ENABLED` is off.  One second
+process at a time compiles a kernel for given types.  It ends with the process that
+started it: stopped at that one's exit or on an interrupt while waiting, and ending
+itself when it finds its parent gone (killed).  A scene built and never run leaves it
+compiling until then.  Should the second process fail, or fail to start, the first call
+compiles the kernel itself, as without it.
 """
 
 from __future__ import annotations
@@ -42,6 +42,9 @@ __all__ = ["start_compiling", "stop", "wait"]
 _RUNNING: dict[tuple, _Ahead] = {}
 """The second processes started, by task: (module, factory, its arguments, argument
 types)."""
+ENABLED = True
+"""Whether :func:`start_compiling` may start a second process (off: every kernel is
+compiled in the process that calls it, e.g. to time each compilation there)."""
 PARENT_POLL_S = 0.5
 """How often [s] a second process looks whether its parent is still there."""
 
@@ -81,7 +84,8 @@ def start_compiling(module: str, factory: str, factory_args: tuple, args: tuple)
     arguments of its first call, in a second process.  Returns the task to
     :func:`wait` for (or :func:`stop`), a picklable tuple, or ``None`` where a second
     process cannot pay or could not start (module docstring)."""
-    if config.DISABLE_JIT or _cores() < 2 or multiprocessing.parent_process() is not None:
+    worker = multiprocessing.parent_process() is not None
+    if not ENABLED or config.DISABLE_JIT or _cores() < 2 or worker:
         return None
     try:
         kernel = getattr(importlib.import_module(module), factory)(*factory_args)
