@@ -98,7 +98,7 @@ def test_a_failed_second_process_leaves_the_kernel_to_the_first(fresh_kernels, m
 
 def test_an_interrupt_while_waiting_stops_the_second_process():
     process = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
-    task = ("a task", "never compiled", (), ())
+    task = compile_ahead.Task("a task", "never compiled", (), ())
     compile_ahead._RUNNING[task] = compile_ahead._Ahead(process)
     main = threading.main_thread().ident
     threading.Timer(0.5, signal.pthread_kill, (main, signal.SIGINT)).start()
@@ -197,7 +197,8 @@ def test_a_first_run_of_another_kind_stops_the_second_process(monkeypatch, plana
     """The planar kernels switched off after the build: the second process compiles a
     loop the run does not call, and the run stops it instead of waiting for it."""
     done = []
-    monkeypatch.setattr(compile_ahead, "start_compiling", lambda m, f, a, _: (m, f, a, ()))
+    task = lambda m, f, a, _: compile_ahead.Task(m, f, a, ())  # noqa: E731
+    monkeypatch.setattr(compile_ahead, "start_compiling", task)
     monkeypatch.setattr(compile_ahead, "wait", lambda task: done.append("waited"))
     monkeypatch.setattr(compile_ahead, "stop", lambda task: done.append("stopped"))
     monkeypatch.setattr(simulation, "time_loop", lambda kind: lambda *a: (engine.DONE_STEPS, 0))

@@ -32,16 +32,27 @@ import subprocess
 import sys
 import threading
 import time
+from typing import NamedTuple
 
 from numba.core import config
 
 from dominowave.kernel_cache import kernels_cached
 
-__all__ = ["start_compiling", "stop", "wait"]
+__all__ = ["Task", "start_compiling", "stop", "wait"]
 
-_RUNNING: dict[tuple, _Ahead] = {}
-"""The second processes started, by task: (module, factory, its arguments, argument
-types)."""
+
+class Task(NamedTuple):
+    """A kernel to compile: ``module.factory(*factory_args)`` for the argument ``types``
+    (numba types); picklable, as the second process is sent it."""
+
+    module: str
+    factory: str
+    factory_args: tuple
+    types: tuple
+
+
+_RUNNING: dict[Task, _Ahead] = {}
+"""The second processes started, by task."""
 ENABLED = True
 """Whether :func:`start_compiling` may start a second process (off: every kernel is
 compiled in the process that calls it, e.g. to time each compilation there)."""
@@ -81,9 +92,9 @@ def _cores() -> int:
 def start_compiling(module: str, factory: str, factory_args: tuple, args: tuple):
     """Start compiling the kernel ``module.factory(*factory_args)`` (a numba dispatcher
     with ``cache=True``; picklable ``factory_args``) for the types of ``args``, the
-    arguments of its first call, in a second process.  Returns the task to
-    :func:`wait` for (or :func:`stop`), a picklable tuple, or ``None`` where a second
-    process cannot pay or could not start (module docstring)."""
+    arguments of its first call, in a second process.  Returns the :class:`Task` to
+    :func:`wait` for (or :func:`stop`), or ``None`` where a second process cannot pay
+    or could not start (module docstring)."""
     worker = multiprocessing.parent_process() is not None
     if not ENABLED or config.DISABLE_JIT or _cores() < 2 or worker:
         return None
@@ -91,7 +102,7 @@ def start_compiling(module: str, factory: str, factory_args: tuple, args: tuple)
         kernel = getattr(importlib.import_module(module), factory)(*factory_args)
         if kernels_cached(kernel):
             return None
-        task = (module, factory, factory_args, tuple(kernel.typeof_pyval(a) for a in args))
+        task = Task(module, factory, factory_args, tuple(kernel.typeof_pyval(a) for a in args))
         running = _RUNNING.get(task)
         if running is not None and running.process.poll() is None:
             return task
@@ -112,14 +123,14 @@ def start_compiling(module: str, factory: str, factory_args: tuple, args: tuple)
     return task
 
 
-def wait(task) -> bool:
+def wait(task: Task) -> bool:
     """Wait for the second process of ``task`` (of :func:`start_compiling`); whether it
     compiled the kernel into the cache."""
     ahead = _RUNNING.get(task)
     return ahead is not None and ahead.wait()
 
 
-def stop(task) -> None:
+def stop(task: Task) -> None:
     """Stop the second process of ``task`` if it still runs (its kernel is not needed)."""
     ahead = _RUNNING.get(task)
     if ahead is not None:

@@ -265,7 +265,7 @@ class Simulation:
         # set-up (_first_step) and would only wait for it
         self._compiling = None
         if not self.boxes.body.size:
-            kind = self.kind._replace(planar=self.planar_kernels and self.planar)
+            kind = self.kind._replace(planar=self._next_run_planar())
             self._compiling = compile_ahead.start_compiling(
                 engine.__name__, "time_loop", (tuple(kind),), self._loop_args(0, 0.0, np.empty(5))
             )
@@ -411,8 +411,7 @@ class Simulation:
                 contacts, boxes = first.contacts, first.boxes
             else:
                 contacts = copy.deepcopy(contacts)
-                planar = self.planar_kernels and self.planar
-                (compute_forces_planar if planar else compute_forces)(
+                (compute_forces_planar if self._next_run_planar() else compute_forces)(
                     copy.deepcopy(self.bodies), self.spheres, self.walls, contacts, self.dt,
                     np.zeros(3), self.rec.changes.copy(), True, self.mats.shear_kinematics[0],
                 )  # fmt: skip
@@ -522,7 +521,7 @@ class Simulation:
         growing a full buffer and going on; returns ``(code, steps done)`` with a code
         of engine.DONE_*, STOP_* or ABORT_*."""
         if self._compiling is not None:  # the loop compiled by a second process
-            if self._compiling[2] == (tuple(self.kind),):
+            if self._compiling.factory_args == (tuple(self.kind),):
                 compile_ahead.wait(self._compiling)
             else:  # (planar_kernels changed since the build: it compiles another loop)
                 compile_ahead.stop(self._compiling)
@@ -576,9 +575,13 @@ class Simulation:
         # (to round-off, as planar.IN_PLANE_TOLERANCE)
         return bool(np.all(np.abs(self.bodies.rot[self.boxes.body, 1, 1]) >= 1.0 - 1e-13))
 
+    def _next_run_planar(self) -> bool:
+        """Whether a run starting now uses the planar kernels (:attr:`planar` and
+        :attr:`planar_kernels`)."""
+        return self.planar_kernels and self.planar
+
     def _start_run(self, trajectory_every, energy_every, record_contact_forces):
-        planar = self.planar_kernels and self.planar
-        self.settings = self.settings._replace(planar=planar)
+        self.settings = self.settings._replace(planar=self._next_run_planar())
         r = self.rec
         r.energy_ref[:] = r.energy_now
         scale = engine.active_energy(r.energy_now, self.settings.track_energy)
