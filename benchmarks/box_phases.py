@@ -215,7 +215,6 @@ def _timed_steps(bodies, spheres, walls, mats, contacts, settings, rec, bx, n_st
             energies(bodies, contacts, settings.gravity, rec.ledger, kin)
             if has_boxes:
                 boxes.box_energies(bx, kin)
-                box_sphere.box_sphere_energies(bx, kin)
             if not engine._finite(bodies) or kin[E_GRAVITATIONAL] != kin[E_GRAVITATIONAL]:
                 return -1
             integrate.drift(bodies, dt, pl)

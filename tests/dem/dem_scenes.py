@@ -1,6 +1,8 @@
-"""Geometry helpers shared by the DEM tests."""
+"""Geometry helpers and scenes shared by the DEM tests."""
 
 import numpy as np
+
+from dominowave.dem import Material, Scene
 
 R = 0.005  # sphere radius of the test scenes [m]
 RHO = 1000.0
@@ -26,3 +28,26 @@ def tilt_of(sim, quaternions, body=0):
     ux = (1 - 2 * (y * y + z * z)) * u[0] + 2 * (x * y - w * z) * u[1] + 2 * (x * z + w * y) * u[2]
     uz = 2 * (x * z - w * y) * u[0] + 2 * (y * z + w * x) * u[1] + (1 - 2 * (x * x + y * y)) * u[2]
     return np.arctan2(ux, uz)
+
+
+def spheres_in_a_box():
+    """27 spheres (radius 4.5-5.5 mm, two materials) on a 3 x 3 x 3 grid 12 mm apart, each
+    with its own velocity and spin, dropped into a box of five walls 40 mm wide."""
+    scene = Scene(gravity=(0.0, 0.0, -9.81))
+    soft = scene.add_material(Material(density=2500.0, kn=2e4, friction=0.5, restitution=0.3))
+    hard = scene.add_material(Material(density=1200.0, kn=5e4, friction=0.2, restitution=0.8))
+    scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), soft)
+    for axis in range(2):
+        for side in (-1.0, 1.0):
+            point, normal = np.zeros(3), np.zeros(3)
+            point[axis], normal[axis] = 0.02 * side, -side
+            scene.add_wall(point, normal, hard)
+    rng = np.random.default_rng(7)
+    for k in range(27):
+        cell = np.array([k % 3, (k // 3) % 3, k // 9]) - 1.0
+        centre = 0.012 * cell + np.array([0.0, 0.0, 0.03]) + rng.uniform(-1e-3, 1e-3, 3)
+        scene.add_sphere(
+            centre, rng.uniform(0.0045, 0.0055), (soft, hard)[k % 2],
+            velocity=rng.uniform(-0.2, 0.2, 3), angular_velocity=rng.uniform(-30, 30, 3),
+        )  # fmt: skip
+    return scene.build(safety=0.3, track_energy=True, record_pairs=True)

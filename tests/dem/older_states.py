@@ -26,6 +26,9 @@ FORMAT_2_KEYS = (
 FORMAT_3_KEYS = ("settings.sleep_speed", "settings.sleep_time", "bodies.calm_since")
 """The keys a format-2 state lacks (and those of the rows of resting boxes,
 ``boxes.dormant.*``)."""
+FORMAT_5_KEYS = ("contacts.point", "contacts.normal", "contacts.mult")
+"""The keys a format-4 state lacks: the sphere contacts' points, normals and
+multiplicities (their rows' fields, contact_rows.py)."""
 FORMAT_1_BOX_KEYS = (
     "boxes.held_at_build",
     "boxes.sphere_cand",
@@ -36,19 +39,22 @@ FORMAT_1_BOX_KEYS = (
 
 
 def older_state(state: dict, version: int) -> dict:
-    """``state`` (current format) in the layout of format ``version`` (1, 2 or 3):
+    """``state`` (current format) in the layout of format ``version`` (1 to 4):
 
+    * 1 to 4: sphere contacts without :data:`FORMAT_5_KEYS`;
     * 1 to 3: one column ``mats.stiffness`` holding E, or k_n under RULE_GIVEN, instead
       of ``mats.young`` and ``mats.kn``;
     * 1 and 2: no sleep settings, no rows of resting boxes;
     * 1: no version key, none of :data:`FORMAT_2_KEYS` and :data:`FORMAT_1_BOX_KEYS`,
       and materials giving k_n flagged by ``mats.given_kn`` beside the paper's rule.
     """
-    old = dict(state)
+    old = {k: v for k, v in state.items() if k not in FORMAT_5_KEYS}
+    old["state_format"] = np.array(version)
+    if version == 4:
+        return old
     young, kn = old.pop("mats.young"), old.pop("mats.kn")
     given = int(old["mats.rule"][0]) == RULE_GIVEN
     old["mats.stiffness"] = kn if given else young
-    old["state_format"] = np.array(version)
     if version <= 2:
         old = {k: v for k, v in old.items() if k not in FORMAT_3_KEYS}
         old = {k: v for k, v in old.items() if not k.startswith("boxes.dormant.")}

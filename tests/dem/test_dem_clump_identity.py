@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from dem_scenes import spheres_in_a_box
 from stored_runs import (
     assert_as_stored,
     bodies_and_events,
@@ -33,7 +34,6 @@ from stored_runs import (
 )
 
 from dominowave.chain import ChainParams, DominoChain, Push
-from dominowave.dem import Material, Scene
 
 DATA = Path(__file__).parent / "data" / "clump_identity.npz"
 
@@ -56,36 +56,13 @@ def _chain(fields):
     return sim
 
 
-def _spheres_in_a_box():
-    """27 spheres (radius 4.5-5.5 mm, two materials) on a 3 x 3 x 3 grid 12 mm apart, each
-    with its own velocity and spin, dropped into a box of five walls 40 mm wide."""
-    scene = Scene(gravity=(0.0, 0.0, -9.81))
-    soft = scene.add_material(Material(density=2500.0, kn=2e4, friction=0.5, restitution=0.3))
-    hard = scene.add_material(Material(density=1200.0, kn=5e4, friction=0.2, restitution=0.8))
-    scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), soft)
-    for axis in range(2):
-        for side in (-1.0, 1.0):
-            point, normal = np.zeros(3), np.zeros(3)
-            point[axis], normal[axis] = 0.02 * side, -side
-            scene.add_wall(point, normal, hard)
-    rng = np.random.default_rng(7)
-    for k in range(27):
-        cell = np.array([k % 3, (k // 3) % 3, k // 9]) - 1.0
-        centre = 0.012 * cell + np.array([0.0, 0.0, 0.03]) + rng.uniform(-1e-3, 1e-3, 3)
-        scene.add_sphere(
-            centre, rng.uniform(0.0045, 0.0055), (soft, hard)[k % 2],
-            velocity=rng.uniform(-0.2, 0.2, 3), angular_velocity=rng.uniform(-30, 30, 3),
-        )  # fmt: skip
-    return scene.build(safety=0.3, track_energy=True, record_pairs=True)
-
-
 CONTACT_FIELDS = ("i", "j", "active", "shear", "overlap", "vn", "fn", "fn_viscous")
 """The fields of the sphere contacts compared."""
 
 
 def _run(name):
     if name == "spheres":
-        sim, steps = _spheres_in_a_box(), BOX_STEPS
+        sim, steps = spheres_in_a_box(), BOX_STEPS
     else:
         fields, steps = CHAINS[name]
         sim = _chain(fields)

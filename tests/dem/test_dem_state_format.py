@@ -4,8 +4,9 @@ A state of the current format round-trips as it is; a format-1 state (written be
 key existed, without the planar switch, the shear kinematics, the material-pair tables
 and the Hertz tables, and possibly without the boxes' held flags at the list build and
 the box-sphere list), a format-2 state (without the sleep settings and the rows of
-resting boxes) and a format-3 state (one stiffness column for E or k_n) are read with the
-values their scene had implicitly and resume bit for bit (the older layouts:
+resting boxes), a format-3 state (one stiffness column for E or k_n) and a format-4 state
+(sphere contacts without their rows' points, normals and multiplicities) are read with
+the values their scene had implicitly and resume bit for bit (the older layouts:
 older_states.py); a state of a newer format, or of the current one with a key missing,
 is refused in one line.
 """
@@ -37,7 +38,7 @@ def test_a_state_carries_its_format():
     assert int(restored.get_state()["state_format"]) == STATE_FORMAT
 
 
-@pytest.mark.parametrize("version", [1, 2, 3])
+@pytest.mark.parametrize("version", [1, 2, 3, 4])
 def test_an_older_state_resumes_bit_identically(version):
     sim = _bouncing_ball()
     sim.run(n_steps=500)
@@ -89,7 +90,7 @@ def _resume_alike(sim, old):
         np.testing.assert_array_equal(getattr(restored.bodies, name), getattr(sim.bodies, name))
 
 
-@pytest.mark.parametrize("version", [1, 2, 3])
+@pytest.mark.parametrize("version", [1, 2, 3, 4])
 def test_an_older_box_state_resumes_bit_identically(version):
     sim = _box_on_a_box()
     sim.run(n_steps=1500)

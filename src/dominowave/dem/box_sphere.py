@@ -11,8 +11,9 @@ the end impulse (laws.linear.onset_averaged_overlap, laws.linear.end_impulse); C
 friction with one shear history per pair; the dashpot from the pair's restitution and
 the effective mass at the contact point (boxes.inverse_mass_at); stiffness, friction and
 restitution of the material pair (material_pairs.material_pair: the rounding and the sphere's
-radius).  Energies, power and the contact-force recorder are those of the box rows
-(boxes.rows_energies, boxes.rows_power, boxes.row_force) with multiplicity 1.
+radius).  Energies, power, peak forces and the contact-force recorder are those of every
+contact table (contact_rows.py, through boxes.box_energies, box_power, box_peak_force and
+box_contact_forces), with multiplicity 1.
 A sphere touches a convex box at one point, so the pair is its own key, and a planar row
 stands for one point (no doubling along y).  Hertz scenes hold no spheres
 (``Scene.build`` refuses them), so the law here is the linear one.
@@ -32,7 +33,6 @@ body (``Spheres.pos`` is kept only for spheres in the Verlet list).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
 from dominowave.dem.boxes import (
     _copy_rows,
@@ -43,10 +43,6 @@ from dominowave.dem.boxes import (
     _point_row,
     _reach_of,
     _release,
-    box_contact_forces,
-    row_force,
-    rows_energies,
-    rows_power,
 )
 from dominowave.dem.compiled import inline_kernel, inner_kernel
 from dominowave.dem.contact import END, ONSET, _candidate_pairs
@@ -56,13 +52,9 @@ from dominowave.dem.shapes.rectangle import rect_sphere
 from dominowave.dem.state import Spheres
 
 __all__ = [
-    "box_rows_contact_forces",
-    "box_sphere_contact_forces",
-    "box_sphere_energies",
     "box_sphere_forces",
     "box_sphere_forces_general",
     "box_sphere_forces_planar",
-    "box_sphere_power",
     "build_box_sphere_candidates",
 ]
 
@@ -195,44 +187,6 @@ def box_sphere_forces(bodies, spheres, boxes, mats, dt, ledger, first_step, plan
         box_sphere_forces_planar(bodies, spheres, boxes, mats, dt, ledger, first_step)
     else:
         box_sphere_forces_general(bodies, spheres, boxes, mats, dt, ledger, first_step)
-
-
-@inner_kernel(_nrt=False)
-def box_sphere_power(bodies, spheres, boxes, out):
-    """Add the power [W] of the box-sphere dashpots (``out[POWER_VISCOUS]``) and
-    tangential forces (``out[POWER_FRICTION]``) at the full-step velocities."""
-    rows_power(bodies, boxes.sphere_rows, boxes.body, spheres.body, out)
-
-
-@njit(cache=True, error_model="numpy", _nrt=False)
-def box_sphere_energies(boxes, out):
-    """Add the elastic energies [J] of the box-sphere contacts to ``out`` (ENERGY_NAMES
-    vector: ``k_n delta^2 / 2`` to entry 3, ``k_t |u|^2 / 2`` to 4, both to 8)."""
-    rows_energies(boxes.sphere_rows, False, out)
-
-
-@inner_kernel(_nrt=False)
-def box_sphere_contact_forces(boxes, n_spheres, first, second, point, force):
-    """The box-sphere rows for the contact-force recorder (boxes.box_contact_forces'
-    layout): ``first`` the box's shape id ``n_spheres + box``, ``second`` the sphere,
-    ``force`` [N] the force on the sphere, ``point`` [m]; returns the number of rows."""
-    rows = boxes.sphere_rows
-    for c in range(rows.n[0]):
-        first[c] = n_spheres + rows.i[c]
-        second[c] = rows.j[c]
-        row_force(rows, c, 1.0, point[c], force[c])
-    return rows.n[0]
-
-
-@inner_kernel(_nrt=False)
-def box_rows_contact_forces(boxes, n_spheres, first, second, point, force):
-    """The rows of every box contact for the contact-force recorder: those of
-    boxes.box_contact_forces, then :func:`box_sphere_contact_forces`'; returns their
-    number."""
-    n = box_contact_forces(boxes, n_spheres, first, second, point, force)
-    return n + box_sphere_contact_forces(
-        boxes, n_spheres, first[n:], second[n:], point[n:], force[n:]
-    )
 
 
 # (allocates: compiled with numba's reference counting, as boxes.build_box_candidates)

@@ -54,13 +54,18 @@ from numba import njit
 
 from dominowave.dem.compiled import inline_kernel, inner_kernel
 from dominowave.dem.contact import END, ONSET, _candidate_pairs, _scan_walls, apply_at_lever
+from dominowave.dem.contact_rows import (
+    relative_velocity,
+    rows_contact_forces,
+    rows_elastic_energy,
+    rows_peak_force,
+    rows_power,
+)
 from dominowave.dem.energy import (
     E_ELASTIC_NORMAL,
     E_ELASTIC_TANGENTIAL,
     E_TOTAL,
     LEDGER_FRICTION,
-    POWER_FRICTION,
-    POWER_VISCOUS,
 )
 from dominowave.dem.integrate import ROT_AXIS, ROT_FREE, ROT_ISOTROPIC
 from dominowave.dem.laws.hertz import (
@@ -70,7 +75,7 @@ from dominowave.dem.laws.hertz import (
     hertz_modulus,
 )
 from dominowave.dem.laws.linear import end_impulse
-from dominowave.dem.laws.point import onset_dashpot, point_energy, point_law, point_power
+from dominowave.dem.laws.point import onset_dashpot, point_law
 from dominowave.dem.material_pairs import material_pair
 from dominowave.dem.shapes.cuboid import MAX_POINTS, box_box, box_plane, faces_separate
 from dominowave.dem.shapes.rectangle import (
@@ -632,21 +637,6 @@ def _apply(bodies, b, p, f0, f1, f2, sign):
     apply_at_lever(bodies, b, rx, ry, rz, f0, f1, f2, sign)
 
 
-@inline_kernel()
-def _relative_velocity(bodies, vel, omega, bi, bj, wall, p):
-    """Velocity of the material point p of body j minus that of body i (a wall is fixed)."""
-    rx, ry, rz = p[0] - bodies.pos[bi, 0], p[1] - bodies.pos[bi, 1], p[2] - bodies.pos[bi, 2]
-    v0 = -(vel[bi, 0] + omega[bi, 1] * rz - omega[bi, 2] * ry)
-    v1 = -(vel[bi, 1] + omega[bi, 2] * rx - omega[bi, 0] * rz)
-    v2 = -(vel[bi, 2] + omega[bi, 0] * ry - omega[bi, 1] * rx)
-    if not wall:
-        rx, ry, rz = p[0] - bodies.pos[bj, 0], p[1] - bodies.pos[bj, 1], p[2] - bodies.pos[bj, 2]
-        v0 += vel[bj, 0] + omega[bj, 1] * rz - omega[bj, 2] * ry
-        v1 += vel[bj, 1] + omega[bj, 2] * rx - omega[bj, 0] * rz
-        v2 += vel[bj, 2] + omega[bj, 0] * ry - omega[bj, 1] * rx
-    return v0, v1, v2
-
-
 @inner_kernel(_nrt=False)
 def _end(bodies, old, q, gap, dt, bi, bj, wall, ledger, hertz):
     """Old row q opened in the last drift (now ``gap <= 0``): the end impulse the last kick
@@ -736,7 +726,7 @@ def _point_row(bodies, old, new, c, q, props, ba, bj, wall, overlap, dt, first_s
         new.kn[c], new.kt[c], new.mu[c], new.cn[c] = old.kn[q], old.kt[q], old.mu[q], old.cn[q]
         u0, u1, u2 = old.shear[q, 0], old.shear[q, 1], old.shear[q, 2]
         vn_old = old.vn[q]
-    dv0, dv1, dv2 = _relative_velocity(bodies, bodies.vel, bodies.omega, ba, bj, wall, p)
+    dv0, dv1, dv2 = relative_velocity(bodies, bodies.vel, bodies.omega, ba, bj, wall, p)
     spin = _spin(bodies.omega, ba, bj, wall, n0, n1, n2)
     fn, fn_viscous, vn, u0, u1, u2, released, f0, f1, f2 = point_law(
         overlap, n0, n1, n2, dv0, dv1, dv2, dv0, dv1, dv2, 0.5 * spin * dt, u0, u1, u2,
@@ -1121,138 +1111,59 @@ def _wake_rows(boxes, nx, nw):
 
 
 @inner_kernel(_nrt=False)
-def box_power(bodies, boxes, out):
+def box_power(bodies, boxes, sphere_body, out):
     """Add the power [W] of the box contacts' dashpots (``out[POWER_VISCOUS]``) and
-    tangential forces (``out[POWER_FRICTION]``) at the full-step velocities (as
-    contact.contact_power)."""
+    tangential forces (``out[POWER_FRICTION]``) at the full-step velocities
+    (contact_rows.rows_power): the box-box and box-wall rows, then the box-sphere rows
+    (``sphere_body`` (ns,): the spheres' owners)."""
     rows_power(bodies, boxes.rows, boxes.body, boxes.body, out)
-
-
-@inline_kernel()
-def rows_power(bodies, rows, box_body, partner_body, out):
-    """Add the power [W] of the dashpots (``out[POWER_VISCOUS]``) and tangential forces
-    (``out[POWER_FRICTION]``) of contact rows ``rows`` at the full-step velocities:
-    ``mult F_d v_n`` and ``-mult k_t u . dv`` per row.  Row partner ``j >= 0`` is the body
-    ``partner_body[j]`` (boxes: the box bodies; box-sphere rows: the spheres' owners),
-    ``j < 0`` a wall."""
-    for c in range(rows.n[0]):
-        wall = rows.j[c] < 0
-        bi = box_body[rows.i[c]]
-        bj = bi if wall else partner_body[rows.j[c]]
-        dv0, dv1, dv2 = _relative_velocity(
-            bodies, bodies.vel_full, bodies.omega_full, bi, bj, wall, rows.point[c]
-        )
-        n = rows.normal[c]
-        u = rows.shear[c]
-        viscous, friction = point_power(
-            rows.fn_viscous[c], n[0], n[1], n[2], dv0, dv1, dv2, rows.kt[c], u[0], u[1], u[2]
-        )
-        # (mult 1 or 2: exact scaling, as in rows_energies)
-        out[POWER_VISCOUS] += rows.mult[c] * viscous
-        out[POWER_FRICTION] += rows.mult[c] * friction
+    rows_power(bodies, boxes.sphere_rows, boxes.body, sphere_body, out)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def box_energies(boxes, out):
     """Add the elastic energies [J] of the box contacts to ``out`` (ENERGY_NAMES vector:
     normal ``k_n delta^2 / 2`` (Hertz: ``2/5 K delta^{5/2}``) to entry 3, tangential
-    ``k_t |u|^2 / 2`` to 4, both to the total, 8)."""
+    ``k_t |u|^2 / 2`` to 4, both to the total, 8): the box-box and box-wall rows, those put
+    aside (their springs keep their energy), the box-sphere rows (linear)."""
     hertz = boxes.normal_law[0] == LAW_HERTZ
-    rows_energies(boxes.rows, hertz, out)
-    rows_energies(boxes.dormant, hertz, out)  # (their springs keep their energy)
+    _add_energies(rows_elastic_energy(boxes.rows, hertz), out)
+    _add_energies(rows_elastic_energy(boxes.dormant, hertz), out)
+    _add_energies(rows_elastic_energy(boxes.sphere_rows, False), out)
 
 
 @inline_kernel()
-def rows_energies(rows, hertz, out):
-    """Add the elastic energies [J] of contact rows ``rows`` to ``out`` (ENERGY_NAMES
-    vector; each row ``mult`` times its point's: :func:`box_energies`)."""
-    en = 0.0
-    es = 0.0
-    # (mult is 1 or 2, PLANAR_MULTIPLICITY: scaling by it commutes with the rounding of
-    # the point's products, so the sums are those of the rows' own products)
-    for c in range(rows.n[0]):
-        u = rows.shear[c]
-        normal, tangential = point_energy(
-            rows.kn[c], rows.kt[c], rows.overlap[c], u[0], u[1], u[2], hertz
-        )
-        en += rows.mult[c] * normal
-        es += rows.mult[c] * tangential
-    out[E_ELASTIC_NORMAL] += en
-    out[E_ELASTIC_TANGENTIAL] += es
-    out[E_TOTAL] += en + es
+def _add_energies(elastic, out):
+    normal, tangential = elastic
+    out[E_ELASTIC_NORMAL] += normal
+    out[E_ELASTIC_TANGENTIAL] += tangential
+    out[E_TOTAL] += normal + tangential
 
 
 @inner_kernel(_nrt=False)
-def box_contact_forces(boxes, first_id, first, second, point, force):
-    """The contact forces of the last :func:`box_forces`, one row per contact row, in the
-    layout of contact.active_contact_forces (the engine's contact-force recorder): the
-    rows of the pairs visited, then those of the pairs at rest put aside
-    (``boxes.dormant``: held or sleeping boxes), with the force they had when put aside,
-    which holds them where they rest.
-
-    Shapes are numbered spheres first, then boxes: box x is shape ``first_id + x``
-    (``first_id`` = the number of spheres).  Box-box row: ``first``, ``second`` the two
-    boxes, ``force`` the force on ``second``; box-wall row: ``first = -(wall + 1)``,
-    ``second`` the box, ``force`` the force on the box.  ``force`` (3,) [N] is the force
-    as applied in the last kick, ``mult (fn n - kt u)`` (a planar row stands for ``mult``
-    points of the 3D body: their sum), ``point`` (3,) [m] the contact point.  The end
-    impulse of a point that opened in the last drift is not a row.  Writes from row 0 on
-    and returns the number of rows.
-    """
-    n = _rows_contact_forces(boxes.rows, first_id, first, second, point, force)
-    return n + _rows_contact_forces(
-        boxes.dormant, first_id, first[n:], second[n:], point[n:], force[n:]
+def box_contact_forces(boxes, n_spheres, first, second, point, force):
+    """The contact forces of the last :func:`box_forces` and box_sphere.box_sphere_forces
+    for the engine's contact-force recorder (contact_rows.rows_contact_forces): the rows
+    of the pairs visited, those of the pairs at rest put aside (``boxes.dormant``: held or
+    sleeping boxes, with the force they had when put aside, which holds them where they
+    rest), then the box-sphere rows.  Shapes are numbered spheres first (``n_spheres``),
+    then boxes.  Writes from row 0 on and returns the number of rows."""
+    n = rows_contact_forces(boxes.rows, n_spheres, n_spheres, first, second, point, force)
+    n += rows_contact_forces(
+        boxes.dormant, n_spheres, n_spheres, first[n:], second[n:], point[n:], force[n:]
+    )
+    return n + rows_contact_forces(
+        boxes.sphere_rows, n_spheres, 0, first[n:], second[n:], point[n:], force[n:]
     )
 
 
-@inline_kernel()
-def _rows_contact_forces(rows, first_id, first, second, point, force):
-    """The recorder's rows of the contact rows ``rows`` (:func:`box_contact_forces`)."""
-    for c in range(rows.n[0]):
-        if rows.j[c] >= 0:  # (the force on the partner box)
-            first[c] = first_id + rows.i[c]
-            second[c] = first_id + rows.j[c]
-            row_force(rows, c, 1.0, point[c], force[c])
-        else:  # (on the box)
-            first[c] = rows.j[c]
-            second[c] = first_id + rows.i[c]
-            row_force(rows, c, -1.0, point[c], force[c])
-    return rows.n[0]
-
-
-@inline_kernel()
-def row_force(rows, c, sign, point, force):
-    """The contact point (3,) [m] of row c into ``point`` and ``sign`` times the force
-    (3,) [N] on its partner as applied in the last kick, ``mult (F_n n - k_t u)``, into
-    ``force`` (the contact-force recorder: :func:`box_contact_forces`)."""
-    n = rows.normal[c]
-    u = rows.shear[c]
-    fn, kt, m = rows.fn[c], rows.kt[c], rows.mult[c]
-    for d in range(3):
-        point[d] = rows.point[c, d]
-        force[d] = sign * m * (fn * n[d] - kt * u[d])
-
-
 @inner_kernel(_nrt=False)
-def box_peak_force(boxes, spheres, peak):
+def box_peak_force(boxes, sphere_body, peak):
     """Raise ``peak[a, b]`` (a < b bodies, [N]) to the normal force of any box-box or
-    box-sphere contact point of the pair (as engine.py records the sphere contacts' peak
-    force)."""
-    rows = boxes.rows
-    for c in range(rows.n[0]):
-        if rows.j[c] >= 0:
-            _raise_peak(peak, boxes.body[rows.i[c]], boxes.body[rows.j[c]], rows.fn[c])
-    rows = boxes.sphere_rows
-    for c in range(rows.n[0]):
-        _raise_peak(peak, boxes.body[rows.i[c]], spheres.body[rows.j[c]], rows.fn[c])
-
-
-@inline_kernel()
-def _raise_peak(peak, bi, bj, fn):
-    a = min(bi, bj)
-    b = max(bi, bj)
-    if fn > peak[a, b]:
-        peak[a, b] = fn
+    box-sphere contact point of the pair (contact_rows.rows_peak_force; ``sphere_body``
+    (ns,): the spheres' owners)."""
+    rows_peak_force(boxes.rows, boxes.body, boxes.body, peak)
+    rows_peak_force(boxes.sphere_rows, boxes.body, sphere_body, peak)
 
 
 # --- checkpoints -----------------------------------------------------------------------------

@@ -5,9 +5,10 @@ Each pair geometry is a small pure function of one pair (jax-md style):
 The driver :func:`compute_forces` maps them over the Verlet list and hands each contact
 point to the one law of every contact point of the engine (laws/point.py: the linear
 spring-dashpot of laws/linear.py with the Coulomb-limited shear spring of
-laws/tangential.py); :func:`contact_power` and :func:`active_contact_forces` read the
-contacts back (:func:`compute_forces_planar` and :func:`contact_power_planar`, the same
-source compiled for a planar scene: :func:`_sphere_driver`).  A
+laws/tangential.py), and writes each pair's row of the contact table (point, normal,
+the law's state), which the bookkeeping of every table reads (contact_rows.py)
+(:func:`compute_forces_planar`, the same source compiled for a planar scene:
+:func:`_sphere_driver`).  A
 listed pair's constants come from its materials (:func:`pair_properties`, by
 material_pairs.material_pair).
 
@@ -23,15 +24,14 @@ import numpy as np
 from numba import njit
 
 from dominowave.dem.compiled import inline_kernel, inner_kernel
-from dominowave.dem.energy import LEDGER_FRICTION, POWER_FRICTION, POWER_VISCOUS
+from dominowave.dem.energy import LEDGER_FRICTION
 from dominowave.dem.integrate import ROT_NONE
 from dominowave.dem.laws.linear import end_impulse, viscous_coefficient
-from dominowave.dem.laws.point import point_law, point_power
+from dominowave.dem.laws.point import point_law
 from dominowave.dem.laws.tangential import SHEAR_YADE, yade_shear_velocity
 from dominowave.dem.material_pairs import material_pair
 
 __all__ = [
-    "active_contact_forces",
     "apply_at_lever",
     "apply_in_plane",
     "begin_contact",
@@ -39,8 +39,6 @@ __all__ = [
     "compute_forces",
     "compute_forces_planar",
     "contact_point",
-    "contact_power",
-    "contact_power_planar",
     "end_contact",
     "idle_pair",
     "lever_arm",
@@ -443,8 +441,10 @@ def _merge_history(spheres, walls, bodies, mats, contacts, keys, first, src, pro
         contacts.i[c] = i
         contacts.j[c] = j
         if src[c] < 0:
-            # (overlap, vn and fn are kept as before: set at the onset before they are read)
+            # (vn and fn are kept as before: set at the onset before they are read; the
+            # overlap of an idle pair is not positive, for the bookkeeping: contact_rows)
             contacts.active[c] = 0
+            contacts.overlap[c] = 0.0
             for d in range(3):
                 contacts.shear[c, d] = 0.0
             contacts.fn_viscous[c] = 0.0
@@ -738,8 +738,7 @@ def _yade_shear_velocity_in_plane(bodies, spheres, contacts, c, i, bi, bj, wall,
 
 
 def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
-    """The sphere driver's kernels for a scene of the kind ``PLANAR``:
-    ``(compute_forces, contact_power)``.
+    """The sphere driver's kernel ``compute_forces`` for a scene of the kind ``PLANAR``.
 
     One source for both kinds of scene, compiled once for each (as engine.time_loop):
     the planar kernels (a planar scene, planar.py) pass the components that are zero in
@@ -760,7 +759,8 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
 
         ``ledger[LEDGER_FRICTION]`` -= change of the energy stored in the tangential springs
         (the work of the tangential and dashpot forces is booked after the kick, from
-        :func:`contact_power` with the full-step velocities).  Every contact that
+        contact_rows.rows_power with the full-step velocities).  A pair in contact, or
+        whose contact ends, gets the point and normal of its row.  Every contact that
         starts or ends is appended to ``changes`` as ``(c, kind)`` rows; returns their count.
         ``first_step``: the initial configuration, no shear increment (no previous step).
         ``shear_kinematics``: SHEAR_CONTACT_POINT or SHEAR_YADE (laws/tangential.py).
@@ -804,18 +804,18 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
             if not near:
                 idle_pair(contacts, c)
                 continue
+            if overlap <= 0.0 and not active:  # (d2 < rsum^2, but |d| rounds to rsum)
+                idle_pair(contacts, c)
+                continue
             p0, p1, p2 = contact_point(pos[i, 0], yi, pos[i, 2], Ri, n0, n1, n2, overlap)
-            if overlap <= 0.0:
-                if not active:  # (d2 < rsum^2, but |d| rounds to rsum: no contact)
-                    idle_pair(contacts, c)
-                    continue
-                # an active contact opened in the last drift (planar: its force lies in the
-                # plane, and the lever's y, taken at the sphere's own, only enters the torque's
-                # x and z, which nothing reads)
+            if PLANAR:
+                p1 = pos[i, 1]  # (the plane's y: it enters only the torque's x and z)
+            contacts.point[c, 0], contacts.point[c, 1], contacts.point[c, 2] = p0, p1, p2
+            contacts.normal[c, 0], contacts.normal[c, 1], contacts.normal[c, 2] = n0, n1, n2
+            if overlap <= 0.0:  # an active contact opened in the last drift
                 ledger[LEDGER_FRICTION] += end_contact(
-                    bodies, contacts, c, bi, bj, wall, n0, n1, n2, overlap, dt, p0,
-                    pos[i, 1] if PLANAR else p1, p2,
-                )  # fmt: skip
+                    bodies, contacts, c, bi, bj, wall, n0, n1, n2, overlap, dt, p0, p1, p2
+                )
                 n_changes = log_change(changes, n_changes, c, END)
                 continue
             new_contact = not active
@@ -886,143 +886,8 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
                 apply_at_lever(bodies, bi, ri0, ri1, ri2, f0, f1, f2, -1.0)
         return n_changes
 
-    @njit(cache=True, error_model="numpy", _nrt=False)
-    def contact_power(bodies, spheres, walls, contacts, out):
-        """Power [W] at t_n of the dashpot forces (``out[POWER_VISCOUS]``) and of the
-        tangential forces (``out[POWER_FRICTION]``) on the bodies: ``F . v_rel`` with the
-        full-step relative velocity of the contact point (``v_n``, the velocity in which the
-        kinetic-energy change of velocity Verlet is exact to O(dt^3) per step).  The caller
-        integrates them with the trapezoidal rule; the friction dissipation is minus the
-        tangential work minus the change of the energy stored in the springs (booked in
-        :func:`compute_forces`), which closes the balance to O(dt^2) with rotating bodies and
-        turning contact frames as well.
-
-        The dashpot force is ``contacts.fn_viscous`` (including the dashpot part of an end
-        impulse, :func:`end_impulse`).  The elastic onset/end corrections are part of the
-        elastic force and are not booked, for elastic and viscous materials alike.  The
-        contact point is that of the last :func:`compute_forces` (its stored overlap).
-        The planar kernel leaves out the y components: the same sums to the bit (``v_y`` of
-        every contact point and the shear's ``u_y`` are exactly zero in a planar run).
-        """
-        pos = spheres.pos
-        body_pos, vel, omega = bodies.pos, bodies.vel_full, bodies.omega_full
-        u = contacts.shear
-        p_viscous = 0.0
-        p_friction = 0.0
-        for c in range(contacts.n[0]):
-            fd = contacts.fn_viscous[c]
-            if PLANAR:
-                unsheared = u[c, 0] == u[c, 2] == 0.0
-            else:
-                unsheared = u[c, 0] == u[c, 1] == u[c, 2] == 0.0
-            if fd == 0.0 and (not contacts.active[c] or unsheared):
-                continue  # (ended contacts have zero shear)
-            i = contacts.i[c]
-            j = contacts.j[c]
-            bi = spheres.body[i]
-            Ri = spheres.radius[i]
-            yi = 0.0 if PLANAR else pos[i, 1]
-            if j >= 0:
-                yj = 0.0 if PLANAR else pos[j, 1]
-                _, n0, n1, n2, _ = sphere_sphere(
-                    pos[i, 0], yi, pos[i, 2], pos[j, 0], yj, pos[j, 2], 0.0, True
-                )
-            else:
-                wn = walls.normal
-                nwy = 0.0 if PLANAR else wn[-j - 1, 1]
-                _, n0, n1, n2, _ = sphere_wall(
-                    pos[i, 0], yi, pos[i, 2], Ri, 0.0, 0.0, 0.0, wn[-j - 1, 0], nwy, wn[-j - 1, 2],
-                    True,
-                )  # fmt: skip
-            if PLANAR:
-                n1 = 0.0
-            p0, p1, p2 = contact_point(
-                pos[i, 0], yi, pos[i, 2], Ri, n0, n1, n2, contacts.overlap[c]
-            )
-            if PLANAR:
-                vi0, vi2 = point_velocity_in_plane(
-                    vel, omega, bi, p0 - body_pos[bi, 0], p2 - body_pos[bi, 2]
-                )
-                dv0, dv1, dv2 = -vi0, 0.0, -vi2
-                if j >= 0:
-                    bj = spheres.body[j]
-                    vj0, vj2 = point_velocity_in_plane(
-                        vel, omega, bj, p0 - body_pos[bj, 0], p2 - body_pos[bj, 2]
-                    )
-                    dv0 += vj0
-                    dv2 += vj2
-            else:
-                ri0, ri1, ri2 = lever_arm(body_pos, bi, p0, p1, p2)
-                vi0, vi1, vi2 = point_velocity(vel, omega, bi, ri0, ri1, ri2)
-                if j >= 0:
-                    bj = spheres.body[j]
-                    rj0, rj1, rj2 = lever_arm(body_pos, bj, p0, p1, p2)
-                    vj0, vj1, vj2 = point_velocity(vel, omega, bj, rj0, rj1, rj2)
-                else:
-                    vj0 = vj1 = vj2 = 0.0
-                dv0, dv1, dv2 = vj0 - vi0, vj1 - vi1, vj2 - vi2
-            viscous, friction = point_power(
-                fd, n0, n1, n2, dv0, dv1, dv2, contacts.kt[c], u[c, 0],
-                0.0 if PLANAR else u[c, 1], u[c, 2],
-            )  # fmt: skip
-            p_viscous += viscous
-            p_friction += friction
-        out[POWER_VISCOUS] = p_viscous
-        out[POWER_FRICTION] = p_friction
-
-    return compute_forces, contact_power
+    return compute_forces
 
 
-compute_forces, contact_power = _sphere_driver(False)
-compute_forces_planar, contact_power_planar = _sphere_driver(True)
-
-
-@inner_kernel()
-def active_contact_forces(spheres, walls, contacts, first, second, point, force):
-    """The contact forces of the last :func:`compute_forces`, one row per active contact.
-
-    Writes from row 0 on and returns the number of rows.  Sphere-sphere contact:
-    ``first = i``, ``second = j`` (sphere ids), ``force`` the force on ``j``
-    (``fn n - kt u_s``, normal + tangential, as applied in the last kick).  Sphere-wall
-    contact: ``first = -(wall + 1)``, ``second = i``, ``force`` the force on the sphere
-    (so that ``force`` always acts on ``second``).  ``point`` (3,) [m] the contact point
-    midway through the overlap (as in :func:`compute_forces`).  The end impulse of a
-    contact that opened in the last drift (:func:`end_impulse`) is not recorded.
-    Row arrays: ``first, second`` (K,) int64, ``point, force`` (K, 3), K >= active count.
-    """
-    pos = spheres.pos
-    k = 0
-    for c in range(contacts.n[0]):
-        if not contacts.active[c]:
-            continue
-        i = contacts.i[c]
-        j = contacts.j[c]
-        u = contacts.shear[c]
-        kt = contacts.kt[c]
-        fn = contacts.fn[c]
-        Ri = spheres.radius[i]
-        if j >= 0:
-            _, n0, n1, n2, _ = sphere_sphere(
-                pos[i, 0], pos[i, 1], pos[i, 2], pos[j, 0], pos[j, 1], pos[j, 2], 0.0, True
-            )
-            sign = 1.0  # (on j)
-            first[k] = i
-            second[k] = j
-        else:
-            wn = walls.normal
-            _, n0, n1, n2, _ = sphere_wall(
-                pos[i, 0], pos[i, 1], pos[i, 2], Ri, 0.0, 0.0, 0.0,
-                wn[-j - 1, 0], wn[-j - 1, 1], wn[-j - 1, 2], True,
-            )  # fmt: skip
-            sign = -1.0  # (on the sphere)
-            first[k] = j
-            second[k] = i
-        p0, p1, p2 = contact_point(
-            pos[i, 0], pos[i, 1], pos[i, 2], Ri, n0, n1, n2, contacts.overlap[c]
-        )
-        point[k, 0], point[k, 1], point[k, 2] = p0, p1, p2
-        force[k, 0] = sign * (fn * n0 - kt * u[0])
-        force[k, 1] = sign * (fn * n1 - kt * u[1])
-        force[k, 2] = sign * (fn * n2 - kt * u[2])
-        k += 1
-    return k
+compute_forces = _sphere_driver(False)
+compute_forces_planar = _sphere_driver(True)

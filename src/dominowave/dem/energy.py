@@ -7,7 +7,7 @@ At a full step ``t_n`` (positions ``x_n``, velocities ``v_n = (v_{n-1/2} + v_{n+
 * elastic normal ``sum k_n delta^2 / 2`` and tangential ``sum k_t |u_s|^2 / 2`` over active
   contacts;
 * dissipated by Coulomb slip, by the viscous dashpots and by local damping, accumulated
-  every step in the ledger (see contact.py and integrate.py).
+  every step in the ledger (see contact_rows.py and integrate.py).
 
 ``total`` is the sum of all of them and is constant up to the integration error.
 """
@@ -16,9 +16,9 @@ from __future__ import annotations
 
 from numba import njit
 
-from dominowave.dem.laws.point import point_energy
+from dominowave.dem.contact_rows import POWER_FRICTION, POWER_VISCOUS, rows_elastic_energy
 
-__all__ = ["ENERGY_NAMES", "energies"]
+__all__ = ["ENERGY_NAMES", "POWER_FRICTION", "POWER_VISCOUS", "energies"]
 
 ENERGY_NAMES = (
     "kinetic_translational",
@@ -49,9 +49,6 @@ LEDGER_FRICTION = 0
 LEDGER_VISCOUS = 1
 LEDGER_DAMPING = 2
 
-# the (2,) output of contact.contact_power [W]
-POWER_VISCOUS = 0
-POWER_FRICTION = 1
 # the engine's (3,) record of the last step's powers (engine.Recorder.power) [W]
 LAST_POWER_VISCOUS = 0
 LAST_POWER_DAMPING = 1
@@ -76,22 +73,15 @@ def kinetic_energy(bodies, out):
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def energies(bodies, contacts, gravity, ledger, out):
-    """All entries of ``ENERGY_NAMES`` [J] into ``out`` (length N_ENERGIES)."""
+    """All entries of ``ENERGY_NAMES`` [J] into ``out`` (length N_ENERGIES), the elastic
+    ones of the sphere contacts ``contacts`` (the box contacts' are added by
+    boxes.box_energies)."""
     kinetic_energy(bodies, out)
     eg = 0.0
     for b in range(bodies.mass.shape[0]):
         x = bodies.pos[b]
         eg -= bodies.mass[b] * (gravity[0] * x[0] + gravity[1] * x[1] + gravity[2] * x[2])
-    en = 0.0
-    es = 0.0
-    for c in range(contacts.n[0]):
-        if contacts.active[c]:
-            u = contacts.shear[c]
-            normal, tangential = point_energy(
-                contacts.kn[c], contacts.kt[c], contacts.overlap[c], u[0], u[1], u[2], False
-            )
-            en += normal
-            es += tangential
+    en, es = rows_elastic_energy(contacts, False)
     out[E_GRAVITATIONAL] = eg
     out[E_ELASTIC_NORMAL] = en
     out[E_ELASTIC_TANGENTIAL] = es

@@ -29,15 +29,13 @@ from collections import namedtuple
 from numba import njit
 
 from dominowave.dem.box_sphere import (
-    box_rows_contact_forces,
-    box_sphere_energies,
     box_sphere_forces_general,
     box_sphere_forces_planar,
-    box_sphere_power,
     build_box_sphere_candidates,
 )
 from dominowave.dem.boxes import (
     _reach_of,
+    box_contact_forces,
     box_energies,
     box_forces_general,
     box_forces_planar,
@@ -52,17 +50,15 @@ from dominowave.dem.contact import (
     CHANGE_KIND,
     END,
     ONSET,
-    active_contact_forces,
     build_verlet_list,
     compute_forces,
     compute_forces_planar,
-    contact_power,
-    contact_power_planar,
     mark_build,
     moved_beyond,
     needs_rebuild,
     needs_rebuild_after_drift,
 )
+from dominowave.dem.contact_rows import rows_contact_forces, rows_peak_force, rows_power
 from dominowave.dem.energy import (
     E_DISSIPATED_DAMPING,
     E_DISSIPATED_FRICTION,
@@ -128,7 +124,7 @@ CLOCK_ENERGY_SCALE = 1  # largest active energy so far [J] (the runaway test, ac
 
 # rows of run_loop's (2, 3) ``work`` scratch argument
 WORK_KINETIC = 0  # kinetic energies (energy.kinetic_energy)
-WORK_POWER = 1  # contact powers (contact.contact_power)
+WORK_POWER = 1  # contact powers (contact_rows.rows_power)
 
 Settings = namedtuple(
     "Settings",
@@ -436,19 +432,6 @@ def _count_wall_change(rec, bi, j, kind, te):
 
 
 @inner_kernel(_nrt=False)
-def _record_peak_force(spheres, contacts, rec):
-    for c in range(contacts.n[0]):
-        j = contacts.j[c]
-        if contacts.active[c] and j >= 0:
-            bi = spheres.body[contacts.i[c]]
-            bj = spheres.body[j]
-            a = min(bi, bj)
-            b = max(bi, bj)
-            if contacts.fn[c] > rec.peak_force[a, b]:
-                rec.peak_force[a, b] = contacts.fn[c]
-
-
-@inner_kernel(_nrt=False)
 def _record_frame(bodies, rec, t):
     f = rec.traj_n[0]
     rec.traj_t[f] = t
@@ -463,28 +446,23 @@ def _record_frame(bodies, rec, t):
 
 
 @inner_kernel()
-def _record_contact_forces(spheres, walls, contacts, rec):
-    """Append the active sphere contacts of this step as the rows of trajectory frame
-    traj_n."""
+def _record_contact_forces(contacts, rec):
+    """Append the touching sphere contacts of this step as the rows of trajectory frame
+    traj_n (contact_rows.rows_contact_forces)."""
     k0 = rec.cf_n[0]
     rec.cf_start[rec.traj_n[0]] = k0
-    rec.cf_n[0] = k0 + active_contact_forces(
-        spheres,
-        walls,
-        contacts,
-        rec.cf_first[k0:],
-        rec.cf_second[k0:],
-        rec.cf_point[k0:],
+    rec.cf_n[0] = k0 + rows_contact_forces(
+        contacts, 0, 0, rec.cf_first[k0:], rec.cf_second[k0:], rec.cf_point[k0:],
         rec.cf_force[k0:],
-    )
+    )  # fmt: skip
 
 
 @inner_kernel()
 def _record_box_contact_forces(spheres, rec, boxes):
-    """Append the active box contact points of this step to trajectory frame traj_n, after
-    its sphere contacts (box_sphere.box_rows_contact_forces)."""
+    """Append the touching box contact points of this step to trajectory frame traj_n,
+    after its sphere contacts (boxes.box_contact_forces)."""
     k0 = rec.cf_n[0]
-    rec.cf_n[0] = k0 + box_rows_contact_forces(
+    rec.cf_n[0] = k0 + box_contact_forces(
         boxes,
         spheres.body.shape[0],
         rec.cf_first[k0:],
@@ -804,9 +782,9 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
                     held_flags_changed(bodies, boxes)
             if settings.record_peak_force:
                 if SPHERES:
-                    _record_peak_force(spheres, contacts, rec)
+                    rows_peak_force(contacts, spheres.body, spheres.body, rec.peak_force)
                 if BOXES:
-                    box_peak_force(boxes, spheres, rec.peak_force)
+                    box_peak_force(boxes, spheres.body, rec.peak_force)
             # stop conditions, decided at t_n
             code = -1
             if touched_body >= 0 and rec.touched[touched_body]:
@@ -838,18 +816,12 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
                         bodies, g, dt, settings.damping, damp_gravity, first_moving, stop_moving
                     )
                 if settings.track_energy:
+                    p_contacts[POWER_VISCOUS] = 0.0
+                    p_contacts[POWER_FRICTION] = 0.0
                     if SPHERES:
-                        if PLANAR:
-                            contact_power_planar(bodies, spheres, walls, contacts, p_contacts)
-                        else:
-                            contact_power(bodies, spheres, walls, contacts, p_contacts)
-                    else:  # (what contact_power writes without sphere pairs)
-                        p_contacts[POWER_VISCOUS] = 0.0
-                        p_contacts[POWER_FRICTION] = 0.0
+                        rows_power(bodies, contacts, spheres.body, spheres.body, p_contacts)
                     if BOXES:
-                        box_power(bodies, boxes, p_contacts)
-                        if SPHERES:
-                            box_sphere_power(bodies, spheres, boxes, p_contacts)
+                        box_power(bodies, boxes, spheres.body, p_contacts)
                     # trapezoidal rule for the work of the non-conservative forces since
                     # t_{n-1}
                     if step > 0:
@@ -864,7 +836,7 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
                     rec.power[LAST_POWER_FRICTION] = p_contacts[POWER_FRICTION]
                 if forces_due:  # (before _record_frame: the frame index is traj_n)
                     if SPHERES:
-                        _record_contact_forces(spheres, walls, contacts, rec)
+                        _record_contact_forces(contacts, rec)
                     else:  # (the frame's rows start with its box rows)
                         rec.cf_start[rec.traj_n[0]] = rec.cf_n[0]
                     if BOXES:
@@ -877,16 +849,12 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
                     energies(bodies, contacts, settings.gravity, ledger, rec.energy_val[k])
                     if BOXES:
                         box_energies(boxes, rec.energy_val[k])
-                        if SPHERES:
-                            box_sphere_energies(boxes, rec.energy_val[k])
                     rec.energy_n[0] = k + 1
                 # sanity checks at t_n, before the drift
                 if check_due:
                     energies(bodies, contacts, settings.gravity, ledger, rec.energy_now)
                     if BOXES:
                         box_energies(boxes, rec.energy_now)
-                        if SPHERES:
-                            box_sphere_energies(boxes, rec.energy_now)
                     if not _finite(bodies):
                         outcome, steps = ABORT_NAN, done
                         break

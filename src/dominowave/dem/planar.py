@@ -12,9 +12,8 @@ lies in the xz plane, and each body turns about the world y axis only.  The engi
 (``settings.planar``: the time loop of a planar kind, engine.time_loop) then places the
 spheres at their body's ``y`` exactly (integrate._place_spheres), moves the bodies with
 integrate.kick_body_planar / drift_body_planar / advance_body_planar, and maps the
-planar kernel of the sphere driver over the Verlet list (contact.compute_forces_planar,
-and contact_power_planar for the energy ledger): the general driver's source compiled
-for a planar scene (contact._sphere_driver).
+planar kernel of the sphere driver over the Verlet list (contact.compute_forces_planar):
+the general driver's source compiled for a planar scene (contact._sphere_driver).
 
 The planar kernel is the general driver (the same per-pair geometry of contact.py and
 the same law of a contact point, laws/point.py, without spin about the normal; the zeros

@@ -12,7 +12,6 @@ import numpy as np
 from dominowave import compile_ahead
 from dominowave.checks import check_finite, check_format, check_in_range, check_positive
 from dominowave.dem import engine
-from dominowave.dem.box_sphere import box_sphere_energies
 from dominowave.dem.boxes import (
     box_energies,
     box_state,
@@ -45,7 +44,7 @@ STOP_REASONS = {
     engine.STOP_AT_REST: "at_rest",
 }
 
-STATE_FORMAT = 4
+STATE_FORMAT = 5
 """Version of the layout of :meth:`Simulation.get_state` (key ``state_format``).
 1 (files without the key): no ``settings.planar``, ``planar_kernels``,
 ``mats.shear_kinematics``, material-pair tables or Hertz tables, and the stiffness rule
@@ -53,8 +52,9 @@ of materials giving k_n as the flag ``mats.given_kn``, and possibly no record of
 boxes were held at the last list build or of the box-sphere list; 2: no sleeping boxes
 (``settings.sleep_speed``, ``settings.sleep_time``, ``bodies.calm_since``, the rows of
 resting pairs ``boxes.dormant.*``); 1 to 3: one column ``mats.stiffness`` for E or k_n
-(by the rule) instead of ``mats.young`` and ``mats.kn``; :func:`_upgraded` reads them
-all."""
+(by the rule) instead of ``mats.young`` and ``mats.kn``; 1 to 4: sphere contacts
+without their rows' ``contacts.point``, ``contacts.normal`` and ``contacts.mult``, and an
+idle pair may hold a stale positive overlap; :func:`_upgraded` reads them all."""
 
 
 def _upgraded(state: dict, n_materials: int) -> dict:
@@ -64,8 +64,10 @@ def _upgraded(state: dict, n_materials: int) -> dict:
     last list build -- a run in which one is free builds the list again at its start --
     and no box-sphere list -- every pair a candidate until the next build, the same
     forces; formats 1 and 2: no sleeping, no resting rows put aside; formats 1 to 3: the
-    one stiffness column split into E and k_n by the rule); a state of a newer format is
-    refused."""
+    one stiffness column split into E and k_n by the rule; formats 1 to 4: the sphere
+    contacts' points and normals, which each step writes before they are read, zero, and
+    an idle pair's overlap, which nothing read, not positive); a state of a newer format
+    is refused."""
     version = int(np.asarray(state.get("state_format", 1)))
     if check_format("state_format", version, STATE_FORMAT) == STATE_FORMAT:
         return state
@@ -99,6 +101,13 @@ def _upgraded(state: dict, n_materials: int) -> dict:
         unset = np.full_like(stiffness, np.nan)
         given = int(np.asarray(state["mats.rule"]).reshape(-1)[0]) == RULE_GIVEN
         state["mats.young"], state["mats.kn"] = (unset, stiffness) if given else (stiffness, unset)
+    if "contacts.point" not in state:
+        overlap = np.asarray(state["contacts.overlap"], float)
+        idle = np.asarray(state["contacts.active"]) == 0
+        state["contacts.overlap"] = np.where(idle, np.minimum(overlap, 0.0), overlap)
+        state["contacts.point"] = np.zeros((overlap.size, 3))
+        state["contacts.normal"] = np.zeros((overlap.size, 3))
+        state["contacts.mult"] = np.ones(overlap.size)
     return state
 
 
@@ -418,8 +427,6 @@ class Simulation:
         energies(self.bodies, contacts, self.settings.gravity, self.rec.ledger, self.rec.energy_now)
         if boxes.body.size:
             box_energies(boxes, self.rec.energy_now)
-            if spheres:
-                box_sphere_energies(boxes, self.rec.energy_now)
 
     def _first_step(self) -> Simulation:
         """A copy of this simulation, at its first step, after that step: its sphere
@@ -872,6 +879,7 @@ def _grow_rows(a, n):
 
 
 def _empty_contacts(capacity):
+    """An empty Verlet list of ``capacity`` rows (state.Contacts)."""
     return Contacts(
         n=np.array([-1], np.int64),  # -1: the Verlet list has never been built
         i=np.zeros(capacity, np.int64),
@@ -886,12 +894,18 @@ def _empty_contacts(capacity):
         vn=np.zeros(capacity),
         fn=np.zeros(capacity),
         fn_viscous=np.zeros(capacity),
+        point=np.zeros((capacity, 3)),
+        normal=np.zeros((capacity, 3)),
+        mult=np.ones(capacity),
     )
 
 
 def _grown_contacts(c):
-    capacity = 2 * c.i.shape[0]
-    return c._replace(**{k: _grow_rows(getattr(c, k), capacity) for k in c._fields if k != "n"})
+    """``c`` with twice its rows: the used ones copied, the new ones empty."""
+    grown = _empty_contacts(2 * c.i.shape[0])
+    for name, value in c._asdict().items():
+        getattr(grown, name)[: value.shape[0]] = value
+    return grown
 
 
 def _empty_recorder(nb, nw, capacity, record_pairs):

@@ -114,10 +114,14 @@ Contacts = namedtuple(
         "kt",  # (C,) [N/m]
         "mu",  # (C,)
         "cn",  # (C,) viscous normal damping [N s/m]
-        "overlap",  # (C,) overlap at the last step [m]; at the step a contact ends: the gap (<= 0)
+        "overlap",  # (C,) overlap at the last step [m] (> 0 exactly while active); at the step a
+        #   contact ends: the gap (<= 0); an idle pair's: 0 or the gap at which it ended
         "vn",  # (C,) normal relative velocity (> 0 separating) at the last half step [m/s]
         "fn",  # (C,) current normal force (elastic + viscous) [N]
         "fn_viscous",  # (C,) dashpot part of the normal force at the last step [N]
+        "point",  # (C, 3) contact point of the last step [m] (active or ended in it)
+        "normal",  # (C, 3) unit normal from i to j of the last step (active or ended in it)
+        "mult",  # (C,) 1.0: a pair is one contact point (a field of every contact table)
     ],
 )
 

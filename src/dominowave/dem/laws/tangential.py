@@ -110,7 +110,7 @@ def cundall_strack(u0, u1, u2, kt, mu, fn_elastic):
     tangential force on partner j is ``-kt u``.
 
     The energy this removes is booked by the driver as the work of the tangential forces
-    that is not stored in the springs (contact.contact_power), not as YADE's plastic
+    that is not stored in the springs (contact_rows.rows_power), not as YADE's plastic
     work ``(|t| - |b|) kt |b|`` per step: the latter pairs the force of one instant with a
     displacement over the step and lets the balance drift at first order in dt.
     """

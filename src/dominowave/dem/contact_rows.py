@@ -1,0 +1,166 @@
+"""The contact rows: one record of a contact point for every driver, and its bookkeeping.
+
+Every contact driver writes its contact points as rows of the same fields (MuJoCo's one
+contact record): the pair ``i, j`` (``j < 0``: the wall ``-(j + 1)``), the ``point`` [m]
+and the unit ``normal`` from i to j, the multiplicity ``mult`` (a planar box row stands
+for two points of the 3D body), the state of the law (``overlap`` [m], ``fn`` and its
+dashpot part ``fn_viscous`` [N], the shear displacement ``shear`` [m]) and the constants
+of the pair (``kn``, ``kt``, ...).  The tables are
+
+* the spheres' Verlet list (state.Contacts, contact.compute_forces): one row per listed
+  pair, a contact point while its overlap is positive (an idle pair's overlap is zero or
+  the gap at which it ended);
+* the box-box and box-wall rows (boxes.BoxContacts, boxes.box_forces) and the box-sphere
+  rows (box_sphere.py): one row per touching point.
+
+A row touches while ``overlap > 0``.  The power of the contact forces (the energy
+ledger), their elastic energy, the recorded contact forces and the peak forces of the
+body pairs are each computed here once, for every table (YADE's and MuJoCo's loops over
+one interaction container).  ``body_i``, ``body_j`` map a row's ``i`` and ``j >= 0`` to
+their bodies (spheres.body, boxes.body).
+"""
+
+from __future__ import annotations
+
+from dominowave.dem.compiled import inline_kernel
+from dominowave.dem.laws.point import point_energy, point_power
+
+__all__ = [
+    "POWER_FRICTION",
+    "POWER_VISCOUS",
+    "relative_velocity",
+    "rows_contact_forces",
+    "rows_elastic_energy",
+    "rows_peak_force",
+    "rows_power",
+]
+
+# entries of the (2,) power vector of rows_power [W]
+POWER_VISCOUS = 0
+POWER_FRICTION = 1
+
+
+@inline_kernel()
+def relative_velocity(bodies, vel, omega, bi, bj, wall, p):
+    """Velocity [m/s] of the material point p (3,) [m] of body j minus that of body i (a
+    wall is fixed), with the body velocities ``vel``, ``omega`` (nb, 3): the half-step ones
+    for the contact law, the full-step ones for the energy ledger."""
+    rx, ry, rz = p[0] - bodies.pos[bi, 0], p[1] - bodies.pos[bi, 1], p[2] - bodies.pos[bi, 2]
+    v0 = -(vel[bi, 0] + omega[bi, 1] * rz - omega[bi, 2] * ry)
+    v1 = -(vel[bi, 1] + omega[bi, 2] * rx - omega[bi, 0] * rz)
+    v2 = -(vel[bi, 2] + omega[bi, 0] * ry - omega[bi, 1] * rx)
+    if not wall:
+        rx, ry, rz = p[0] - bodies.pos[bj, 0], p[1] - bodies.pos[bj, 1], p[2] - bodies.pos[bj, 2]
+        v0 += vel[bj, 0] + omega[bj, 1] * rz - omega[bj, 2] * ry
+        v1 += vel[bj, 1] + omega[bj, 2] * rx - omega[bj, 0] * rz
+        v2 += vel[bj, 2] + omega[bj, 0] * ry - omega[bj, 1] * rx
+    return v0, v1, v2
+
+
+@inline_kernel()
+def rows_power(bodies, rows, body_i, body_j, out):
+    """Add the power [W] at t_n of the dashpot forces (``out[POWER_VISCOUS]``) and of the
+    tangential forces (``out[POWER_FRICTION]``) of the rows: ``mult F_d v_n`` and ``-mult
+    k_t u . dv`` (laws.point.point_power) with the full-step relative velocity of the
+    contact point, the velocity in which the kinetic-energy change of velocity Verlet is
+    exact to O(dt^3) per step.  The caller integrates them with the trapezoidal rule; the
+    friction dissipation is minus the tangential work minus the change of the energy stored
+    in the springs (booked by the drivers), which closes the balance to O(dt^2) with
+    rotating bodies and turning contact frames as well.
+
+    ``F_d`` is the row's ``fn_viscous``, including the dashpot part of the end impulse of a
+    sphere pair that ended in the last drift (laws.linear.end_impulse; its row keeps the
+    point and normal of this step).  The elastic onset and end corrections are part of the
+    elastic force and are not booked."""
+    for c in range(rows.n[0]):
+        fd = rows.fn_viscous[c]
+        u = rows.shear[c]
+        if fd == 0.0 and u[0] == 0.0 and u[1] == 0.0 and u[2] == 0.0:
+            continue  # (no power: most listed sphere pairs are idle)
+        wall = rows.j[c] < 0
+        bi = body_i[rows.i[c]]
+        bj = bi if wall else body_j[rows.j[c]]
+        dv0, dv1, dv2 = relative_velocity(
+            bodies, bodies.vel_full, bodies.omega_full, bi, bj, wall, rows.point[c]
+        )
+        n = rows.normal[c]
+        viscous, friction = point_power(
+            fd, n[0], n[1], n[2], dv0, dv1, dv2, rows.kt[c], u[0], u[1], u[2]
+        )
+        # (mult 1 or 2: exact scaling, as in rows_elastic_energy)
+        out[POWER_VISCOUS] += rows.mult[c] * viscous
+        out[POWER_FRICTION] += rows.mult[c] * friction
+
+
+@inline_kernel()
+def rows_elastic_energy(rows, hertz):
+    """The elastic energies [J] of the touching rows: normal ``k_n delta^2 / 2`` (``hertz``:
+    ``2/5 K delta^{5/2}``) and tangential ``k_t |u|^2 / 2``, each row ``mult`` times its
+    point's (laws.point.point_energy).  Returns ``(normal, tangential)``."""
+    en = 0.0
+    es = 0.0
+    # (mult is 1 or 2: scaling by it commutes with the rounding of the point's products,
+    # so the sums are those of the rows' own products)
+    for c in range(rows.n[0]):
+        if rows.overlap[c] <= 0.0:
+            continue
+        u = rows.shear[c]
+        normal, tangential = point_energy(
+            rows.kn[c], rows.kt[c], rows.overlap[c], u[0], u[1], u[2], hertz
+        )
+        en += rows.mult[c] * normal
+        es += rows.mult[c] * tangential
+    return en, es
+
+
+@inline_kernel()
+def rows_contact_forces(rows, offset_i, offset_j, first, second, point, force):
+    """The touching rows for the contact-force recorder, written from row 0 on; returns
+    their number.
+
+    Shapes are numbered across the tables: row partner i is shape ``offset_i + i``, a
+    partner ``j >= 0`` shape ``offset_j + j`` (spheres first, then boxes).  A pair row:
+    ``first``, ``second`` the two shapes, ``force`` the force on ``second``; a wall row:
+    ``first = -(wall + 1)``, ``second`` the shape i, ``force`` the force on it.  ``force``
+    (3,) [N] is the force as applied in the last kick, ``mult (F_n n - k_t u)`` (a planar
+    row stands for ``mult`` points of the 3D body: their sum), ``point`` (3,) [m] the
+    contact point.  The end impulse of a point that opened in the last drift is not a row.
+    Arrays: ``first, second`` (K,) int64, ``point, force`` (K, 3), K >= the touching rows.
+    """
+    k = 0
+    for c in range(rows.n[0]):
+        if rows.overlap[c] <= 0.0:
+            continue
+        j = rows.j[c]
+        if j >= 0:
+            first[k] = offset_i + rows.i[c]
+            second[k] = offset_j + j
+            sign = 1.0
+        else:
+            first[k] = j
+            second[k] = offset_i + rows.i[c]
+            sign = -1.0
+        n = rows.normal[c]
+        u = rows.shear[c]
+        fn, kt, m = rows.fn[c], rows.kt[c], rows.mult[c]
+        for d in range(3):
+            point[k, d] = rows.point[c, d]
+            force[k, d] = sign * m * (fn * n[d] - kt * u[d])
+        k += 1
+    return k
+
+
+@inline_kernel()
+def rows_peak_force(rows, body_i, body_j, peak):
+    """Raise ``peak[a, b]`` (bodies a < b, [N]) to the normal force of every touching row
+    of the pair (walls left out)."""
+    for c in range(rows.n[0]):
+        j = rows.j[c]
+        if j < 0 or rows.overlap[c] <= 0.0:
+            continue
+        bi = body_i[rows.i[c]]
+        bj = body_j[j]
+        a = min(bi, bj)
+        b = max(bi, bj)
+        if rows.fn[c] > peak[a, b]:
+            peak[a, b] = rows.fn[c]
