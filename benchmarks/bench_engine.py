@@ -137,15 +137,17 @@ def _loop_rebuild(spheres, walls, bodies, mats, contacts, skin, n, planar):
 
 
 @njit(cache=True, _nrt=False)
-def _loop_forces(bodies, spheres, walls, contacts, dt, ledger, changes, n, planar):
+def _loop_forces(bodies, spheres, walls, contacts, dt, ledger, changes, lag, n, planar):
     kinematics = SHEAR_CONTACT_POINT
     for _ in range(n):
         if planar:  # (the kernel the engine runs on a planar scene: contact._sphere_driver)
             compute_forces_planar(
-                bodies, spheres, walls, contacts, dt, ledger, changes, False, kinematics
+                bodies, spheres, walls, contacts, dt, ledger, changes, lag, False, kinematics
             )
         else:
-            compute_forces(bodies, spheres, walls, contacts, dt, ledger, changes, False, kinematics)
+            compute_forces(
+                bodies, spheres, walls, contacts, dt, ledger, changes, lag, False, kinematics
+            )
 
 
 @njit(cache=True, _nrt=False)
@@ -200,13 +202,14 @@ def measure(make, n, steps, repeat):
     walls, mats = sim.walls, sim.mats
     _loop_detection(sp, walls, b, mats, c, s.skin, 1, planar)
     _loop_rebuild(sp, walls, b, mats, c, s.skin, 1, planar)
-    _loop_forces(b, sp, walls, c, s.dt, ledger, sim.rec.changes, 1, planar)
+    changes, lag = sim.rec.changes, sim.rec.change_lag
+    _loop_forces(b, sp, walls, c, s.dt, ledger, changes, lag, 1, planar)
     _loop_integration(b, sp, s.gravity, s.dt, s.damping, 1, planar)
     check = timed(lambda: _loop_detection(sp, walls, b, mats, c, s.skin, steps, planar), repeat)
     n_build = max(1, steps // 50)
     build = timed(lambda: _loop_rebuild(sp, walls, b, mats, c, s.skin, n_build, planar), repeat)
     forces = timed(
-        lambda: _loop_forces(b, sp, walls, c, s.dt, ledger, sim.rec.changes, steps, planar),
+        lambda: _loop_forces(b, sp, walls, c, s.dt, ledger, changes, lag, steps, planar),
         repeat,
     )
     integ = timed(

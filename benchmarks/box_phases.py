@@ -164,13 +164,13 @@ def _timed_steps(bodies, spheres, walls, mats, contacts, settings, rec, bx, n_st
             n_changes = 0
         elif pl:
             n_changes = contact.compute_forces_planar(
-                bodies, spheres, walls, contacts, dt, rec.ledger, rec.changes, step == 0,
-                mats.shear_kinematics[0],
+                bodies, spheres, walls, contacts, dt, rec.ledger, rec.changes, rec.change_lag,
+                step == 0, mats.shear_kinematics[0],
             )  # fmt: skip
         else:
             n_changes = contact.compute_forces(
-                bodies, spheres, walls, contacts, dt, rec.ledger, rec.changes, step == 0,
-                mats.shear_kinematics[0],
+                bodies, spheres, walls, contacts, dt, rec.ledger, rec.changes, rec.change_lag,
+                step == 0, mats.shear_kinematics[0],
             )  # fmt: skip
         c2 = _cycles()
         acc[SPHERES] += c2 - c1
@@ -189,10 +189,15 @@ def _timed_steps(bodies, spheres, walls, mats, contacts, settings, rec, bx, n_st
             c2 = _cycles()
             acc[BOX_SPHERE] += c2 - c3
             if bx.n_changes[0] > 0:
-                released = engine._bookkeep_boxes(bodies, spheres, contacts, bx, rec, settings, t)
+                released = engine._bookkeep(
+                    bodies, spheres, contacts, rec, settings, bx.changes, bx.change_lag,
+                    bx.n_changes[0], t,
+                )  # fmt: skip
         if n_changes > 0:
-            released |= engine._bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t,
-                                         step == 0)  # fmt: skip
+            released |= engine._bookkeep(
+                bodies, spheres, contacts, rec, settings, rec.changes, rec.change_lag,
+                n_changes, t,
+            )  # fmt: skip
         if released:
             first, stop = engine._moving_range(bodies)
             if has_boxes:

@@ -54,6 +54,7 @@ def _steps(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, force
                     settings.dt,
                     rec.ledger,
                     rec.changes,
+                    rec.change_lag,
                     False,
                     mats.shear_kinematics[0],
                 )
@@ -66,6 +67,7 @@ def _steps(bodies, spheres, walls, mats, contacts, settings, rec, n_steps, force
                     settings.dt,
                     rec.ledger,
                     rec.changes,
+                    rec.change_lag,
                     False,
                     mats.shear_kinematics[0],
                 )

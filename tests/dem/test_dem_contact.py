@@ -32,7 +32,7 @@ def test_validate_head_on_duration_and_elastic_restitution(two_sphere_scene):
     """Linear spring: contact lasts half a period pi sqrt(m_r / k) and e = 1.
 
     At safety 0.1 one step is 2.8 % of the contact duration, so the duration is checked
-    with the interpolated event times (engine.event_time): the onset is exact (free flight
+    with the interpolated event times (contact_rows.event_lag): the onset is exact (free flight
     before it), the end linear over the last drift; the duration error is second order."""
     kn = 1e4
     m_r = sphere_mass() / 2.0

@@ -120,7 +120,8 @@ def _brute_force_keys(spheres, walls, skin):
 def test_validate_verlet_build_matches_brute_force(seed):
     """The Verlet list (cell search, counting sort by first index, in-place merge) holds
     exactly the brute-force pairs in key order, and a rebuild after the bodies moved keeps
-    the whole history of every pair listed before and starts new pairs inactive."""
+    the whole history of every pair listed before (its row's point and normal too) and
+    starts new pairs inactive, without overlap."""
     sim, rng = _random_walled_scene(seed)
     spheres, walls, bodies, c = sim.spheres, sim.walls, sim.bodies, sim.contacts
     ns, nw = spheres.pos.shape[0], walls.point.shape[0]
@@ -134,7 +135,8 @@ def test_validate_verlet_build_matches_brute_force(seed):
     np.testing.assert_array_equal(keys, _brute_force_keys(spheres, walls, sim.settings.skin))
     assert n > 20 and (c.j[:n] < 0).any()
     # an arbitrary history for the listed pairs
-    fields = ("active", "shear", "kn", "kt", "mu", "cn", "overlap", "vn", "fn", "fn_viscous")
+    fields = ("active", "shear", "kn", "kt", "mu", "cn", "overlap", "vn", "fn", "fn_viscous",
+              "point", "normal")  # fmt: skip
     c.active[:n] = rng.integers(0, 2, n)
     for f in fields[1:]:
         getattr(c, f)[:n] = rng.normal(size=getattr(c, f)[:n].shape)
@@ -153,7 +155,7 @@ def test_validate_verlet_build_matches_brute_force(seed):
         fresh = np.setdiff1d(np.arange(n), new_at)
         assert fresh.size > 0
         assert not c.active[fresh].any() and not c.shear[fresh].any()
-        assert not c.fn_viscous[fresh].any()
+        assert not c.fn_viscous[fresh].any() and not c.overlap[fresh].any()
         props = np.empty(4)
         for k in fresh:  # a new pair's properties from the materials
             pair_properties(c.i[k], c.j[k], spheres, walls, bodies, sim.mats, props)

@@ -1,7 +1,6 @@
-"""The planar kernels (contact.compute_forces_planar, contact_power_planar,
-engine._advance_planar; integrate.kick_body_planar, drift_body_planar,
-advance_body_planar): which scenes are planar (dem/planar.py), and that the planar
-kernels are the general ones to the bit."""
+"""The planar kernels (contact.compute_forces_planar, engine._advance_planar;
+integrate.kick_body_planar, drift_body_planar, advance_body_planar): which scenes are
+planar (dem/planar.py), and that the planar kernels are the general ones to the bit."""
 
 import numpy as np
 import pytest

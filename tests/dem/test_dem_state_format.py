@@ -53,6 +53,8 @@ def test_an_older_state_resumes_bit_identically(version):
     restored.run(n_steps=3000)
     for name in ("pos", "vel", "quat", "omega"):
         np.testing.assert_array_equal(getattr(restored.bodies, name), getattr(sim.bodies, name))
+    np.testing.assert_array_equal(restored.rec.ledger, sim.rec.ledger)  # (the contact power)
+    assert restored.energy() == sim.energy()
     assert sim.bodies.vel_full[0, 2] > 0  # it bounced
 
 
@@ -88,6 +90,8 @@ def _resume_alike(sim, old):
     restored.run(n_steps=2000)
     for name in ("pos", "vel", "quat", "omega"):
         np.testing.assert_array_equal(getattr(restored.bodies, name), getattr(sim.bodies, name))
+    np.testing.assert_array_equal(restored.rec.ledger, sim.rec.ledger)
+    assert restored.energy() == sim.energy()
 
 
 @pytest.mark.parametrize("version", [1, 2, 3, 4])

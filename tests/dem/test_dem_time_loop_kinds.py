@@ -21,7 +21,7 @@ from dominowave.dem import SceneKind, Simulation, box_sphere, boxes, contact, en
 from dominowave.dem.engine import time_loop
 from dominowave.dem.shapes import cuboid, rectangle
 
-BOX_KERNELS = {"build_box_candidates", "_bookkeep_boxes", "box_power", "box_peak_force"}
+BOX_KERNELS = {"build_box_candidates", "box_power", "box_peak_force"}
 # the kernels of one source compiled for each kind of scene (contact._sphere_driver,
 # engine._body_pass, boxes._box_driver, box_sphere._box_sphere_driver), and the
 # integrator's
@@ -34,9 +34,9 @@ BOX_PLANAR = {boxes.box_forces_planar, box_sphere.box_sphere_forces_planar}
 # what only spheres need: their list, contacts and records, and the box-sphere contacts
 SPHERE_KERNELS = GENERAL - {engine._advance_general, integrate.kick_general,
                             integrate.drift_general} | {
-    contact.compute_forces_planar, contact.build_verlet_list, engine._bookkeep,
-    engine._record_contact_forces, integrate.update_listed_sphere_positions,
-    integrate.update_sphere_positions, box_sphere.build_box_sphere_candidates,
+    contact.compute_forces_planar, contact.build_verlet_list, engine._record_contact_forces,
+    integrate.update_listed_sphere_positions, integrate.update_sphere_positions,
+    box_sphere.build_box_sphere_candidates,
     *BOX_GENERAL - {boxes.box_forces_general},
     *BOX_PLANAR - {boxes.box_forces_planar}, cuboid.box_sphere, rectangle.rect_sphere,
 }  # fmt: skip

@@ -55,6 +55,8 @@ from numba import njit
 from dominowave.dem.compiled import inline_kernel, inner_kernel
 from dominowave.dem.contact import END, ONSET, _candidate_pairs, _scan_walls, apply_at_lever
 from dominowave.dem.contact_rows import (
+    event_lag,
+    log_change,
     relative_velocity,
     rows_contact_forces,
     rows_elastic_energy,
@@ -433,7 +435,7 @@ def _visit_pairs(bodies, boxes, nx, nw):
     A held box with a moving box among its candidates is *engaged* (``boxes.engaged``):
     its wall pairs are visited too, so that it stands on the floor in the step a moving
     box first touches it, as a free box at rest does; the release after that step's
-    forces (engine._bookkeep_boxes) then changes nothing but the flag.  Its wall rows
+    forces (engine._bookkeep) then changes nothing but the flag.  Its wall rows
     act on a held body, which does not move, until then.
 
     The visited pairs change only when the list is built or a box is released, so they
@@ -657,12 +659,9 @@ def _end(bodies, old, q, gap, dt, bi, bj, wall, ledger, hertz):
 
 @inline_kernel()
 def _lag(depth, speed, dt, first_step):
-    """Time [s] since the overlap (``depth`` > 0, onset) or the gap (``|depth|``, end) began,
-    the overlap linear over the last drift at ``speed`` (as engine.event_time); 0 for the
-    initial configuration or an unknown speed, at most dt."""
-    if first_step or speed <= 0.0:
-        return 0.0
-    return min(abs(depth) / speed, dt)
+    """Time [s] since the overlap (``depth`` > 0, onset) or the gap (``|depth|``, end) began
+    (contact_rows.event_lag, as for spheres); 0 for the initial configuration."""
+    return 0.0 if first_step else event_lag(depth, speed, dt)
 
 
 @inline_kernel()
@@ -755,15 +754,9 @@ def _log(boxes, a, j, kind, lag):
 def _log_bodies(boxes, bi, bj, kind, lag):
     """Record that the contact of body ``bi`` with body ``bj`` (or wall ``-(bj + 1)``)
     started (ONSET) or ended (END) ``lag`` [s] before this step (``boxes.changes``: those
-    of box_forces, then of box_sphere.box_sphere_forces)."""
-    k = boxes.n_changes[0]
-    if k == boxes.changes.shape[0]:
-        raise RuntimeError("box contact changes full")
-    boxes.changes[k, 0] = bi
-    boxes.changes[k, 1] = bj
-    boxes.changes[k, 2] = kind
-    boxes.change_lag[k] = lag
-    boxes.n_changes[0] = k + 1
+    of box_forces, then of box_sphere.box_sphere_forces: contact_rows.log_change)."""
+    n = boxes.n_changes[0]
+    boxes.n_changes[0] = log_change(boxes.changes, boxes.change_lag, n, bi, bj, kind, lag)
 
 
 def _box_geometry(PLANAR):  # (capital: a constant of the compiled kernels)

@@ -23,7 +23,7 @@ reorder a floating-point operation); the second compiles a box chain's kernels i
 half the time, and they run faster (benchmarks/README.md, "First run").
 
 numba compiles a function once per tuple of argument types, and a constant argument
-(``log_change(changes, n, c, ONSET)``, ``_place_spheres(..., True, PLANAR)``) has a
+(``log_change(..., ONSET, lag)``, ``_place_spheres(..., True, PLANAR)``) has a
 literal type of its own value: each constant at each call site would be one more
 compilation of the callee.  Such a version buys nothing: numba removes a branch on a
 constant it finds in the function (a global, or a closure's variable, as the time

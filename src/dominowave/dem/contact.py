@@ -24,6 +24,7 @@ import numpy as np
 from numba import njit
 
 from dominowave.dem.compiled import inline_kernel, inner_kernel
+from dominowave.dem.contact_rows import event_lag, lever_arm, log_change, point_velocity
 from dominowave.dem.energy import LEDGER_FRICTION
 from dominowave.dem.integrate import ROT_NONE
 from dominowave.dem.laws.linear import end_impulse, viscous_coefficient
@@ -41,12 +42,9 @@ __all__ = [
     "contact_point",
     "end_contact",
     "idle_pair",
-    "lever_arm",
-    "log_change",
     "mark_build",
     "needs_rebuild",
     "needs_rebuild_after_drift",
-    "point_velocity",
     "point_velocity_in_plane",
     "sphere_sphere",
     "sphere_wall",
@@ -55,11 +53,6 @@ __all__ = [
 
 ONSET = 1
 END = 0
-
-# columns of the (C, 2) log of the contacts that started or ended in a step
-# (compute_forces' ``changes``, engine.Recorder.changes)
-CHANGE_CONTACT = 0  # the contact's row in ``contacts``
-CHANGE_KIND = 1  # ONSET or END
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -497,6 +490,9 @@ def _move_pair(contacts, a, c):
     contacts.kt[c] = contacts.kt[a]
     contacts.mu[c] = contacts.mu[a]
     contacts.cn[c] = contacts.cn[a]
+    for d in range(3):  # (the row's point and normal of the last step, as every table's)
+        contacts.point[c, d] = contacts.point[a, d]
+        contacts.normal[c, d] = contacts.normal[a, d]
 
 
 @inner_kernel(_nrt=False)
@@ -576,27 +572,6 @@ def contact_point(xi0, xi1, xi2, radius, n0, n1, n2, overlap):
 
 
 @inline_kernel()
-def lever_arm(pos, b, p0, p1, p2):
-    """Lever arm ``p - x_b`` [m] of the point ``p`` about the centre of mass of body b
-    (``pos`` (nb, 3) the body positions)."""
-    return p0 - pos[b, 0], p1 - pos[b, 1], p2 - pos[b, 2]
-
-
-@inline_kernel()
-def point_velocity(vel, omega, b, rx, ry, rz):
-    """Velocity ``v + omega x r`` [m/s] of the material point at lever arm ``r`` of body b.
-
-    ``vel``/``omega`` (nb, 3) are the body velocities to use: the half-step ones for the
-    contact law, the full-step ones for the energy ledger.
-    """
-    return (
-        vel[b, 0] + omega[b, 1] * rz - omega[b, 2] * ry,
-        vel[b, 1] + omega[b, 2] * rx - omega[b, 0] * rz,
-        vel[b, 2] + omega[b, 0] * ry - omega[b, 1] * rx,
-    )
-
-
-@inline_kernel()
 def point_velocity_in_plane(vel, omega, b, rx, rz):
     """:func:`point_velocity` in the xz plane of a planar scene: ``omega = (0, w, 0)``
     and ``r = (rx, 0, rz)`` give ``(v_x + w r_z, v_z - w r_x)`` [m/s]."""
@@ -662,14 +637,6 @@ def idle_pair(contacts, c):
     step, if any) is zero now (stored only if needed: most listed pairs stay idle)."""
     if contacts.fn_viscous[c] != 0.0:
         contacts.fn_viscous[c] = 0.0
-
-
-@inline_kernel()
-def log_change(changes, n_changes, c, kind):
-    """Append ``(c, kind)`` (ONSET / END) to ``changes``; returns the new count."""
-    changes[n_changes, CHANGE_CONTACT] = c
-    changes[n_changes, CHANGE_KIND] = kind
-    return n_changes + 1
 
 
 @inline_kernel()
@@ -753,15 +720,18 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
 
     @njit(cache=True, error_model="numpy", _nrt=False)
     def compute_forces(
-        bodies, spheres, walls, contacts, dt, ledger, changes, first_step, shear_kinematics
-    ):
+        bodies, spheres, walls, contacts, dt, ledger, changes, change_lag, first_step,
+        shear_kinematics,
+    ):  # fmt: skip
         """Contact forces and torques on all bodies for the current positions.
 
         ``ledger[LEDGER_FRICTION]`` -= change of the energy stored in the tangential springs
         (the work of the tangential and dashpot forces is booked after the kick, from
         contact_rows.rows_power with the full-step velocities).  A pair in contact, or
         whose contact ends, gets the point and normal of its row.  Every contact that
-        starts or ends is appended to ``changes`` as ``(c, kind)`` rows; returns their count.
+        starts or ends is listed in ``changes`` (K, 3) and ``change_lag`` (K,)
+        (contact_rows.log_change: its bodies, ONSET or END, the time since); returns their
+        count.
         ``first_step``: the initial configuration, no shear increment (no previous step).
         ``shear_kinematics``: SHEAR_CONTACT_POINT or SHEAR_YADE (laws/tangential.py).
         """
@@ -783,6 +753,7 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
             if not wall:
                 j = np.uint64(j)
                 bj = np.uint64(spheres.body[j])
+                partner = np.int64(bj)  # (the body in the list of changes)
                 rsum = Ri + spheres.radius[j]
                 yj = 0.0 if PLANAR else pos[j, 1]
                 near, n0, n1, n2, overlap = sphere_sphere(
@@ -790,6 +761,7 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
                 )
             else:
                 bj = bi  # (unused)
+                partner = j  # (the wall, -(w + 1))
                 w = np.uint64(-j - 1)
                 wp, wn = walls.point, walls.normal
                 wy = 0.0 if PLANAR else wp[w, 1]
@@ -815,13 +787,13 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
             if overlap <= 0.0:  # an active contact opened in the last drift
                 ledger[LEDGER_FRICTION] += end_contact(
                     bodies, contacts, c, bi, bj, wall, n0, n1, n2, overlap, dt, p0, p1, p2
-                )
-                n_changes = log_change(changes, n_changes, c, END)
+                )  # (which keeps the separation speed of the last drift in vn)
+                lag = 0.0 if first_step else event_lag(overlap, abs(contacts.vn[c]), dt)
+                n_changes = log_change(changes, change_lag, n_changes, bi, partner, END, lag)
                 continue
             new_contact = not active
             if new_contact:
                 begin_contact(contacts, c)
-                n_changes = log_change(changes, n_changes, c, ONSET)
             # relative velocity of the contact point, j minus i (a wall is fixed), and the
             # spin of the pair about the normal
             ri0, ri1, ri2 = lever_arm(body_pos, bi, p0, p1, p2)
@@ -874,6 +846,9 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
             contacts.overlap[c] = overlap
             contacts.fn[c] = fn
             contacts.fn_viscous[c] = fn_viscous
+            if new_contact:  # (approached at -vn over the last drift)
+                lag = 0.0 if first_step else event_lag(overlap, -vn, dt)
+                n_changes = log_change(changes, change_lag, n_changes, bi, partner, ONSET, lag)
             # friction ledger, part 1: minus the change of the energy stored in the spring
             ledger[LEDGER_FRICTION] += released
             if PLANAR:

@@ -17,7 +17,9 @@ A row touches while ``overlap > 0``.  The power of the contact forces (the energ
 ledger), their elastic energy, the recorded contact forces and the peak forces of the
 body pairs are each computed here once, for every table (YADE's and MuJoCo's loops over
 one interaction container).  ``body_i``, ``body_j`` map a row's ``i`` and ``j >= 0`` to
-their bodies (spheres.body, boxes.body).
+their bodies (spheres.body, boxes.body).  Each driver lists the contacts that started or
+ended in its step in one layout (:func:`log_change`, with the time since the event,
+:func:`event_lag`), which the engine books (engine._bookkeep).
 """
 
 from __future__ import annotations
@@ -28,6 +30,10 @@ from dominowave.dem.laws.point import point_energy, point_power
 __all__ = [
     "POWER_FRICTION",
     "POWER_VISCOUS",
+    "event_lag",
+    "lever_arm",
+    "log_change",
+    "point_velocity",
     "relative_velocity",
     "rows_contact_forces",
     "rows_elastic_energy",
@@ -41,19 +47,69 @@ POWER_FRICTION = 1
 
 
 @inline_kernel()
+def event_lag(depth, speed, dt):
+    """Time [s] before the end of the last drift ``[t - dt, t]`` at which a contact started
+    or ended, the overlap taken linear over the drift: an onset seen with overlap
+    ``depth`` [m] and approach speed ``speed`` [m/s] happened ``depth / speed`` before
+    ``t``, an end seen with gap ``|depth|`` and separation speed ``speed`` as long before.
+    0 without approach or separation (``speed <= 0``), at most dt."""
+    if speed <= 0.0:
+        return 0.0
+    if abs(depth) >= speed * dt:
+        return dt
+    return abs(depth) / speed
+
+
+@inline_kernel()
+def log_change(changes, lag, n, bi, bj, kind, before):
+    """Row n of a driver's list of contact changes: body ``bi`` and body ``bj`` (or the
+    wall ``-(bj + 1)``) started (``kind`` contact.ONSET) or ended (END) a contact
+    ``before`` [s] this step's time; ``changes`` (K, 3) int64, ``lag`` (K,).
+    Returns n + 1."""
+    if n == changes.shape[0]:
+        raise RuntimeError("contact changes full")
+    changes[n, 0] = bi
+    changes[n, 1] = bj
+    changes[n, 2] = kind
+    lag[n] = before
+    return n + 1
+
+
+@inline_kernel()
+def lever_arm(pos, b, p0, p1, p2):
+    """Lever arm ``p - x_b`` [m] of the point ``p`` about the centre of mass of body b
+    (``pos`` (nb, 3) the body positions)."""
+    return p0 - pos[b, 0], p1 - pos[b, 1], p2 - pos[b, 2]
+
+
+@inline_kernel()
+def point_velocity(vel, omega, b, rx, ry, rz):
+    """Velocity ``v + omega x r`` [m/s] of the material point at lever arm ``r`` of body b.
+
+    ``vel``/``omega`` (nb, 3) are the body velocities to use: the half-step ones for the
+    contact law, the full-step ones for the energy ledger.
+    """
+    return (
+        vel[b, 0] + omega[b, 1] * rz - omega[b, 2] * ry,
+        vel[b, 1] + omega[b, 2] * rx - omega[b, 0] * rz,
+        vel[b, 2] + omega[b, 0] * ry - omega[b, 1] * rx,
+    )
+
+
+@inline_kernel()
 def relative_velocity(bodies, vel, omega, bi, bj, wall, p):
     """Velocity [m/s] of the material point p (3,) [m] of body j minus that of body i (a
     wall is fixed), with the body velocities ``vel``, ``omega`` (nb, 3): the half-step ones
     for the contact law, the full-step ones for the energy ledger."""
-    rx, ry, rz = p[0] - bodies.pos[bi, 0], p[1] - bodies.pos[bi, 1], p[2] - bodies.pos[bi, 2]
-    v0 = -(vel[bi, 0] + omega[bi, 1] * rz - omega[bi, 2] * ry)
-    v1 = -(vel[bi, 1] + omega[bi, 2] * rx - omega[bi, 0] * rz)
-    v2 = -(vel[bi, 2] + omega[bi, 0] * ry - omega[bi, 1] * rx)
+    rx, ry, rz = lever_arm(bodies.pos, bi, p[0], p[1], p[2])
+    vi0, vi1, vi2 = point_velocity(vel, omega, bi, rx, ry, rz)
+    v0, v1, v2 = -vi0, -vi1, -vi2
     if not wall:
-        rx, ry, rz = p[0] - bodies.pos[bj, 0], p[1] - bodies.pos[bj, 1], p[2] - bodies.pos[bj, 2]
-        v0 += vel[bj, 0] + omega[bj, 1] * rz - omega[bj, 2] * ry
-        v1 += vel[bj, 1] + omega[bj, 2] * rx - omega[bj, 0] * rz
-        v2 += vel[bj, 2] + omega[bj, 0] * ry - omega[bj, 1] * rx
+        rx, ry, rz = lever_arm(bodies.pos, bj, p[0], p[1], p[2])
+        vj0, vj1, vj2 = point_velocity(vel, omega, bj, rx, ry, rz)
+        v0 += vj0
+        v1 += vj1
+        v2 += vj2
     return v0, v1, v2
 
 
@@ -75,8 +131,8 @@ def rows_power(bodies, rows, body_i, body_j, out):
     for c in range(rows.n[0]):
         fd = rows.fn_viscous[c]
         u = rows.shear[c]
-        if fd == 0.0 and u[0] == 0.0 and u[1] == 0.0 and u[2] == 0.0:
-            continue  # (no power: most listed sphere pairs are idle)
+        if fd == 0.0 and (rows.overlap[c] <= 0.0 or (u[0] == 0.0 and u[1] == 0.0 and u[2] == 0.0)):
+            continue  # (no power; an idle row, as most listed sphere pairs, has no shear)
         wall = rows.j[c] < 0
         bi = body_i[rows.i[c]]
         bj = bi if wall else body_j[rows.j[c]]

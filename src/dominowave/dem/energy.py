@@ -16,9 +16,9 @@ from __future__ import annotations
 
 from numba import njit
 
-from dominowave.dem.contact_rows import POWER_FRICTION, POWER_VISCOUS, rows_elastic_energy
+from dominowave.dem.contact_rows import rows_elastic_energy
 
-__all__ = ["ENERGY_NAMES", "POWER_FRICTION", "POWER_VISCOUS", "energies"]
+__all__ = ["ENERGY_NAMES", "energies"]
 
 ENERGY_NAMES = (
     "kinetic_translational",

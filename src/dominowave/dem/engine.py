@@ -46,8 +46,6 @@ from dominowave.dem.boxes import (
 )
 from dominowave.dem.compiled import inline_kernel, inner_kernel
 from dominowave.dem.contact import (
-    CHANGE_CONTACT,
-    CHANGE_KIND,
     END,
     ONSET,
     build_verlet_list,
@@ -58,7 +56,13 @@ from dominowave.dem.contact import (
     needs_rebuild,
     needs_rebuild_after_drift,
 )
-from dominowave.dem.contact_rows import rows_contact_forces, rows_peak_force, rows_power
+from dominowave.dem.contact_rows import (
+    POWER_FRICTION,
+    POWER_VISCOUS,
+    rows_contact_forces,
+    rows_peak_force,
+    rows_power,
+)
 from dominowave.dem.energy import (
     E_DISSIPATED_DAMPING,
     E_DISSIPATED_FRICTION,
@@ -76,8 +80,6 @@ from dominowave.dem.energy import (
     LEDGER_FRICTION,
     LEDGER_VISCOUS,
     N_MECHANICAL,
-    POWER_FRICTION,
-    POWER_VISCOUS,
     energies,
     kinetic_energy,
 )
@@ -156,8 +158,9 @@ Recorder = namedtuple(
         "n_rebuilds",  # (1,) int64 Verlet-list builds since build
         "last_onset",  # (1,) time of the last body-body contact onset [s]
         "touched",  # (nb,) uint8: body had a body-body onset in this run
-        "changes",  # (C, 2) int64 scratch: contacts that started/ended in this step
-        #   (columns contact.CHANGE_*)
+        "changes",  # (C, 3) int64 scratch: the sphere contacts that started or ended in
+        #   this step (contact_rows.log_change: body i, body j or -(wall + 1), ONSET / END)
+        "change_lag",  # (C,) scratch: how long before the step's time each did [s]
         "pair_count",  # (nb, nb) int32 active sphere contacts per body pair (i < j)
         "wall_count",  # (nb, nw) int32 active sphere contacts per body-wall pair
         "first_contact",  # (nb, nb) [s], nan
@@ -309,82 +312,33 @@ def _log_event(rec, t, bi, bj, kind):
 
 
 @inner_kernel(_nrt=False)
-def event_time(contacts, c, t, dt, onset, first_step):
-    """Interpolated time [s] at which contact c started or ended during the last drift.
-
-    The overlap is taken linear over the drift ``[t - dt, t]``: an onset seen at ``t``
-    with overlap ``delta`` and approach speed ``|vn|`` happened at ``t - delta / |vn|``;
-    an end seen at ``t`` with gap ``|g|`` and separation speed ``v`` (laws.linear.end_impulse)
-    at ``t - |g| / v``.  Clipped to ``[t - dt, t]``; ``t`` for the contacts of the
-    initial configuration and for an onset without approach.
-    """
-    if first_step or (onset and contacts.vn[c] >= 0.0):
-        return t
-    speed = abs(contacts.vn[c])
-    depth = abs(contacts.overlap[c])
-    if speed == 0.0 or depth >= speed * dt:
-        return t if speed == 0.0 else t - dt
-    return t - depth / speed
-
-
-@inner_kernel(_nrt=False)
-def _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, first_step):
-    """Held-body release, body-level onsets/ends, event log and pair statistics.
+def _bookkeep(bodies, spheres, contacts, rec, settings, changes, lag, n, t):
+    """The body-level onsets and ends of one driver's list of contact changes (``n`` rows
+    of ``changes`` (K, 3) and ``lag`` (K,): contact_rows.log_change): held-body release,
+    event log, pair statistics, touched bodies.  The sphere contacts list theirs
+    (Recorder.changes), the box contacts theirs (boxes.changes, one per body pair: a pair
+    is in contact while any of its points is).
 
     Onsets are processed before ends, so that a body pair whose contact passes from one
-    sphere to another in the same step (count 1 -> 2 -> 1) keeps one continuous contact.
-    Event times are interpolated within the step (:func:`event_time`).  Returns whether
-    a held body was released.
-    """
+    sphere or point to another in the same step (count 1 -> 2 -> 1) keeps one continuous
+    contact.  Two held boxes have no contact rows (boxes.py), so a released box frees a
+    held box it already overlaps one step later, at the onset of their first rows.  Event
+    times are those of the list, within the step.  Returns whether a held body was
+    released."""
     released = False
     for sweep in (ONSET, END):
-        for k in range(n_changes):
-            c = rec.changes[k, CHANGE_CONTACT]
-            kind = rec.changes[k, CHANGE_KIND]
+        for k in range(n):
+            kind = changes[k, 2]
             if kind != sweep:
                 continue
-            bi = spheres.body[contacts.i[c]]
-            j = contacts.j[c]
-            if j >= 0:
-                bj = spheres.body[j]
-                if kind == ONSET and bodies.held[bi] != bodies.held[bj]:
-                    _release(bodies, spheres, contacts, bi if bodies.held[bi] else bj, t)
-                    released = True
-                if not settings.record_pairs:
-                    continue
-                te = event_time(contacts, c, t, settings.dt, kind == ONSET, first_step)
-                _count_pair_change(rec, bi, bj, kind, te, t)
-            elif settings.record_pairs:
-                te = event_time(contacts, c, t, settings.dt, kind == ONSET, first_step)
-                _count_wall_change(rec, bi, j, kind, te)
-    return released
-
-
-@inner_kernel(_nrt=False)
-def _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t):
-    """Body-level onsets and ends of the box contacts of this step (boxes.changes, one per
-    body pair: a pair is in contact while any of its points is): held-body release, event
-    log, pair statistics, touched bodies, as :func:`_bookkeep` for sphere contacts.
-
-    Two held boxes have no contact rows (boxes.py), so a released box frees a held box it
-    already overlaps one step later, at the onset of their first rows.  Onsets are
-    processed before ends, as in :func:`_bookkeep`: a clump whose contact with a box
-    passes from one sphere to another in one step (box-sphere rows are per sphere) keeps
-    one continuous body contact.  Returns whether a held body was released."""
-    released = False
-    for sweep in (ONSET, END):
-        for k in range(boxes.n_changes[0]):
-            kind = boxes.changes[k, 2]
-            if kind != sweep:
-                continue
-            bi = boxes.changes[k, 0]
-            j = boxes.changes[k, 1]
+            bi = changes[k, 0]
+            j = changes[k, 1]
             if kind == ONSET and j >= 0 and bodies.held[bi] != bodies.held[j]:
                 _release(bodies, spheres, contacts, bi if bodies.held[bi] else j, t)
                 released = True
             if not settings.record_pairs:
                 continue
-            te = t - boxes.change_lag[k]
+            te = t - lag[k]
             if j >= 0:
                 _count_pair_change(rec, bi, j, kind, te, t)
             else:
@@ -678,7 +632,7 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
         otherwise pay atomic reference-count updates of the ~100 state arrays.
         """
         dt, skin = settings.dt, settings.skin
-        ledger, changes = rec.ledger, rec.changes
+        ledger, changes, change_lag = rec.ledger, rec.changes, rec.change_lag
         kin = work[WORK_KINETIC]
         p_contacts = work[WORK_POWER]
         touched_body = int(stop[STOP_ARG_TOUCHED_BODY])
@@ -750,13 +704,13 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
             if SPHERES and contacts.n[0] > 0:
                 if PLANAR:
                     n_changes = compute_forces_planar(
-                        bodies, spheres, walls, contacts, dt, ledger, changes, first,
-                        shear_kinematics,
+                        bodies, spheres, walls, contacts, dt, ledger, changes, change_lag,
+                        first, shear_kinematics,
                     )  # fmt: skip
                 else:
                     n_changes = compute_forces(
-                        bodies, spheres, walls, contacts, dt, ledger, changes, first,
-                        shear_kinematics,
+                        bodies, spheres, walls, contacts, dt, ledger, changes, change_lag,
+                        first, shear_kinematics,
                     )  # fmt: skip
             else:  # (no sphere pairs listed, or no spheres at all)
                 _zero_forces(bodies)  # (compute_forces' first act: a call costs more)
@@ -773,9 +727,14 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
                     else:
                         box_sphere_forces_general(bodies, spheres, boxes, mats, dt, ledger, first)
                 if boxes.n_changes[0] > 0:
-                    released = _bookkeep_boxes(bodies, spheres, contacts, boxes, rec, settings, t)
+                    released = _bookkeep(
+                        bodies, spheres, contacts, rec, settings, boxes.changes,
+                        boxes.change_lag, boxes.n_changes[0], t,
+                    )  # fmt: skip
             if SPHERES and n_changes > 0:
-                released |= _bookkeep(bodies, spheres, contacts, rec, settings, n_changes, t, first)
+                released |= _bookkeep(
+                    bodies, spheres, contacts, rec, settings, changes, change_lag, n_changes, t
+                )
             if released:  # (the held flags changed)
                 first_moving, stop_moving = _moving_range(bodies)
                 if BOXES:

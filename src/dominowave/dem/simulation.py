@@ -414,7 +414,7 @@ class Simulation:
                 self.bodies.pos_at_build[:] = self.bodies.pos
                 self.bodies.quat_at_build[:] = self.bodies.quat
             self.contacts = contacts
-            self.rec = self.rec._replace(changes=np.zeros((contacts.i.shape[0], 2), np.int64))
+            self.rec = self.rec._replace(**_change_list(contacts.i.shape[0]))
             if boxes.body.size:
                 first = self._first_step()
                 contacts, boxes = first.contacts, first.boxes
@@ -422,7 +422,8 @@ class Simulation:
                 contacts = copy.deepcopy(contacts)
                 (compute_forces_planar if self._next_run_planar() else compute_forces)(
                     copy.deepcopy(self.bodies), self.spheres, self.walls, contacts, self.dt,
-                    np.zeros(3), self.rec.changes.copy(), True, self.mats.shear_kinematics[0],
+                    np.zeros(3), self.rec.changes.copy(), self.rec.change_lag.copy(), True,
+                    self.mats.shear_kinematics[0],
                 )  # fmt: skip
         energies(self.bodies, contacts, self.settings.gravity, self.rec.ledger, self.rec.energy_now)
         if boxes.body.size:
@@ -646,7 +647,7 @@ class Simulation:
             self.boxes = boxes
         elif code == engine.GROW_CONTACTS:
             self.contacts = _grown_contacts(self.contacts)
-            self.rec = r._replace(changes=np.zeros((self.contacts.i.shape[0], 2), np.int64))
+            self.rec = r._replace(**_change_list(self.contacts.i.shape[0]))
         elif code == engine.GROW_EVENTS:
             room = self.contacts.i.shape[0] + self.boxes.changes.shape[0]  # (engine.run_loop)
             need = r.ev_n[0] + 2 * room
@@ -733,6 +734,7 @@ class Simulation:
     # ------------------------------------------------------------------ checkpoints
     _PER_RUN = (
         "changes",
+        "change_lag",
         "ev_time",
         "ev_i",
         "ev_j",
@@ -794,7 +796,7 @@ class Simulation:
                     raise ValueError(f"state is missing {key!r}")
             new[prefix] = tup._replace(**fields)
         capacity = new["contacts"].i.shape[0]
-        new["rec"] = new["rec"]._replace(changes=np.zeros((capacity, 2), np.int64))
+        new["rec"] = new["rec"]._replace(**_change_list(capacity))
         self.bodies, self.spheres, self.walls = new["bodies"], new["spheres"], new["walls"]
         self.mats, self.contacts, self.settings = new["mats"], new["contacts"], new["settings"]
         self.rec = new["rec"]
@@ -908,6 +910,12 @@ def _grown_contacts(c):
     return grown
 
 
+def _change_list(capacity):
+    """The recorder's empty list of the sphere contacts that start or end in a step
+    (engine.Recorder.changes, change_lag) for a Verlet list of ``capacity`` pairs."""
+    return {"changes": np.zeros((capacity, 3), np.int64), "change_lag": np.zeros(capacity)}
+
+
 def _empty_recorder(nb, nw, capacity, record_pairs):
     npair = nb if record_pairs else 0
     nwall = nw if record_pairs else 0
@@ -919,7 +927,7 @@ def _empty_recorder(nb, nw, capacity, record_pairs):
         n_rebuilds=np.zeros(1, np.int64),
         last_onset=np.array([-np.inf]),
         touched=np.zeros(nb, np.uint8),
-        changes=np.zeros((capacity, 2), np.int64),
+        **_change_list(capacity),
         pair_count=np.zeros((npair, npair), np.int32),
         wall_count=np.zeros((npair, nwall), np.int32),
         first_contact=np.full((npair, npair), np.nan),
