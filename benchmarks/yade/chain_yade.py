@@ -145,7 +145,7 @@ def member_velocity(body):
 
 
 def onset_time(it, t, dt):
-    # dominowave's event_time: overlap linear over the drift [t - dt, t], approach speed
+    # dominowave's contact_rows.event_lag: overlap linear over the drift [t - dt, t], approach speed
     # from the half-step velocities: t - delta / |v_n|, clipped to [t - dt, t]
     speed = (member_velocity(O.bodies[it.id1]) - member_velocity(O.bodies[it.id2])).dot(
         it.geom.normal

@@ -17,6 +17,7 @@ from dem_scenes import spheres_in_a_box
 from older_states import older_state
 
 from dominowave.dem import Material, Scene, Simulation
+from dominowave.dem.contact_rows import event_lag
 
 G = 9.81
 KN = 2e4  # [N/m], kt = kn (kt_ratio 1)
@@ -146,6 +147,21 @@ def test_validate_peak_forces_are_the_largest_recorded_normal_forces():
         peak = sim.pairs.peak_normal_force[a, b]
         assert largest > sim.bodies.mass[body[sphere]] * G  # (the drop's impact)
         assert peak == pytest.approx(largest, rel=1e-9)
+
+
+def test_an_event_lag_is_the_time_since_a_linear_overlap_began():
+    """An overlap growing at ``speed`` over the last drift that is ``depth`` at its end
+    began ``depth / speed`` before (an onset; an end the same with the gap): the lag of
+    every driver's events, at most the step, none for the initial configuration or
+    without approach."""
+    dt, speed = 1e-5, 0.3
+    for before in (0.0, 0.25 * dt, 0.5 * dt, 0.999 * dt):
+        for depth in (speed * before, -speed * before):  # (an onset, an end)
+            assert event_lag(depth, speed, dt, False) == pytest.approx(before, rel=1e-12)
+    assert event_lag(2.0 * speed * dt, speed, dt, False) == dt  # (before the drift: clipped)
+    assert event_lag(1e-7, 0.0, dt, False) == 0.0
+    assert event_lag(1e-7, -speed, dt, False) == 0.0  # (moving apart at an onset)
+    assert event_lag(1e-7, speed, dt, True) == 0.0
 
 
 def test_a_listed_pair_touches_exactly_while_active():

@@ -109,6 +109,7 @@ def test_a_scene_of_boxes_alone_compiles_no_sphere_kernel(planar):
     with_spheres = _compiled_with(time_loop(SceneKind(planar, True, spheres=True)))
     own_boxes = boxes.box_forces_planar if planar else boxes.box_forces_general
     assert own_boxes in alone and own_boxes in with_spheres
+    assert engine._bookkeep in alone  # (the events of the box contacts)
     assert not alone & SPHERE_KERNELS
     own_spheres = contact.compute_forces_planar if planar else contact.compute_forces
     assert {own_spheres, contact.build_verlet_list, box_sphere.build_box_sphere_candidates} <= (

@@ -6,7 +6,7 @@ kind of scene (:class:`SceneKind`).  Knows nothing about dominoes.
 See docs/dem.md for the equations and the validation.
 """
 
-from dominowave.dem.contact import END, ONSET
+from dominowave.dem.contact_rows import END, ONSET
 from dominowave.dem.energy import ENERGY_NAMES
 from dominowave.dem.engine import SceneKind
 from dominowave.dem.scene import Scene

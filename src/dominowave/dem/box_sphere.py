@@ -37,7 +37,6 @@ import numpy as np
 from dominowave.dem.boxes import (
     _copy_rows,
     _end,
-    _lag,
     _log_bodies,
     _open_row,
     _point_row,
@@ -45,7 +44,8 @@ from dominowave.dem.boxes import (
     _release,
 )
 from dominowave.dem.compiled import inline_kernel, inner_kernel
-from dominowave.dem.contact import END, ONSET, _candidate_pairs
+from dominowave.dem.contact import _candidate_pairs
+from dominowave.dem.contact_rows import END, ONSET, event_lag
 from dominowave.dem.material_pairs import material_pair
 from dominowave.dem.shapes.cuboid import box_sphere
 from dominowave.dem.shapes.rectangle import rect_sphere
@@ -157,7 +157,7 @@ def _box_sphere_driver(PLANAR):  # (capital: a constant of the compiled kernel)
                         else:
                             _release(old, q, ledger)
                         speed = (old.overlap[q] - overlap) / dt
-                        _log_bodies(boxes, ba, bs, END, _lag(overlap, speed, dt, first_step))
+                        _log_bodies(boxes, ba, bs, END, event_lag(overlap, speed, dt, first_step))
                     continue
                 c = n_new
                 n_new += 1
@@ -168,7 +168,9 @@ def _box_sphere_driver(PLANAR):  # (capital: a constant of the compiled kernel)
                 _point_row(bodies, old, new, c, q, props, ba, bs, False, overlap, dt, first_step,
                            False, ledger)  # fmt: skip
                 if fresh:
-                    _log_bodies(boxes, ba, bs, ONSET, _lag(overlap, -new.vn[c], dt, first_step))
+                    _log_bodies(
+                        boxes, ba, bs, ONSET, event_lag(overlap, -new.vn[c], dt, first_step)
+                    )
         _drop(old, boxes, spheres, bodies, o, 2**62, ns, ledger)
         _copy_rows(new, old, n_new)
 

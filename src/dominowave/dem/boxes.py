@@ -53,8 +53,10 @@ import numpy as np
 from numba import njit
 
 from dominowave.dem.compiled import inline_kernel, inner_kernel
-from dominowave.dem.contact import END, ONSET, _candidate_pairs, _scan_walls, apply_at_lever
+from dominowave.dem.contact import _candidate_pairs, _scan_walls, apply_at_lever
 from dominowave.dem.contact_rows import (
+    END,
+    ONSET,
     event_lag,
     log_change,
     relative_velocity,
@@ -658,13 +660,6 @@ def _end(bodies, old, q, gap, dt, bi, bj, wall, ledger, hertz):
 
 
 @inline_kernel()
-def _lag(depth, speed, dt, first_step):
-    """Time [s] since the overlap (``depth`` > 0, onset) or the gap (``|depth|``, end) began
-    (contact_rows.event_lag, as for spheres); 0 for the initial configuration."""
-    return 0.0 if first_step else event_lag(depth, speed, dt)
-
-
-@inline_kernel()
 def _spin(omega, ba, bj, wall, n0, n1, n2):
     """Sum [rad/s] of the angular velocities of body ``ba`` and its partner (body ``bj``,
     or a fixed wall) along the normal n."""
@@ -952,10 +947,10 @@ def _box_driver(PLANAR):  # (capital: a constant of the compiled kernel)
                     for c in range(first_row, n_new):
                         if new.overlap[c] > new.overlap[deepest]:
                             deepest = c
-                    lag = _lag(new.overlap[deepest], -new.vn[deepest], dt, first_step)
+                    lag = event_lag(new.overlap[deepest], -new.vn[deepest], dt, first_step)
                     _log(boxes, a, j, ONSET, lag)
                 elif o_end > o and n_new == first_row:
-                    _log(boxes, a, j, END, _lag(end_depth, end_speed, dt, first_step))
+                    _log(boxes, a, j, END, event_lag(end_depth, end_speed, dt, first_step))
                 o = o_end
         _drop_before(bodies, old, boxes, o, 2**62, nx, nw, ledger)
         _copy_rows(new, old, n_new)

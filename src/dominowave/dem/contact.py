@@ -24,7 +24,14 @@ import numpy as np
 from numba import njit
 
 from dominowave.dem.compiled import inline_kernel, inner_kernel
-from dominowave.dem.contact_rows import event_lag, lever_arm, log_change, point_velocity
+from dominowave.dem.contact_rows import (
+    END,
+    ONSET,
+    event_lag,
+    lever_arm,
+    log_change,
+    point_velocity,
+)
 from dominowave.dem.energy import LEDGER_FRICTION
 from dominowave.dem.integrate import ROT_NONE
 from dominowave.dem.laws.linear import end_impulse, viscous_coefficient
@@ -49,10 +56,6 @@ __all__ = [
     "sphere_sphere",
     "sphere_wall",
 ]
-
-
-ONSET = 1
-END = 0
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -788,7 +791,7 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
                 ledger[LEDGER_FRICTION] += end_contact(
                     bodies, contacts, c, bi, bj, wall, n0, n1, n2, overlap, dt, p0, p1, p2
                 )  # (which keeps the separation speed of the last drift in vn)
-                lag = 0.0 if first_step else event_lag(overlap, abs(contacts.vn[c]), dt)
+                lag = event_lag(overlap, abs(contacts.vn[c]), dt, first_step)
                 n_changes = log_change(changes, change_lag, n_changes, bi, partner, END, lag)
                 continue
             new_contact = not active
@@ -847,7 +850,7 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
             contacts.fn[c] = fn
             contacts.fn_viscous[c] = fn_viscous
             if new_contact:  # (approached at -vn over the last drift)
-                lag = 0.0 if first_step else event_lag(overlap, -vn, dt)
+                lag = event_lag(overlap, -vn, dt, first_step)
                 n_changes = log_change(changes, change_lag, n_changes, bi, partner, ONSET, lag)
             # friction ledger, part 1: minus the change of the energy stored in the spring
             ledger[LEDGER_FRICTION] += released

@@ -28,6 +28,8 @@ from dominowave.dem.compiled import inline_kernel
 from dominowave.dem.laws.point import point_energy, point_power
 
 __all__ = [
+    "END",
+    "ONSET",
     "POWER_FRICTION",
     "POWER_VISCOUS",
     "event_lag",
@@ -45,15 +47,20 @@ __all__ = [
 POWER_VISCOUS = 0
 POWER_FRICTION = 1
 
+# the kind of a contact change (log_change)
+ONSET = 1
+END = 0
 
-@inline_kernel()
-def event_lag(depth, speed, dt):
+
+@inline_kernel(python_entry=True)
+def event_lag(depth, speed, dt, first_step):
     """Time [s] before the end of the last drift ``[t - dt, t]`` at which a contact started
     or ended, the overlap taken linear over the drift: an onset seen with overlap
     ``depth`` [m] and approach speed ``speed`` [m/s] happened ``depth / speed`` before
     ``t``, an end seen with gap ``|depth|`` and separation speed ``speed`` as long before.
-    0 without approach or separation (``speed <= 0``), at most dt."""
-    if speed <= 0.0:
+    0 for the initial configuration (``first_step``) and without approach or separation
+    (``speed <= 0``), at most dt."""
+    if first_step or speed <= 0.0:
         return 0.0
     if abs(depth) >= speed * dt:
         return dt
@@ -63,9 +70,9 @@ def event_lag(depth, speed, dt):
 @inline_kernel()
 def log_change(changes, lag, n, bi, bj, kind, before):
     """Row n of a driver's list of contact changes: body ``bi`` and body ``bj`` (or the
-    wall ``-(bj + 1)``) started (``kind`` contact.ONSET) or ended (END) a contact
-    ``before`` [s] this step's time; ``changes`` (K, 3) int64, ``lag`` (K,).
-    Returns n + 1."""
+    wall ``-(bj + 1)``) started (``kind`` ONSET) or ended (END) a contact a time
+    ``before`` [s] (:func:`event_lag`) before this step's time; ``changes`` (K, 3) int64,
+    ``lag`` (K,).  Returns n + 1."""
     if n == changes.shape[0]:
         raise RuntimeError("contact changes full")
     changes[n, 0] = bi

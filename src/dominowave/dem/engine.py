@@ -46,8 +46,6 @@ from dominowave.dem.boxes import (
 )
 from dominowave.dem.compiled import inline_kernel, inner_kernel
 from dominowave.dem.contact import (
-    END,
-    ONSET,
     build_verlet_list,
     compute_forces,
     compute_forces_planar,
@@ -57,6 +55,8 @@ from dominowave.dem.contact import (
     needs_rebuild_after_drift,
 )
 from dominowave.dem.contact_rows import (
+    END,
+    ONSET,
     POWER_FRICTION,
     POWER_VISCOUS,
     rows_contact_forces,

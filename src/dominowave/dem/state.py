@@ -119,8 +119,9 @@ Contacts = namedtuple(
         "vn",  # (C,) normal relative velocity (> 0 separating) at the last half step [m/s]
         "fn",  # (C,) current normal force (elastic + viscous) [N]
         "fn_viscous",  # (C,) dashpot part of the normal force at the last step [N]
-        "point",  # (C, 3) contact point [m] of the last step in which the pair touched
-        #   (or ended its contact): written by compute_forces before the bookkeeping reads it
+        "point",  # (C, 3) contact point [m] of the last step in which the pair touched or
+        #   ended its contact, written by compute_forces before the bookkeeping reads it (a
+        #   new pair's holds its slot's old values until then: the bookkeeping skips it)
         "normal",  # (C, 3) unit normal from i to j of that step
         "mult",  # (C,) 1.0: a pair is one contact point (a field of every contact table)
     ],
