@@ -337,7 +337,7 @@ GAP, FRICTION, N = 0.00938, 0.3, 40
 
 def standard_chain():
     """The standard 40-domino 3D chain of standard_chain_vs_mujoco.py as the package's
-    defaults build it (softened contact at T_c/20, dominoes held until touched), without
+    defaults build it (softened contact at T_c/10, dominoes held until touched), without
     recorders and without sleep (the timed loop has none, and the CPU time it is scaled
     to must be of the same steps)."""
     p = standard_domino(

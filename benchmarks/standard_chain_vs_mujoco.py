@@ -8,8 +8,8 @@ the shared machine falls on all of them alike), and the median wall time of each
 reported with its speed:
 
 * dominowave with the package's defaults (the softest contact within 2 % of the
-  plastic's speed and its step T_c/20, ``chain.fidelity``; dominoes held until touched
-  and put to sleep once at rest);
+  plastic's speed and its step, T_c/10 at that tolerance, ``chain.fidelity``; dominoes
+  held until touched and put to sleep once at rest);
 * the same until the wave touches the last domino (``tail_time=0``, no aftermath), where
   MuJoCo's loop stops too: the run that gives the speed and nothing else;
 * dominowave at the plastic's own stiffness (``fidelity="exact"``);
@@ -19,7 +19,7 @@ reported with its speed:
 * with ``--breakdown``, the defaults' settings taken away one at a time, to show where
   their time comes from: every domino free (``held=False``) and awake (``sleep=False``)
   at the plastic's stiffness (T_c/50), then the softened contact at T_c/50, at its own
-  step T_c/20, and held until touched (still awake);
+  step T_c/10, and held until touched (still awake);
 * MuJoCo (``benchmarks/mujoco_chain.py``: exact boxes, elliptic cones, implicitfast), with
   its default contacts at dt 1e-3 s and with the 2 ms contacts of the cross-check at
   dt 2e-4 s.

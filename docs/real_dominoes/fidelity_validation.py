@@ -6,8 +6,9 @@ default with the softest contact spring whose estimated speed error stays within
 run at the plastic's stiffness (``fidelity="exact"``) and at each tolerance of
 :data:`TOLERANCES`, and each row gives the front speed fitted from domino ``fit_from``
 on (pitch-based, ``chain.wave.speed_from``), the measured relative change of that speed
-from the exact run (the softened chains at their own step, T_c/20, the exact ones and
-the nearly elastic ones at T_c/50), the estimate (``ContactFidelity.error_at`` at the
+from the exact run (the softened chains at their own step,
+``chain.fidelity.steps_per_collision``: T_c/20 at 1 %, T_c/10 at 2 % and 5 %; the exact
+ones and the nearly elastic ones at T_c/50), the estimate (``ContactFidelity.error_at`` at the
 run's own speed), the spring's ``k/k*``, the time step and the wall time of the run
 (warm kernels; one warm-up run first). The chains: 12 dominoes fitted from domino 3
 (as ``predict``), and 30 fitted from domino 10 (as the films), 3D; the tests run the

@@ -6,8 +6,9 @@ A chain of given materials runs with the softest contact spring within its toler
 (``fidelity_validation.CHAINS`` and ``LENGTHS``: standard dominoes on hardwood, 3D) at
 the spring of the default tolerance with ``n`` = 50, 20, 15 and 10, and gives the front
 speed fitted from domino ``fit_from`` on, its relative change from ``n`` = 50, the step
-and the wall time (warm kernels; one warm-up run first). The softened chains run at
-``chain.fidelity.SOFTENED_STEPS_PER_COLLISION``.
+and the wall time (warm kernels; one warm-up run first). The largest change at each
+step is ``chain.fidelity.STEP_EFFECTS``, from which a softened chain's step is chosen
+(``chain.fidelity.steps_per_collision``).
 
 Usage::
 

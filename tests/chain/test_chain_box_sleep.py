@@ -84,7 +84,7 @@ def test_validate_the_aftermath_ends_at_rest_where_a_longer_one_repeats_its_last
     rerun.set_state(stepper.get_state())
     before = rerun.sim.get_state()
     res = rerun.sim.run(until=stepper.tail_end, trajectory_every=stepper.every)
-    assert res.n_steps > 1000
+    assert res.n_steps * rerun.sim.dt > 0.1 * stepper.chain.tail_time  # (hundreds of steps)
     after = rerun.sim.get_state()
     for key in ("pos", "quat", "vel", "omega", "angmom", "held"):
         np.testing.assert_array_equal(after[f"bodies.{key}"], before[f"bodies.{key}"], key)

@@ -43,23 +43,27 @@ estimate at the larger of that speed and the run's own.
 
 **The step.** A chain's step is its collision time over a number of steps
 (``DominoChain``'s ``steps_per_collision``): :data:`STEPS_PER_COLLISION`, which resolves a
-collision alike at every stiffness, and :data:`SOFTENED_STEPS_PER_COLLISION` for a
-softened chain. The step is not in the estimate: its effect on the speed was measured
-instead (``docs/real_dominoes/step_convergence.py``, at the default tolerance's spring:
-at most 0.2 % from T_c/50 to T_c/20 on the chains of the validation, 0.6 % at T_c/15
-and 0.4 % at T_c/10), and the validation runs the softened chains at their own step
-against the material's chains at T_c/50, so the estimate is checked for both together.
+collision alike at every stiffness, or, for a softened chain, the largest step whose
+measured effect on the speed is at most :data:`STEP_SHARE` of the tolerance
+(:func:`steps_per_collision`, :data:`STEP_EFFECTS`): ``T_c/10`` from 1.8 % (the default
+2 % included), ``T_c/20`` from 0.6 %, ``T_c/50`` below. The step is not in the estimate:
+its effect was measured instead (``docs/real_dominoes/step_convergence.py``, on the
+chains of the validation at the default tolerance's spring: at most 0.20 % from T_c/50 to
+T_c/20, 0.59 % at T_c/15 and 0.38 % at T_c/10), and the validation runs the softened
+chains at their own step against the material's chains at T_c/50, so the estimate is
+checked for both together. (At 1 % with ``T_c/10``, two thirds of the tolerance, the
+5 mm chain of the validation moved by 1.03 %: beyond the estimate, hence the share.)
 
 **The default** (:data:`DEFAULT_TOLERANCE`, 2 %). The estimate is a bound, not the
 error: on the chains of the validation the spring and step of a 2 % tolerance move the
-speed by 0.01-0.83 % (the most at 15.09 mm with nearly plastic collisions, where the
+speed by 0.05-0.92 % (the most at 15.09 mm with nearly plastic collisions, where the
 effect is systematic), and a chain's own chaotic spread, which any change of the run
 shows, is 0.2-0.5 % (docs/real_dominoes.md section 11). A filmed row of real dominoes
 scatters by 0.8 % (felt) to 3.5 % (hardwood) from row to row (standard deviations of
 the rows at one gap, docs/real_dominoes.md section 3), and the friction between
 dominoes, never measured on dominoes, moves the speed by tens of per cent. So a 2 %
 bound keeps the numerics below what a measurement resolves; a tighter one (``0.01``:
-1.8 times the steps) or the material's own spring (``"exact"``: about 30 times the
+3.7 times the steps) or the material's own spring (``"exact"``: about 50 times the
 time of the standard chain) is one option away.
 
 **Where it applies.** Box chains given a Young's modulus with the linear law (the
@@ -92,8 +96,9 @@ __all__ = [
     "EXACT",
     "MAX_RESTITUTION",
     "MAX_TOLERANCE",
-    "SOFTENED_STEPS_PER_COLLISION",
     "STEPS_PER_COLLISION",
+    "STEP_EFFECTS",
+    "STEP_SHARE",
     "ContactFidelity",
     "Fidelity",
     "applies",
@@ -121,9 +126,16 @@ plastic's 3.4e6 (module docstring)."""
 STEPS_PER_COLLISION = 50
 """Time steps per collision time ``T_c`` (eq 31) of a chain: a collision is resolved alike
 at every stiffness."""
-SOFTENED_STEPS_PER_COLLISION = 20
-"""Time steps per collision time of a softened chain: its speed moves by at most 0.15 %
-from :data:`STEPS_PER_COLLISION` (module docstring), a small part of the tolerance."""
+STEP_EFFECTS = ((10, 0.0059), (20, 0.0020))
+"""(steps per collision time, the largest change of a softened chain's front speed from
+:data:`STEPS_PER_COLLISION` measured at that step or a larger one), coarsest first:
+``docs/real_dominoes/step_convergence.csv``, the chains of the validation at the
+default tolerance's spring (0.38 % at ``T_c/10`` and 0.59 % at ``T_c/15``: the change
+does not grow monotonically with the step, it is mostly the chains' chaotic spread, so
+``T_c/10`` is charged the larger)."""
+STEP_SHARE = 1.0 / 3.0
+"""The share of a softened chain's tolerance that its step may take (the spring's
+estimate, a bound, takes the whole tolerance; the validation checks both together)."""
 
 Fidelity = float | Literal["exact"] | None
 """``"exact"`` (the material's spring), a tolerance in ``(0, MAX_TOLERANCE]``, or None
@@ -269,10 +281,16 @@ def _reference_speed(params: ChainParams) -> float:
 
 def steps_per_collision(contact: ContactFidelity | None) -> int:
     """The steps per collision time of a chain whose contact is ``contact``
-    (:func:`choose_contact`): :data:`SOFTENED_STEPS_PER_COLLISION` if it is softened,
-    :data:`STEPS_PER_COLLISION` otherwise."""
-    softened = contact is not None and contact.softened
-    return SOFTENED_STEPS_PER_COLLISION if softened else STEPS_PER_COLLISION
+    (:func:`choose_contact`): for a softened one the fewest of :data:`STEP_EFFECTS` whose
+    measured effect on the speed is at most :data:`STEP_SHARE` of its tolerance (10 at the
+    default 2 %, 20 at 1 %); :data:`STEPS_PER_COLLISION` for any other chain, and for a
+    tolerance too tight for those steps (below 0.6 %)."""
+    if contact is None or not contact.softened:
+        return STEPS_PER_COLLISION
+    for steps, effect in STEP_EFFECTS:
+        if effect <= STEP_SHARE * contact.tolerance:
+            return steps
+    return STEPS_PER_COLLISION
 
 
 def choose_contact(params: ChainParams, fidelity: Fidelity = None) -> ContactFidelity | None:

@@ -274,8 +274,9 @@ class DominoChain:
 
     Parameters of the run (not of the physics): ``dt`` [s] (default: the theory's
     collision time ``T_c`` (eq 31, clump mapping) divided by ``steps_per_collision``, not
-    set 50, so a collision is resolved alike at every stiffness, or 20 for a softened
-    contact (:func:`dominowave.chain.fidelity.steps_per_collision`); the engine refuses a
+    set 50, so a collision is resolved alike at every stiffness, or for a softened contact
+    the steps its tolerance allows, 10 at the default 2 %
+    (:func:`dominowave.chain.fidelity.steps_per_collision`); the engine refuses a
     step above its critical one), ``frame_interval`` [s] between trajectory frames used
     for the event analysis, ``quiet_time`` [s] without any new contact after which
     the run stops (the wave died; default ``10 sqrt(l/g)``), ``max_time`` [s] hard
