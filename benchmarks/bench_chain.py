@@ -129,7 +129,7 @@ def cost_trace(chain: DominoChain, steps: int, chunk: int = 20_000) -> None:
         done += chunk
         c = sim.contacts
         n = int(c.n[0])
-        active = c.active[:n].astype(bool)
+        active = c.overlap[:n] > 0.0
         print(
             f"step {done}: {elapsed / chunk * 1e6:.1f} us/step, a list build every "
             f"{chunk / max(1, sim.rec.n_rebuilds[0] - builds):.0f} steps, {n} candidate "

@@ -219,8 +219,8 @@ def measure(make, n, steps, repeat):
     row["us_detect"] = 1e6 * (check / steps + rebuild_rate * build / n_build)
     row["us_forces"] = 1e6 * forces / steps
     row["us_integrate"] = 1e6 * integ / steps
-    row["contacts"] = int(c.active[: c.n[0]].sum())
-    body_body = (c.j[: c.n[0]] >= 0) & (c.active[: c.n[0]] == 1)
+    row["contacts"] = int(np.sum(c.overlap[: c.n[0]] > 0.0))
+    body_body = (c.j[: c.n[0]] >= 0) & (c.overlap[: c.n[0]] > 0.0)
     row["body_contacts"] = int(body_body.sum())
     row["dt"] = s.dt
     row["candidates"] = int(c.n[0])

@@ -97,7 +97,7 @@ def main(argv=None) -> int:
     s = sim.settings
     c = sim.contacts
     n = int(c.n[0])
-    active = c.active[:n].astype(bool)
+    active = c.overlap[:n] > 0.0
     print(
         f"N = {args.n} at step {args.at} (planar kernels: {s.planar}): {n} candidate pairs, "
         f"{active.sum()} active ({np.sum(active & (c.j[:n] < 0))} on the floor), "

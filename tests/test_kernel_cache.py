@@ -63,6 +63,44 @@ def test_an_edited_callee_recompiles_the_cached_kernel(tmp_path, stamped):
     assert _run(tmp_path) == ((4.0, False) if stamped else (2.0, True))
 
 
+@pytest.mark.parametrize("stamped", [True, False])
+def test_an_index_naming_a_removed_type_is_stale(tmp_path, stamped):
+    """A kernel whose argument is a named tuple of another file: once the tuple is renamed,
+    numba's index of the cached kernel names a class that no longer exists.  numba
+    unpickles the index before it compares the stamp and stops with an AttributeError;
+    in a package that installs the stamp, the index is stale and the kernel compiles."""
+    _package(tmp_path, stamped)
+    state = tmp_path / "mini" / "state.py"
+    state.write_text(
+        "from collections import namedtuple\n\nOld = namedtuple('Old', ['x'])\n\n\n"
+        "def make(x):\n    return Old(x)\n"
+    )
+    (tmp_path / "mini" / "apply.py").write_text(
+        "from numba import njit\n\n@njit(cache=True)\ndef run(s):\n    return 2.0 * s.x\n"
+    )
+    code = "from mini.state import make; from mini.apply import run; r = run(make(1.0))"
+    code += "; print(r, sum(run.stats.cache_hits.values()))"
+    assert _python(tmp_path, code) == "2.0 0"  # compiled, cached
+    assert _python(tmp_path, code) == "2.0 1"  # loaded from the cache
+    state.write_text(state.read_text().replace("Old", "New"))
+    if stamped:
+        assert _python(tmp_path, code) == "2.0 0"  # compiled anew
+    else:
+        with pytest.raises(subprocess.CalledProcessError) as failed:
+            _python(tmp_path, code)
+        assert "AttributeError: Can't get attribute 'Old'" in failed.value.stderr
+
+
+def _python(root: Path, code: str) -> str:
+    """The last line ``code`` prints in a fresh process with ``root`` on the path; a
+    failure raises CalledProcessError with the process's stderr."""
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(root), *sys.path])}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
+    if out.returncode:
+        raise subprocess.CalledProcessError(out.returncode, "python", stderr=out.stderr)
+    return out.stdout.strip().splitlines()[-1]
+
+
 def test_package_stamp_follows_every_source_file(tmp_path):
     (tmp_path / "a.py").write_text("x = 1\n")
     (tmp_path / "sub").mkdir()

@@ -21,6 +21,12 @@ the chain layer or the documentation recompiles nothing, an edit of ``dem/`` onl
 DEM.  A kernel in a module at the package's top level, or outside the package, gets the
 whole package's hash.
 
+numba reads a cache index (its stamp and the signatures of the compiled versions) by
+unpickling it whole before it compares the stamp, so an index whose signatures name a
+type the package no longer has (a renamed state tuple) would stop the first run with an
+``AttributeError`` instead of recompiling; :func:`install` makes numba treat such an
+unreadable index of the package as stale (:func:`_tolerant_index`).
+
 It adds, before numba's own, a locator of each kind numba has (a user-given
 ``NUMBA_CACHE_DIR``, ``__pycache__`` beside the source, the user-wide cache directory)
 restricted to the package's files, with the same cache paths and this stamp.  numba's
@@ -38,6 +44,7 @@ from __future__ import annotations
 
 import functools
 import hashlib
+import pickle
 from pathlib import Path
 
 __all__ = ["SHARED", "install", "kernel_stamp", "kernels_cached", "package_stamp"]
@@ -107,6 +114,33 @@ def _stamped(locator: type, package_dir: Path) -> type:
     return PackageLocator
 
 
+_TOLERANT: set[str] = set()
+"""Names of the folders given to :func:`install`: an index below one of them that cannot be
+read is stale (:func:`_tolerant_index`)."""
+
+
+def _tolerant_index(cache_file: type) -> None:
+    """Make ``cache_file`` (numba's ``IndexDataCacheFile``) read an index below a folder of
+    :data:`_TOLERANT` (in the source tree, or its mirror in a cache directory) that cannot
+    be unpickled -- it names a class or module the package no longer has -- as an empty,
+    stale one: numba then compiles and writes the index anew.  Other indexes are read as
+    numba reads them."""
+    if getattr(cache_file, "_dominowave_tolerant", False):
+        return
+    load = cache_file._load_index
+
+    def _load_index(self):
+        try:
+            return load(self)
+        except (AttributeError, ImportError, EOFError, pickle.UnpicklingError):
+            if _TOLERANT.intersection(Path(self._index_path).parts):
+                return {}
+            raise
+
+    cache_file._load_index = _load_index
+    cache_file._dominowave_tolerant = True
+
+
 def install(package_dir: Path = PACKAGE_DIR) -> bool:
     """Put the stamped locators of ``package_dir``'s files before numba's own (once per
     folder); call it before the package's kernels are defined.  Another folder (scripts
@@ -128,6 +162,10 @@ def install(package_dir: Path = PACKAGE_DIR) -> bool:
             impl._locator_classes
         )
         setattr(impl, marker, True)
+    cache_file = getattr(caching, "IndexDataCacheFile", None)
+    if cache_file is not None:
+        _TOLERANT.add(package_dir.name)
+        _tolerant_index(cache_file)
     return True
 
 
@@ -148,5 +186,5 @@ def kernels_cached(dispatcher) -> bool:
     try:
         own = cache._index_key(None, dispatcher.targetctx.codegen())[-1]
         return any(key[-1] == own for key in index())
-    except Exception:  # an unreadable index (numba recompiles and rewrites it), or
-        return False  # another numba's internals
+    except Exception:  # an unreadable index (of another package), or another numba's
+        return False  # internals

@@ -29,6 +29,9 @@ FORMAT_3_KEYS = ("settings.sleep_speed", "settings.sleep_time", "bodies.calm_sin
 FORMAT_5_KEYS = ("contacts.point", "contacts.normal", "contacts.mult")
 """The keys a format-4 state lacks: the sphere contacts' points, normals and
 multiplicities (their rows' fields, contact_rows.py)."""
+FORMAT_6_KEYS = ("contacts.key",)
+"""The key a format-5 state lacks: the sphere contacts' feature keys (state.Contacts);
+it had their flag ``contacts.active`` instead (1 while the overlap is positive)."""
 FORMAT_1_BOX_KEYS = (
     "boxes.held_at_build",
     "boxes.sphere_cand",
@@ -39,8 +42,9 @@ FORMAT_1_BOX_KEYS = (
 
 
 def older_state(state: dict, version: int) -> dict:
-    """``state`` (current format) in the layout of format ``version`` (1 to 4):
+    """``state`` (current format) in the layout of format ``version`` (1 to 5):
 
+    * 1 to 5: sphere contacts without :data:`FORMAT_6_KEYS`, with ``contacts.active``;
     * 1 to 4: sphere contacts without :data:`FORMAT_5_KEYS`;
     * 1 to 3: one column ``mats.stiffness`` holding E, or k_n under RULE_GIVEN, instead
       of ``mats.young`` and ``mats.kn``;
@@ -48,8 +52,12 @@ def older_state(state: dict, version: int) -> dict:
     * 1: no version key, none of :data:`FORMAT_2_KEYS` and :data:`FORMAT_1_BOX_KEYS`,
       and materials giving k_n flagged by ``mats.given_kn`` beside the paper's rule.
     """
-    old = {k: v for k, v in state.items() if k not in FORMAT_5_KEYS}
+    old = {k: v for k, v in state.items() if k not in FORMAT_6_KEYS}
+    old["contacts.active"] = (np.asarray(state["contacts.overlap"]) > 0.0).astype(np.uint8)
     old["state_format"] = np.array(version)
+    if version == 5:
+        return old
+    old = {k: v for k, v in old.items() if k not in FORMAT_5_KEYS}
     if version == 4:
         return old
     young, kn = old.pop("mats.young"), old.pop("mats.kn")

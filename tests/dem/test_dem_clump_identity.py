@@ -56,8 +56,8 @@ def _chain(fields):
     return sim
 
 
-CONTACT_FIELDS = ("i", "j", "active", "shear", "overlap", "vn", "fn", "fn_viscous")
-"""The fields of the sphere contacts compared."""
+CONTACT_FIELDS = ("i", "j", "shear", "overlap", "vn", "fn", "fn_viscous")
+"""The fields of the sphere contacts compared (a row touches while its overlap is positive)."""
 
 
 def _run(name):

@@ -63,7 +63,7 @@ def test_validate_neighbour_list_finds_every_contact():
         n = c.n[0]
         active = {
             (int(i), int(j))
-            for i, j, a in zip(c.i[:n], c.j[:n], c.active[:n], strict=True)
+            for i, j, a in zip(c.i[:n], c.j[:n], c.overlap[:n] > 0.0, strict=True)
             if a and j >= 0
         }
         assert overlapping <= active
@@ -135,10 +135,9 @@ def test_validate_verlet_build_matches_brute_force(seed):
     np.testing.assert_array_equal(keys, _brute_force_keys(spheres, walls, sim.settings.skin))
     assert n > 20 and (c.j[:n] < 0).any()
     # an arbitrary history for the listed pairs
-    fields = ("active", "shear", "kn", "kt", "mu", "cn", "overlap", "vn", "fn", "fn_viscous",
-              "point", "normal")  # fmt: skip
-    c.active[:n] = rng.integers(0, 2, n)
-    for f in fields[1:]:
+    fields = ("shear", "kn", "kt", "mu", "cn", "overlap", "vn", "fn", "fn_viscous", "point",
+              "normal")  # fmt: skip
+    for f in fields:
         getattr(c, f)[:n] = rng.normal(size=getattr(c, f)[:n].shape)
     before = {f: getattr(c, f)[:n].copy() for f in fields}
     for _ in range(3):  # pairs enter and leave the list
@@ -154,7 +153,7 @@ def test_validate_verlet_build_matches_brute_force(seed):
             np.testing.assert_array_equal(getattr(c, f)[new_at], before[f][old_at])
         fresh = np.setdiff1d(np.arange(n), new_at)
         assert fresh.size > 0
-        assert not c.active[fresh].any() and not c.shear[fresh].any()
+        assert not c.shear[fresh].any()
         assert not c.fn_viscous[fresh].any() and not c.overlap[fresh].any()
         props = np.empty(4)
         for k in fresh:  # a new pair's properties from the materials

@@ -29,15 +29,20 @@ def _point_velocity(sim, b, point):
     return bodies.vel_full[b] + np.cross(bodies.omega_full[b], point - bodies.pos[b])
 
 
+def _touching(contacts):
+    """The number of touching sphere contacts (rows of positive overlap)."""
+    return int(np.sum(contacts.overlap[: contacts.n[0]] > 0.0))
+
+
 def _run_impact(sim, relative_normal_velocity, max_points):
     """Step until one impact is over; returns the normal relative velocity before and
     after it (as ``relative_normal_velocity()``)."""
     before = relative_normal_velocity()
     touched = False
-    while not touched or sim.boxes.rows.n[0] + sim.contacts.active[: sim.contacts.n[0]].sum():
+    while not touched or sim.boxes.rows.n[0] + _touching(sim.contacts):
         sim.run(n_steps=1)
         assert sim.boxes.rows.n[0] <= max_points
-        touched = touched or sim.boxes.rows.n[0] + sim.contacts.active[: sim.contacts.n[0]].sum()
+        touched = touched or sim.boxes.rows.n[0] + _touching(sim.contacts)
     return before, relative_normal_velocity()
 
 

@@ -38,7 +38,7 @@ def test_a_state_carries_its_format():
     assert int(restored.get_state()["state_format"]) == STATE_FORMAT
 
 
-@pytest.mark.parametrize("version", [1, 2, 3, 4])
+@pytest.mark.parametrize("version", [1, 2, 3, 4, 5])
 def test_an_older_state_resumes_bit_identically(version):
     sim = _bouncing_ball()
     sim.run(n_steps=500)
@@ -94,7 +94,7 @@ def _resume_alike(sim, old):
     assert restored.energy() == sim.energy()
 
 
-@pytest.mark.parametrize("version", [1, 2, 3, 4])
+@pytest.mark.parametrize("version", [1, 2, 3, 4, 5])
 def test_an_older_box_state_resumes_bit_identically(version):
     sim = _box_on_a_box()
     sim.run(n_steps=1500)

@@ -88,7 +88,7 @@ from dominowave.dem.shapes.rectangle import (
     rect_plane,
     rect_rect,
 )
-from dominowave.dem.state import Spheres
+from dominowave.dem.state import Spheres, empty_contacts
 
 # The per-step kernels are compiled without numba's reference counting (``_nrt=False``),
 # as those of contact.py and the small functions they inline (dem/compiled.py): they
@@ -96,7 +96,6 @@ from dominowave.dem.state import Spheres
 # atomic increments and decrements (a box chain step took 2-3 times as long).
 
 __all__ = [
-    "BoxContacts",
     "Boxes",
     "box_contact_forces",
     "box_energies",
@@ -119,8 +118,8 @@ Boxes = namedtuple(
         "radius",  # (nx,) rounding radius [m]
         "material",  # (nx,) int material id
         "normal_law",  # (1,) int: laws.hertz.LAW_LINEAR or LAW_HERTZ
-        "rows",  # BoxContacts of the last step
-        "next",  # BoxContacts being built (scratch)
+        "rows",  # state.Contacts: the rows of the last step
+        "next",  # state.Contacts being built (scratch)
         "m_normal",  # (MAX_POINTS, 3) scratch: the manifold of one pair (shapes.cuboid)
         "m_point",  # (MAX_POINTS, 3)
         "m_overlap",  # (MAX_POINTS,)
@@ -144,62 +143,17 @@ Boxes = namedtuple(
         #   be missing from cand (held at the list build; a new state: 1)
         "engaged",  # (nx,) uint8 scratch: a held box with a moving box among its visited
         #   candidates, which has its wall rows (_visit_pairs)
-        "dormant",  # BoxContacts: the rows of the pairs of two resting bodies (held, or a
+        "dormant",  # state.Contacts: the rows of the pairs of two resting bodies (held, or a
         #   wall), kept as they were while neither moves (_drop_before, _wake_rows)
         "order",  # (K,) int64 scratch of _wake_rows
         "restless",  # (nx,) uint8 scratch of engine._sleep_and_wake
-        "sphere_rows",  # BoxContacts of the box-sphere contacts (box_sphere.py), j: sphere
-        "sphere_next",  # BoxContacts being built (scratch)
+        "sphere_rows",  # state.Contacts of the box-sphere contacts (box_sphere.py), j: sphere
+        "sphere_next",  # state.Contacts being built (scratch)
         "sphere_cand",  # (Q,) int64 candidate box-sphere pairs, box * ns + sphere, ascending
         "n_sphere_cand",  # (1,) int64 candidates listed; -1: no list, every pair a candidate
         "sphere_cand_start",  # (nx + 1,) int64 first candidate of each box
     ],
 )
-
-BoxContacts = namedtuple(
-    "BoxContacts",
-    [
-        "n",  # (1,) rows used
-        "i",  # (K,) box
-        "j",  # (K,) partner box, or -(wall + 1)
-        "key",  # (K,) int64 feature key of the point (shapes.cuboid)
-        "mult",  # (K,) how many points of the 3D body the row stands for (planar: 2)
-        "shear",  # (K, 3) Cundall-Strack shear displacement [m]
-        "overlap",  # (K,) [m]
-        "vn",  # (K,) normal relative velocity at the last half step [m/s]
-        "fn",  # (K,) normal force (elastic + dashpot) per point [N]
-        "fn_viscous",  # (K,) dashpot part [N]
-        "kn",  # (K,) k_n [N/m]; Hertz: K of F = K delta^{3/2} [N/m^{3/2}]
-        "kt",  # (K,) [N/m]
-        "mu",  # (K,)
-        "cn",  # (K,) [N s/m]; Hertz: c of -c delta^{1/4} v_n [N s/m^{5/4}]
-        "point",  # (K, 3) contact point [m]
-        "normal",  # (K, 3) unit normal from box i to its partner
-    ],
-)
-
-
-def _empty_rows(capacity):
-    k = int(capacity)
-    z = lambda *shape: np.zeros(shape)  # noqa: E731
-    return BoxContacts(
-        n=np.zeros(1, np.int64),
-        i=np.zeros(k, np.int64),
-        j=np.zeros(k, np.int64),
-        key=np.zeros(k, np.int64),
-        mult=z(k),
-        shear=z(k, 3),
-        overlap=z(k),
-        vn=z(k),
-        fn=z(k),
-        fn_viscous=z(k),
-        kn=z(k),
-        kt=z(k),
-        mu=z(k),
-        cn=z(k),
-        point=z(k, 3),
-        normal=z(k, 3),
-    )
 
 
 def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR, n_spheres=0):
@@ -217,8 +171,8 @@ def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR,
         radius=np.asarray(radius, float).reshape(nx),
         material=np.asarray(material, np.int64).reshape(nx),
         normal_law=np.array([normal_law], np.int64),
-        rows=_empty_rows(capacity),
-        next=_empty_rows(capacity),
+        rows=empty_contacts(capacity),
+        next=empty_contacts(capacity),
         m_normal=np.zeros((MAX_POINTS, 3)),
         m_point=np.zeros((MAX_POINTS, 3)),
         m_overlap=np.zeros(MAX_POINTS),
@@ -240,11 +194,11 @@ def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR,
         n_groups=np.full(1, -1, np.int64),
         held_at_build=np.ones(nx, np.uint8),
         engaged=np.zeros(nx, np.uint8),
-        dormant=_empty_rows(capacity),
+        dormant=empty_contacts(capacity),
         order=np.zeros(capacity, np.int64),
         restless=np.zeros(nx, np.uint8),
-        sphere_rows=_empty_rows(sphere_capacity),
-        sphere_next=_empty_rows(sphere_capacity),
+        sphere_rows=empty_contacts(sphere_capacity),
+        sphere_next=empty_contacts(sphere_capacity),
         sphere_cand=np.zeros(8 * nx + 16, np.int64),
         n_sphere_cand=np.full(1, -1, np.int64),
         sphere_cand_start=np.zeros(nx + 1, np.int64),

@@ -407,7 +407,7 @@ def mark_build(bodies):
 def _merge_history(spheres, walls, bodies, mats, contacts, keys, first, src, props):
     """Write the pairs ``keys`` (sorted; ``first`` their first indices) into ``contacts``,
     in place; a pair that was listed before keeps its whole history, a new one starts
-    inactive with its properties computed.
+    idle with its properties computed.
 
     Scratch arrays (allocated by the caller, as this loop runs without numba's reference
     counting): ``src`` (n_new,) int64, ``props`` (4,).
@@ -437,9 +437,8 @@ def _merge_history(spheres, walls, bodies, mats, contacts, keys, first, src, pro
         contacts.i[c] = i
         contacts.j[c] = j
         if src[c] < 0:
-            # (vn and fn are kept as before: set at the onset before they are read; the
-            # overlap of an idle pair is not positive, for the bookkeeping: contact_rows)
-            contacts.active[c] = 0
+            # (vn and fn are kept as before: set at the onset before they are read; a new
+            # pair does not touch: its overlap is not positive, contact_rows)
             contacts.overlap[c] = 0.0
             for d in range(3):
                 contacts.shear[c, d] = 0.0
@@ -482,7 +481,6 @@ def _move_pair(contacts, a, c):
     """Copy the history of listed pair a into slot c: the dashpot extrapolates vn, an
     ending contact needs its last overlap (end_impulse); the properties of a listed pair
     are kept (whoever edits the materials mid-run must edit contacts.kn/kt/mu/cn too)."""
-    contacts.active[c] = contacts.active[a]
     for d in range(3):
         contacts.shear[c, d] = contacts.shear[a, d]
     contacts.overlap[c] = contacts.overlap[a]
@@ -628,7 +626,6 @@ def end_contact(bodies, contacts, c, bi, bj, wall, n0, n1, n2, gap, dt, p0, p1, 
         apply_at_lever(bodies, bi, rx, ry, rz, f0, f1, f2, -1.0)
     u = contacts.shear
     released = 0.5 * contacts.kt[c] * (u[c, 0] * u[c, 0] + u[c, 1] * u[c, 1] + u[c, 2] * u[c, 2])
-    contacts.active[c] = 0
     for d in range(3):
         u[c, d] = 0.0
     return released
@@ -644,8 +641,8 @@ def idle_pair(contacts, c):
 
 @inline_kernel()
 def begin_contact(contacts, c):
-    """Pair c starts a contact: active, no shear history."""
-    contacts.active[c] = 1
+    """Pair c starts a contact: no shear history (it touches once the driver writes its
+    positive overlap)."""
     for d in range(3):
         contacts.shear[c, d] = 0.0
 
@@ -750,7 +747,7 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
             j = contacts.j[c]
             bi = np.uint64(spheres.body[i])
             Ri = spheres.radius[i]
-            active = contacts.active[c]
+            touching = contacts.overlap[c] > 0.0  # (it touched at the last step)
             wall = j < 0
             yi = 0.0 if PLANAR else pos[i, 1]
             if not wall:
@@ -760,7 +757,7 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
                 rsum = Ri + spheres.radius[j]
                 yj = 0.0 if PLANAR else pos[j, 1]
                 near, n0, n1, n2, overlap = sphere_sphere(
-                    pos[i, 0], yi, pos[i, 2], pos[j, 0], yj, pos[j, 2], rsum, active
+                    pos[i, 0], yi, pos[i, 2], pos[j, 0], yj, pos[j, 2], rsum, touching
                 )
             else:
                 bj = bi  # (unused)
@@ -771,7 +768,7 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
                 nwy = 0.0 if PLANAR else wn[w, 1]
                 near, n0, n1, n2, overlap = sphere_wall(
                     pos[i, 0], yi, pos[i, 2], Ri, wp[w, 0], wy, wp[w, 2], wn[w, 0], nwy, wn[w, 2],
-                    active,
+                    touching,
                 )  # fmt: skip
                 rsum = 2.0 * Ri  # (SHEAR_YADE: a wall takes the sphere's radius)
             if PLANAR:
@@ -779,7 +776,7 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
             if not near:
                 idle_pair(contacts, c)
                 continue
-            if overlap <= 0.0 and not active:  # (d2 < rsum^2, but |d| rounds to rsum)
+            if overlap <= 0.0 and not touching:  # (d2 < rsum^2, but |d| rounds to rsum)
                 idle_pair(contacts, c)
                 continue
             p0, p1, p2 = contact_point(pos[i, 0], yi, pos[i, 2], Ri, n0, n1, n2, overlap)
@@ -787,14 +784,14 @@ def _sphere_driver(PLANAR):  # (capital: a constant of the compiled kernels)
                 p1 = pos[i, 1]  # (the plane's y: it enters only the torque's x and z)
             contacts.point[c, 0], contacts.point[c, 1], contacts.point[c, 2] = p0, p1, p2
             contacts.normal[c, 0], contacts.normal[c, 1], contacts.normal[c, 2] = n0, n1, n2
-            if overlap <= 0.0:  # an active contact opened in the last drift
+            if overlap <= 0.0:  # a contact opened in the last drift
                 ledger[LEDGER_FRICTION] += end_contact(
                     bodies, contacts, c, bi, bj, wall, n0, n1, n2, overlap, dt, p0, p1, p2
                 )  # (which keeps the separation speed of the last drift in vn)
                 lag = event_lag(overlap, abs(contacts.vn[c]), dt, first_step)
                 n_changes = log_change(changes, change_lag, n_changes, bi, partner, END, lag)
                 continue
-            new_contact = not active
+            new_contact = not touching
             if new_contact:
                 begin_contact(contacts, c)
             # relative velocity of the contact point, j minus i (a wall is fixed), and the

@@ -5,13 +5,14 @@ contact record): the pair ``i, j`` (``j < 0``: the wall ``-(j + 1)``), the ``poi
 and the unit ``normal`` from i to j, the multiplicity ``mult`` (a planar box row stands
 for two points of the 3D body), the state of the law (``overlap`` [m], ``fn`` and its
 dashpot part ``fn_viscous`` [N], the shear displacement ``shear`` [m]) and the constants
-of the pair (``kn``, ``kt``, ...).  The tables are
+of the pair (``kn``, ``kt``, ...): the one record ``state.Contacts``.  The tables are
 
-* the spheres' Verlet list (state.Contacts, contact.compute_forces): one row per listed
-  pair, a contact point while its overlap is positive (an idle pair's overlap is zero or
-  the gap at which it ended);
-* the box-box and box-wall rows (boxes.BoxContacts, boxes.box_forces) and the box-sphere
-  rows (box_sphere.py): one row per touching point.
+* the spheres' Verlet list (contact.compute_forces): one row per listed pair, a contact
+  point while its overlap is positive (an idle pair's overlap is zero or the gap at
+  which it ended);
+* the box-box and box-wall rows (``Boxes.rows``, boxes.box_forces) and the box-sphere
+  rows (``Boxes.sphere_rows``, box_sphere.py): one row per touching point, with the
+  feature key of the point (shapes.cuboid).
 
 A row touches while ``overlap > 0``.  The power of the contact forces (the energy
 ledger), their elastic energy, the recorded contact forces and the peak forces of the

@@ -221,7 +221,7 @@ def _release(bodies, spheres, contacts, b, t):
         changed = False
         for c in range(contacts.n[0]):
             j = contacts.j[c]
-            if not contacts.active[c] or j < 0:
+            if not contacts.overlap[c] > 0.0 or j < 0:  # (not touching, or a wall)
                 continue
             bi = spheres.body[contacts.i[c]]
             bj = spheres.body[j]

@@ -24,7 +24,14 @@ from dominowave.dem.engine import Recorder, SceneKind, Settings, time_loop
 from dominowave.dem.laws.tangential import SHEAR_CONTACT_POINT
 from dominowave.dem.material_pairs import RULE_GIVEN
 from dominowave.dem.planar import planar_violation
-from dominowave.dem.state import Bodies, Contacts, Material, MaterialTable, Spheres, Walls
+from dominowave.dem.state import (
+    Bodies,
+    Material,
+    MaterialTable,
+    Spheres,
+    Walls,
+    empty_contacts,
+)
 
 __all__ = [
     "ContactEvents",
@@ -44,7 +51,7 @@ STOP_REASONS = {
     engine.STOP_AT_REST: "at_rest",
 }
 
-STATE_FORMAT = 5
+STATE_FORMAT = 6
 """Version of the layout of :meth:`Simulation.get_state` (key ``state_format``).
 1 (files without the key): no ``settings.planar``, ``planar_kernels``,
 ``mats.shear_kinematics``, material-pair tables or Hertz tables, and the stiffness rule
@@ -54,7 +61,9 @@ boxes were held at the last list build or of the box-sphere list; 2: no sleeping
 resting pairs ``boxes.dormant.*``); 1 to 3: one column ``mats.stiffness`` for E or k_n
 (by the rule) instead of ``mats.young`` and ``mats.kn``; 1 to 4: sphere contacts
 without their rows' ``contacts.point``, ``contacts.normal`` and ``contacts.mult``, and an
-idle pair may hold a stale positive overlap; :func:`_upgraded` reads them all."""
+idle pair may hold a stale positive overlap; 1 to 5: sphere contacts with a flag
+``contacts.active`` (1 while the overlap is positive) and without the record's feature
+key ``contacts.key`` (0 for spheres); :func:`_upgraded` reads them all."""
 
 
 def _upgraded(state: dict, n_materials: int) -> dict:
@@ -66,8 +75,9 @@ def _upgraded(state: dict, n_materials: int) -> dict:
     forces; formats 1 and 2: no sleeping, no resting rows put aside; formats 1 to 3: the
     one stiffness column split into E and k_n by the rule; formats 1 to 4: the sphere
     contacts' points and normals, which each step writes before they are read, zero, and
-    an idle pair's overlap, which nothing read, not positive); a state of a newer format
-    is refused."""
+    an idle pair's overlap, which nothing read, not positive; formats 1 to 5: the sphere
+    contacts' feature keys zero, their flag ``active`` dropped: a pair touches while its
+    overlap is positive); a state of a newer format is refused."""
     version = int(np.asarray(state.get("state_format", 1)))
     if check_format("state_format", version, STATE_FORMAT) == STATE_FORMAT:
         return state
@@ -108,6 +118,9 @@ def _upgraded(state: dict, n_materials: int) -> dict:
         state["contacts.point"] = np.zeros((overlap.size, 3))
         state["contacts.normal"] = np.zeros((overlap.size, 3))
         state["contacts.mult"] = np.ones(overlap.size)
+    if "contacts.key" not in state:
+        state.pop("contacts.active", None)
+        state["contacts.key"] = np.zeros(np.shape(state["contacts.overlap"])[0], np.int64)
     return state
 
 
@@ -263,7 +276,7 @@ class Simulation:
         #: the general ones (the same trajectories in every scene compared; planar.py).
         self.planar_kernels = True
         capacity = 8 * spheres.body.shape[0] + 64
-        self.contacts = _empty_contacts(capacity)
+        self.contacts = empty_contacts(capacity, n=-1)  # (-1: the list never built)
         self.rec = _empty_recorder(
             bodies.mass.shape[0], walls.point.shape[0], capacity, record_pairs
         )
@@ -880,31 +893,9 @@ def _grow_rows(a, n):
     return out
 
 
-def _empty_contacts(capacity):
-    """An empty Verlet list of ``capacity`` rows (state.Contacts)."""
-    return Contacts(
-        n=np.array([-1], np.int64),  # -1: the Verlet list has never been built
-        i=np.zeros(capacity, np.int64),
-        j=np.zeros(capacity, np.int64),
-        active=np.zeros(capacity, np.uint8),
-        shear=np.zeros((capacity, 3)),
-        kn=np.zeros(capacity),
-        kt=np.zeros(capacity),
-        mu=np.zeros(capacity),
-        cn=np.zeros(capacity),
-        overlap=np.zeros(capacity),
-        vn=np.zeros(capacity),
-        fn=np.zeros(capacity),
-        fn_viscous=np.zeros(capacity),
-        point=np.zeros((capacity, 3)),
-        normal=np.zeros((capacity, 3)),
-        mult=np.ones(capacity),
-    )
-
-
 def _grown_contacts(c):
     """``c`` with twice its rows: the used ones copied, the new ones empty."""
-    grown = _empty_contacts(2 * c.i.shape[0])
+    grown = empty_contacts(2 * c.i.shape[0])
     for name, value in c._asdict().items():
         getattr(grown, name)[: value.shape[0]] = value
     return grown

@@ -31,6 +31,7 @@ __all__ = [
     "Spheres",
     "Walls",
     "clump_mass_properties",
+    "empty_contacts",
 ]
 
 Bodies = namedtuple(
@@ -105,27 +106,54 @@ MaterialTable = namedtuple(
 Contacts = namedtuple(
     "Contacts",
     [
-        "n",  # (1,) int number of candidate pairs in the Verlet list
-        "i",  # (C,) sphere index
-        "j",  # (C,) sphere index, or -(wall + 1)
-        "active",  # (C,) uint8: 1 while the spheres overlap
+        "n",  # (1,) int rows used (the spheres' Verlet list: -1 until first built)
+        "i",  # (C,) sphere, or box (boxes.py)
+        "j",  # (C,) partner sphere or box, or -(wall + 1)
+        "key",  # (C,) int64 feature key of a box's point (shapes.cuboid); 0 for spheres
+        "mult",  # (C,) how many points of the 3D body the row stands for (planar box: 2)
         "shear",  # (C, 3) Cundall-Strack shear displacement [m]
-        "kn",  # (C,) [N/m]
+        "overlap",  # (C,) [m]: the row touches while it is positive; at the step a contact
+        #   ends, the gap (<= 0); an idle pair of the Verlet list: 0 or the gap it ended at
+        "vn",  # (C,) normal relative velocity (> 0 separating) at the last half step [m/s]
+        "fn",  # (C,) normal force (elastic + dashpot) per point [N]
+        "fn_viscous",  # (C,) its dashpot part [N]
+        "kn",  # (C,) k_n [N/m]; Hertz: K of F = K delta^{3/2} [N/m^{3/2}]
         "kt",  # (C,) [N/m]
         "mu",  # (C,)
-        "cn",  # (C,) viscous normal damping [N s/m]
-        "overlap",  # (C,) overlap at the last step [m] (> 0 exactly while active); at the step a
-        #   contact ends: the gap (<= 0); an idle pair's: 0 or the gap at which it ended
-        "vn",  # (C,) normal relative velocity (> 0 separating) at the last half step [m/s]
-        "fn",  # (C,) current normal force (elastic + viscous) [N]
-        "fn_viscous",  # (C,) dashpot part of the normal force at the last step [N]
-        "point",  # (C, 3) contact point [m] of the last step in which the pair touched or
-        #   ended its contact, written by compute_forces before the bookkeeping reads it (a
-        #   new pair's holds its slot's old values until then: the bookkeeping skips it)
+        "cn",  # (C,) dashpot [N s/m]; Hertz: c of -c delta^{1/4} v_n [N s/m^{5/4}]
+        "point",  # (C, 3) contact point [m] of the last step in which the row touched or
+        #   ended its contact, written by its driver before the bookkeeping reads it
         "normal",  # (C, 3) unit normal from i to j of that step
-        "mult",  # (C,) 1.0: a pair is one contact point (a field of every contact table)
     ],
 )
+"""The one record of a contact point (contact_rows.py): the rows of every contact table --
+the spheres' Verlet list (contact.py), the box-box and box-wall rows and the box-sphere
+rows (boxes.py, box_sphere.py) -- have these fields."""
+
+
+def empty_contacts(capacity: int, n: int = 0) -> Contacts:
+    """A table of ``capacity`` contact rows, ``n`` of them used (-1: a Verlet list never
+    built), every row a single point (``mult`` 1)."""
+    k = int(capacity)
+    z = lambda *shape: np.zeros(shape)  # noqa: E731
+    return Contacts(
+        n=np.array([n], np.int64),
+        i=np.zeros(k, np.int64),
+        j=np.zeros(k, np.int64),
+        key=np.zeros(k, np.int64),
+        mult=np.ones(k),
+        shear=z(k, 3),
+        overlap=z(k),
+        vn=z(k),
+        fn=z(k),
+        fn_viscous=z(k),
+        kn=z(k),
+        kt=z(k),
+        mu=z(k),
+        cn=z(k),
+        point=z(k, 3),
+        normal=z(k, 3),
+    )
 
 
 @dataclass(frozen=True)
