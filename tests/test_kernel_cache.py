@@ -41,12 +41,8 @@ def _package(root: Path, stamped: bool) -> None:
 def _run(root: Path, module: str = "mini.loop") -> tuple[float, bool]:
     """``run(2.0)`` of ``module`` in a fresh process, and whether its kernel came from the
     disk cache (numba's count of cache hits)."""
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(root), *sys.path])}
     code = f"from {module} import run; print(run(2.0), sum(run.stats.cache_hits.values()))"
-    out = subprocess.run(
-        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
-    )
-    value, hits = out.stdout.strip().splitlines()[-1].split()
+    value, hits = _python(root, code).split()
     return float(value), int(hits) > 0
 
 
@@ -63,13 +59,16 @@ def test_an_edited_callee_recompiles_the_cached_kernel(tmp_path, stamped):
     assert _run(tmp_path) == ((4.0, False) if stamped else (2.0, True))
 
 
+@pytest.mark.parametrize("cache_dir", [False, True])
 @pytest.mark.parametrize("stamped", [True, False])
-def test_an_index_naming_a_removed_type_is_stale(tmp_path, stamped):
+def test_an_index_naming_a_removed_type_is_stale(tmp_path, stamped, cache_dir):
     """A kernel whose argument is a named tuple of another file: once the tuple is renamed,
     numba's index of the cached kernel names a class that no longer exists.  numba
     unpickles the index before it compares the stamp and stops with an AttributeError;
-    in a package that installs the stamp, the index is stale and the kernel compiles."""
+    in a package that installs the stamp, the index is stale and the kernel compiles --
+    beside the source (``__pycache__``) and in a cache directory (``NUMBA_CACHE_DIR``)."""
     _package(tmp_path, stamped)
+    env = {"NUMBA_CACHE_DIR": str(tmp_path / "cache")} if cache_dir else {}
     state = tmp_path / "mini" / "state.py"
     state.write_text(
         "from collections import namedtuple\n\nOld = namedtuple('Old', ['x'])\n\n\n"
@@ -80,21 +79,24 @@ def test_an_index_naming_a_removed_type_is_stale(tmp_path, stamped):
     )
     code = "from mini.state import make; from mini.apply import run; r = run(make(1.0))"
     code += "; print(r, sum(run.stats.cache_hits.values()))"
-    assert _python(tmp_path, code) == "2.0 0"  # compiled, cached
-    assert _python(tmp_path, code) == "2.0 1"  # loaded from the cache
+    assert _python(tmp_path, code, env) == "2.0 0"  # compiled, cached
+    assert _python(tmp_path, code, env) == "2.0 1"  # loaded from the cache
+    assert (tmp_path / "cache").is_dir() == cache_dir
     state.write_text(state.read_text().replace("Old", "New"))
     if stamped:
-        assert _python(tmp_path, code) == "2.0 0"  # compiled anew
+        assert _python(tmp_path, code, env) == "2.0 0"  # compiled anew
     else:
         with pytest.raises(subprocess.CalledProcessError) as failed:
-            _python(tmp_path, code)
+            _python(tmp_path, code, env)
         assert "AttributeError: Can't get attribute 'Old'" in failed.value.stderr
 
 
-def _python(root: Path, code: str) -> str:
-    """The last line ``code`` prints in a fresh process with ``root`` on the path; a
-    failure raises CalledProcessError with the process's stderr."""
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(root), *sys.path])}
+def _python(root: Path, code: str, env: dict[str, str] | None = None) -> str:
+    """The last line ``code`` prints in a fresh process with ``root`` on the path (and the
+    environment variables ``env``, no ``NUMBA_CACHE_DIR`` unless given); a failure raises
+    CalledProcessError with the process's stderr."""
+    base = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    env = {**base, **(env or {}), "PYTHONPATH": os.pathsep.join([str(root), *sys.path])}
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
     if out.returncode:
         raise subprocess.CalledProcessError(out.returncode, "python", stderr=out.stderr)

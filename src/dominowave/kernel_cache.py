@@ -104,6 +104,11 @@ def _stamped(locator: type, package_dir: Path) -> type:
                 inside = False
             return super().from_function(py_func, py_file) if inside else None
 
+        def get_cache_path(self):
+            path = super().get_cache_path()
+            _TOLERANT.add(Path(path).resolve())  # (its indexes may name removed types)
+            return path
+
         def get_source_stamp(self):
             # (a folder of scripts calling the package's kernels: the package's stamp too)
             own = _reach_stamp(self._py_file, package_dir)
@@ -114,17 +119,16 @@ def _stamped(locator: type, package_dir: Path) -> type:
     return PackageLocator
 
 
-_TOLERANT: set[str] = set()
-"""Names of the folders given to :func:`install`: an index below one of them that cannot be
-read is stale (:func:`_tolerant_index`)."""
+_TOLERANT: set[Path] = set()
+"""The cache folders of the stamped locators' kernels (in the source tree, or under a cache
+directory): an index in one of them that cannot be read is stale (:func:`_tolerant_index`)."""
 
 
 def _tolerant_index(cache_file: type) -> None:
-    """Make ``cache_file`` (numba's ``IndexDataCacheFile``) read an index below a folder of
-    :data:`_TOLERANT` (in the source tree, or its mirror in a cache directory) that cannot
-    be unpickled -- it names a class or module the package no longer has -- as an empty,
-    stale one: numba then compiles and writes the index anew.  Other indexes are read as
-    numba reads them."""
+    """Make ``cache_file`` (numba's ``IndexDataCacheFile``) read an index in a folder of
+    :data:`_TOLERANT` that cannot be unpickled -- it names a class or module the package no
+    longer has -- as an empty, stale one: numba then compiles and writes the index anew.
+    Other indexes are read as numba reads them."""
     if getattr(cache_file, "_dominowave_tolerant", False):
         return
     load = cache_file._load_index
@@ -133,7 +137,7 @@ def _tolerant_index(cache_file: type) -> None:
         try:
             return load(self)
         except (AttributeError, ImportError, EOFError, pickle.UnpicklingError):
-            if _TOLERANT.intersection(Path(self._index_path).parts):
+            if Path(self._index_path).parent.resolve() in _TOLERANT:
                 return {}
             raise
 
@@ -164,7 +168,6 @@ def install(package_dir: Path = PACKAGE_DIR) -> bool:
         setattr(impl, marker, True)
     cache_file = getattr(caching, "IndexDataCacheFile", None)
     if cache_file is not None:
-        _TOLERANT.add(package_dir.name)
         _tolerant_index(cache_file)
     return True
 

@@ -25,7 +25,7 @@ limit ``k_m`` to a softer spring ``k``)::
   against the time per domino ``T_d = (d + s) / v``. The estimate keeps the elastic
   ``T_c / 2`` even for inelastic dominoes: the restitution's delay is not a bound in a
   chain. At 15.09 mm, friction 0.525 and restitution 0.1 between the dominoes, the
-  spring of a 5 % tolerance slows the wave by 2.2-2.5 % (docs/real_dominoes.md section
+  spring of a 5 % tolerance slows the wave by 2.5-2.7 % (docs/real_dominoes.md section
   11), about twice the 1.2 % that ``e T_c / (1 + e)`` would give: the struck domino is
   pushed by the leaning train behind the striking one, not struck once by one domino.
 * **Overlap against the gap.** A contact that lasts (dominoes leaning on each other)
@@ -45,13 +45,13 @@ estimate at the larger of that speed and the run's own.
 (``DominoChain``'s ``steps_per_collision``): :data:`STEPS_PER_COLLISION`, which resolves a
 collision alike at every stiffness, or, for a softened chain, the largest step whose
 measured effect on the speed is at most :data:`STEP_SHARE` of the tolerance
-(:func:`steps_per_collision`, :data:`STEP_EFFECTS`): ``T_c/10`` from 1.8 % (the default
+(:func:`steps_per_collision`, :data:`STEP_EFFECTS`): ``T_c/10`` from 1.77 % (the default
 2 % included), ``T_c/20`` from 0.6 %, ``T_c/50`` below. The step is not in the estimate:
 its effect was measured instead (``docs/real_dominoes/step_convergence.py``, on the
 chains of the validation at the default tolerance's spring: at most 0.20 % from T_c/50 to
 T_c/20, 0.59 % at T_c/15 and 0.38 % at T_c/10), and the validation runs the softened
 chains at their own step against the material's chains at T_c/50, so the estimate is
-checked for both together. (At 1 % with ``T_c/10``, two thirds of the tolerance, the
+checked for both together. (At 1 % with ``T_c/10``, whose effect is 59 % of it, the
 5 mm chain of the validation moved by 1.03 %: beyond the estimate, hence the share.)
 
 **The default** (:data:`DEFAULT_TOLERANCE`, 2 %). The estimate is a bound, not the
@@ -128,8 +128,8 @@ STEPS_PER_COLLISION = 50
 at every stiffness."""
 STEP_EFFECTS = ((10, 0.0059), (20, 0.0020))
 """(steps per collision time, the largest change of a softened chain's front speed from
-:data:`STEPS_PER_COLLISION` measured at that step or a larger one), coarsest first:
-``docs/real_dominoes/step_convergence.csv``, the chains of the validation at the
+:data:`STEPS_PER_COLLISION` measured at that step or a finer one before the next entry's),
+coarsest first: ``docs/real_dominoes/step_convergence.csv``, the chains of the validation at the
 default tolerance's spring (0.38 % at ``T_c/10`` and 0.59 % at ``T_c/15``: the change
 does not grow monotonically with the step, it is mostly the chains' chaotic spread, so
 ``T_c/10`` is charged the larger)."""

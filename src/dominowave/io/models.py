@@ -339,8 +339,9 @@ ChainScenario = create_model(
         quantity(
             None,
             "",
-            "time steps per theory collision time T_c (sets dt; not set: 50, or 20 for a"
-            " softened contact, chain.fidelity)",
+            "time steps per theory collision time T_c (sets dt; not set: 50, or for a"
+            " softened contact the steps its tolerance allows, 10 at the default 2 %,"
+            " chain.fidelity)",
             ge=10,
         ),
     ),
