@@ -135,25 +135,15 @@ def empty_contacts(capacity: int, n: int = 0) -> Contacts:
     """A table of ``capacity`` contact rows, ``n`` of them used (-1: a Verlet list never
     built), every row a single point (``mult`` 1)."""
     k = int(capacity)
-    z = lambda *shape: np.zeros(shape)  # noqa: E731
-    return Contacts(
-        n=np.array([n], np.int64),
-        i=np.zeros(k, np.int64),
-        j=np.zeros(k, np.int64),
-        key=np.zeros(k, np.int64),
-        mult=np.ones(k),
-        shear=z(k, 3),
-        overlap=z(k),
-        vn=z(k),
-        fn=z(k),
-        fn_viscous=z(k),
-        kn=z(k),
-        kt=z(k),
-        mu=z(k),
-        cn=z(k),
-        point=z(k, 3),
-        normal=z(k, 3),
-    )
+
+    def column(name):
+        if name in ("i", "j", "key"):
+            return np.zeros(k, np.int64)
+        if name in ("shear", "point", "normal"):
+            return np.zeros((k, 3))
+        return np.ones(k) if name == "mult" else np.zeros(k)
+
+    return Contacts(n=np.array([n], np.int64), **{f: column(f) for f in Contacts._fields[1:]})
 
 
 @dataclass(frozen=True)
