@@ -57,6 +57,7 @@ from dominowave.dem.contact import _candidate_pairs, _scan_walls, apply_at_lever
 from dominowave.dem.contact_rows import (
     END,
     ONSET,
+    copy_row,
     event_lag,
     log_change,
     relative_velocity,
@@ -956,7 +957,7 @@ def _drop_before(bodies, old, boxes, o, code, nx, nw, ledger):
             d = boxes.dormant.n[0]
             if d == boxes.dormant.i.shape[0]:
                 raise RuntimeError("dormant box contact rows full")
-            _copy_row(old, o, boxes.dormant, d)
+            copy_row(old, o, boxes.dormant, d)
             boxes.dormant.n[0] = d + 1
             o += 1
             continue
@@ -978,30 +979,9 @@ def _resting_pair(bodies, boxes, i, j):
 
 
 @inline_kernel()
-def _copy_row(src, s, dst, c):
-    """Row s of the rows ``src`` into row c of ``dst``."""
-    dst.i[c] = src.i[s]
-    dst.j[c] = src.j[s]
-    dst.key[c] = src.key[s]
-    dst.mult[c] = src.mult[s]
-    dst.overlap[c] = src.overlap[s]
-    dst.vn[c] = src.vn[s]
-    dst.fn[c] = src.fn[s]
-    dst.fn_viscous[c] = src.fn_viscous[s]
-    dst.kn[c] = src.kn[s]
-    dst.kt[c] = src.kt[s]
-    dst.mu[c] = src.mu[s]
-    dst.cn[c] = src.cn[s]
-    for d in range(3):
-        dst.shear[c, d] = src.shear[s, d]
-        dst.point[c, d] = src.point[s, d]
-        dst.normal[c, d] = src.normal[s, d]
-
-
-@inline_kernel()
 def _copy_rows(src, dst, n):
     for c in range(n):
-        _copy_row(src, c, dst, c)
+        copy_row(src, c, dst, c)
     dst.n[0] = n
 
 
@@ -1042,10 +1022,10 @@ def _wake_rows(boxes, nx, nw):
             and _pair_code(old.i[a], old.j[a], nx, nw)
             < _pair_code(dormant.i[order[b]], dormant.j[order[b]], nx, nw)
         ):
-            _copy_row(old, a, new, c)
+            copy_row(old, a, new, c)
             a += 1
         else:
-            _copy_row(dormant, order[b], new, c)
+            copy_row(dormant, order[b], new, c)
             b += 1
         c += 1
     _copy_rows(new, old, c)

@@ -27,6 +27,7 @@ from dominowave.dem.compiled import inline_kernel, inner_kernel
 from dominowave.dem.contact_rows import (
     END,
     ONSET,
+    copy_row,
     event_lag,
     lever_arm,
     log_change,
@@ -424,12 +425,15 @@ def _merge_history(spheres, walls, bodies, mats, contacts, keys, first, src, pro
     stride = ns + walls.point.shape[0]
     n_new = keys.shape[0]
     _old_slots(contacts, keys, ns, stride, src)
+    # (a pair moves with its whole row: the dashpot extrapolates vn, an ending contact needs
+    # its last overlap (end_impulse); the properties of a listed pair are kept -- whoever
+    # edits the materials mid-run must edit contacts.kn/kt/mu/cn too)
     for c in range(n_new - 1, -1, -1):
         if 0 <= src[c] < c:
-            _move_pair(contacts, src[c], c)
+            copy_row(contacts, src[c], contacts, c)
     for c in range(n_new):
         if src[c] > c:
-            _move_pair(contacts, src[c], c)
+            copy_row(contacts, src[c], contacts, c)
     for c in range(n_new):
         i = first[c]
         jj = keys[c] - i * stride
@@ -474,26 +478,6 @@ def _pair_key(contacts, c, ns, stride):
     """Sort key ``i * stride + jj`` of listed pair c (``jj = ns + w`` for wall w)."""
     j = contacts.j[c]
     return contacts.i[c] * stride + (j if j >= 0 else ns - j - 1)
-
-
-@inline_kernel()
-def _move_pair(contacts, a, c):
-    """Copy the history of listed pair a into slot c: the dashpot extrapolates vn, an
-    ending contact needs its last overlap (end_impulse); the properties of a listed pair
-    are kept (whoever edits the materials mid-run must edit contacts.kn/kt/mu/cn too)."""
-    for d in range(3):
-        contacts.shear[c, d] = contacts.shear[a, d]
-    contacts.overlap[c] = contacts.overlap[a]
-    contacts.vn[c] = contacts.vn[a]
-    contacts.fn[c] = contacts.fn[a]
-    contacts.fn_viscous[c] = contacts.fn_viscous[a]
-    contacts.kn[c] = contacts.kn[a]
-    contacts.kt[c] = contacts.kt[a]
-    contacts.mu[c] = contacts.mu[a]
-    contacts.cn[c] = contacts.cn[a]
-    for d in range(3):  # (the row's point and normal of the last step, as every table's)
-        contacts.point[c, d] = contacts.point[a, d]
-        contacts.normal[c, d] = contacts.normal[a, d]
 
 
 @inner_kernel(_nrt=False)

@@ -33,6 +33,7 @@ __all__ = [
     "ONSET",
     "POWER_FRICTION",
     "POWER_VISCOUS",
+    "copy_row",
     "event_lag",
     "lever_arm",
     "log_change",
@@ -81,6 +82,28 @@ def log_change(changes, lag, n, bi, bj, kind, before):
     changes[n, 2] = kind
     lag[n] = before
     return n + 1
+
+
+@inline_kernel()
+def copy_row(src, s, dst, c):
+    """Row s of the table ``src`` into row c of ``dst`` (state.Contacts, every field): a
+    contact moved to another row, or put aside, keeps its whole history."""
+    dst.i[c] = src.i[s]
+    dst.j[c] = src.j[s]
+    dst.key[c] = src.key[s]
+    dst.mult[c] = src.mult[s]
+    dst.overlap[c] = src.overlap[s]
+    dst.vn[c] = src.vn[s]
+    dst.fn[c] = src.fn[s]
+    dst.fn_viscous[c] = src.fn_viscous[s]
+    dst.kn[c] = src.kn[s]
+    dst.kt[c] = src.kt[s]
+    dst.mu[c] = src.mu[s]
+    dst.cn[c] = src.cn[s]
+    for d in range(3):
+        dst.shear[c, d] = src.shear[s, d]
+        dst.point[c, d] = src.point[s, d]
+        dst.normal[c, d] = src.normal[s, d]
 
 
 @inline_kernel()
