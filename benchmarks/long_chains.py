@@ -4,7 +4,8 @@ The standard chain (standard dominoes of ``chain.presets.standard_domino``, 3D, 
 9.38 mm, felt floor, friction 0.3 between the dominoes and with the floor, domino 0
 pushed with ``sqrt(g/l)``) at the package's defaults (fidelity 2 %, held until touched,
 asleep at rest), at several lengths.  For each length, ``--repeat`` runs with warm
-kernels (one warm-up first), and the median CPU time of each part of the run:
+kernels (one warm-up first; the lengths interleaved, one run of each per round), and the
+median CPU time of each part of the run:
 
 * build: ``DominoChain(p)`` and its stepper (scene, time step estimate);
 * engine: ``stepper.advance`` to the end of the run (the DEM steps, the frames and the
@@ -15,7 +16,8 @@ kernels (one warm-up first), and the median CPU time of each part of the run:
 with the steps, the engine's CPU time per step and per domino, the dominoes awake on
 average over the run (sampled every 2000 steps), the share of the dense frames (frames x
 dominoes) that the run stores (``chain.frames``) and the front speed fitted from domino 10
-on.  A cost per domino that does not grow with the chain is the aim; the dominoes awake
+on, and the median over the rounds of the whole run's cost over that of the shortest
+chain.  A cost per domino that does not grow with the chain is the aim; the dominoes awake
 behind the front set the cost of a step (docs/shape.md, "Sleeping dominoes").
 
 Run:  python benchmarks/long_chains.py [--n 30,100,300] [--repeat 3]
@@ -76,24 +78,37 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3, help="runs per length")
     args = parser.parse_args()
     one_run(12)  # warm the kernels: compiling is not the run's time
+    lengths = [int(x) for x in args.n.split(",")]
+    # the lengths interleaved, one run each per round, so that a drift of the machine
+    # reaches every length alike, and each round gives one ratio of costs
+    runs = {n: [] for n in lengths}
+    for _ in range(args.repeat):
+        for n in lengths:
+            runs[n].append(one_run(n))
     print(
         f"| dominoes | build [s] | engine [s] | analysis [s] | total [s] | steps | us/step"
-        f" | ns per domino-step | awake (mean) | frames stored [%] | speed [m/s] |"
-        f"  (median CPU of {args.repeat})"
+        f" | ns per domino-step | awake (mean) | frames stored [%] | speed [m/s]"
+        f" | total over {lengths[0]} |  (median CPU of {args.repeat} interleaved rounds)"
     )
-    print("|---" * 11 + "|")
-    for n in (int(x) for x in args.n.split(",")):
-        runs = [one_run(n) for _ in range(args.repeat)]
-        med = {k: statistics.median(r[k] for r in runs) for k in runs[0]}
+    print("|---" * 12 + "|")
+    for n in lengths:
+        med = {k: statistics.median(r[k] for r in runs[n]) for k in runs[n][0]}
         total = med["build"] + med["engine"] + med["analysis"]
         per_step = med["engine"] / med["steps"]
+        pairs = zip(runs[lengths[0]], runs[n], strict=True)
+        ratio = statistics.median(_total(long) / _total(short) for short, long in pairs)
         print(
             f"| {n} | {med['build']:.3f} | {med['engine']:.3f} | {med['analysis']:.3f}"
             f" | {total:.3f} | {med['steps']:.0f} | {per_step * 1e6:.1f}"
             f" | {per_step / n * 1e9:.0f} | {med['awake']:.1f} | {100 * med['stored']:.1f}"
-            f" | {med['speed']:.4f} |",
+            f" | {med['speed']:.4f} | {ratio:.2f} |",
             flush=True,
         )
+
+
+def _total(run: dict[str, float]) -> float:
+    """The CPU time [s] of a whole run: build, engine and analysis."""
+    return run["build"] + run["engine"] + run["analysis"]
 
 
 if __name__ == "__main__":
