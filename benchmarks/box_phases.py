@@ -14,12 +14,12 @@ chain's own loop leaves them out, ``engine.SceneKind``):
 * spheres: ``compute_forces`` (or its planar kernel): the zeroing of every body's force
   and torque and the sphere contacts (a step without sphere pairs, as in the box chain:
   the loop's own zeroing);
-* boxes: ``box_forces``, split (a second pass, --split) by timing its parts on the same
-  state just before it: the selection of the pairs to visit (``boxes._visit_pairs``),
-  the bounding tests (``boxes._within_reach``) and the contact geometry
-  (``boxes._manifold``) of the pairs within reach; law = the rest of box_forces (contact
-  law, shear history, rows, applying the forces);
-* box-sphere: ``box_sphere_forces`` (not called in a scene without spheres);
+* boxes: ``box_forces`` (with the box-sphere points in a scene with spheres), split (a
+  second pass, --split) by timing its parts on the same state just before it: the
+  selection of the pairs to visit (``boxes._visit_pairs``), the bounding tests
+  (``boxes._within_reach``) and the contact geometry (``boxes._manifold``) of the box
+  pairs within reach; law = the rest of box_forces (contact law, shear history, rows,
+  applying the forces);
 * bookkeeping: contact onsets and ends (held-body release) and the stop conditions;
 * advance: the fused kick-drift pass with the displacement test (99 of 100 steps);
 * check: the check steps (every ``check_every`` steps): separate kick, the energies and
@@ -61,11 +61,10 @@ from dominowave.dem.energy import E_GRAVITATIONAL, energies
 
 PHASES = (
     "head", "list: spheres", "list: boxes", "spheres", "boxes: visit", "boxes: reach",
-    "boxes: manifold", "boxes", "box-sphere", "bookkeeping", "advance", "check",
-    "placement",
+    "boxes: manifold", "boxes", "bookkeeping", "advance", "check", "placement",
 )  # fmt: skip
-(HEAD, LIST_S, LIST_B, SPHERES, VISIT, REACH, MANIFOLD, BOXES, BOX_SPHERE, BOOK, ADVANCE,
- CHECK, PLACE) = range(len(PHASES))  # fmt: skip
+(HEAD, LIST_S, LIST_B, SPHERES, VISIT, REACH, MANIFOLD, BOXES, BOOK, ADVANCE, CHECK,
+ PLACE) = range(len(PHASES))  # fmt: skip
 
 
 @intrinsic
@@ -179,15 +178,10 @@ def _timed_steps(bodies, spheres, walls, mats, contacts, settings, rec, bx, n_st
             if split:
                 _split_boxes(bodies, bx, walls, pl, acc)
                 c2 = _cycles()
-            boxes.box_forces(bodies, bx, walls, mats, dt, rec.ledger, step == 0, pl)
+            boxes.box_forces(bodies, spheres, bx, walls, mats, dt, rec.ledger, step == 0, pl)
             c3 = _cycles()
             acc[BOXES] += c3 - c2
-            if spheres.body.shape[0] > 0:
-                box_sphere.box_sphere_forces(
-                    bodies, spheres, bx, mats, dt, rec.ledger, step == 0, pl
-                )
-            c2 = _cycles()
-            acc[BOX_SPHERE] += c2 - c3
+            c2 = c3  # (the bookkeeping's start)
             if bx.n_changes[0] > 0:
                 released = engine._bookkeep(
                     bodies, spheres, contacts, rec, settings, bx.changes, bx.change_lag,
@@ -313,8 +307,8 @@ def main():
           f"{read:.0f} cycles; us per step (CPU, shares of the cycles; median of "
           f"{args.repeat} x {args.steps} steps)")  # fmt: skip
     cols = ["head", "list: spheres", "list: boxes", "spheres", "boxes: visit", "boxes: reach",
-            "boxes: manifold", "boxes: law", "box-sphere", "bookkeeping", "advance", "check",
-            "placement", "cpu", "wall/cpu"]  # fmt: skip
+            "boxes: manifold", "boxes: law", "bookkeeping", "advance", "check", "placement",
+            "cpu", "wall/cpu"]  # fmt: skip
     print("| chain | step | moving | box rows | sphere contacts | " + " | ".join(cols) + " |")
     print("|---" * (5 + len(cols)) + "|")
     for at in args.at:

@@ -86,9 +86,9 @@ def _search_and_manifold(bodies, boxes, walls, planar, reps):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _forces(bodies, boxes, walls, mats, dt, planar, ledger, reps):
+def _forces(bodies, spheres, boxes, walls, mats, dt, planar, ledger, reps):
     for _ in range(reps):
-        box_forces(bodies, boxes, walls, mats, dt, ledger, False, planar)
+        box_forces(bodies, spheres, boxes, walls, mats, dt, ledger, False, planar)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -126,7 +126,9 @@ def profile(sim, steps, repeat):
     us["manifold"] = cpu(lambda k: _search_and_manifold(b, x, w, planar, k), steps, repeat)
     f_b, f_x = copy.deepcopy(b), copy.deepcopy(x)
     ledger = np.zeros(3)
-    us["forces"] = cpu(lambda k: _forces(f_b, f_x, w, m, sim.dt, planar, ledger, k), steps, repeat)
+    us["forces"] = cpu(
+        lambda k: _forces(f_b, sim.spheres, f_x, w, m, sim.dt, planar, ledger, k), steps, repeat
+    )
     l_x = copy.deepcopy(x)
     skin = sim.settings.skin
     us["list"] = per_step * cpu(lambda k: _builds(b, l_x, w, skin, k), 50, repeat)

@@ -42,8 +42,9 @@ FORMAT_1_BOX_KEYS = (
 
 
 def older_state(state: dict, version: int) -> dict:
-    """``state`` (current format) in the layout of format ``version`` (1 to 5):
+    """``state`` (current format) in the layout of format ``version`` (1 to 6):
 
+    * 1 to 6: the box-sphere rows in a table of their own (:func:`_split_sphere_rows`);
     * 1 to 5: sphere contacts without :data:`FORMAT_6_KEYS`, with ``contacts.active``;
     * 1 to 4: sphere contacts without :data:`FORMAT_5_KEYS`;
     * 1 to 3: one column ``mats.stiffness`` holding E, or k_n under RULE_GIVEN, instead
@@ -52,7 +53,11 @@ def older_state(state: dict, version: int) -> dict:
     * 1: no version key, none of :data:`FORMAT_2_KEYS` and :data:`FORMAT_1_BOX_KEYS`,
       and materials giving k_n flagged by ``mats.given_kn`` beside the paper's rule.
     """
-    old = {k: v for k, v in state.items() if k not in FORMAT_6_KEYS}
+    old = _split_sphere_rows(state)
+    if version == 6:
+        old["state_format"] = np.array(version)
+        return old
+    old = {k: v for k, v in old.items() if k not in FORMAT_6_KEYS}
     old["contacts.active"] = (np.asarray(state["contacts.overlap"]) > 0.0).astype(np.uint8)
     old["state_format"] = np.array(version)
     if version == 5:
@@ -71,4 +76,26 @@ def older_state(state: dict, version: int) -> dict:
         if given:
             old["mats.rule"] = np.array([RULE_PAPER], np.int64)
             old["mats.given_kn"] = np.ones(1, np.uint8)
+    return old
+
+
+def _split_sphere_rows(state: dict) -> dict:
+    """``state`` with the box rows whose partner is a sphere (``j >= n_boxes``, after the
+    others) moved to ``boxes.sphere_rows.*``, their partner the sphere's index, as
+    formats 1 to 6 kept them."""
+    old = dict(state)
+    if "boxes.body" not in state:
+        return old
+    n_boxes = np.asarray(state["boxes.body"]).size
+    sphere = np.asarray(state["boxes.rows.j"]) >= n_boxes
+    for key in [k for k in state if k.startswith("boxes.rows.") and k != "boxes.rows.n"]:
+        value = np.asarray(state[key])
+        old[key] = value[~sphere]
+        spheres = value[sphere]
+        old["boxes.sphere_rows." + key[len("boxes.rows.") :]] = (
+            spheres - n_boxes if key == "boxes.rows.j" else spheres
+        )
+    n = np.asarray(state["boxes.rows.n"])
+    old["boxes.rows.n"] = n - sphere.sum()
+    old["boxes.sphere_rows.n"] = np.full_like(n, sphere.sum())
     return old

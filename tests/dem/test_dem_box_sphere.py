@@ -1,4 +1,4 @@
-"""Box-sphere contacts (dem/box_sphere.py; shapes.cuboid.box_sphere and its planar
+"""Box-sphere contacts (boxes._box_sphere_pass; shapes.cuboid.box_sphere and its planar
 version shapes.rectangle.rect_sphere): validations against closed forms and
 conservation laws."""
 
@@ -9,6 +9,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from dominowave.dem import ONSET, Material, Scene, Simulation, timestep
+from dominowave.dem.boxes import empty_boxes
 from dominowave.dem.shapes.cuboid import MAX_POINTS, box_sphere
 from dominowave.dem.shapes.rectangle import rect_sphere
 
@@ -163,7 +164,7 @@ def test_validate_planar_and_3d_paths_agree():
 
 def test_box_sphere_checkpoint_resumes_bit_identically(tmp_path):
     sim = _oblique(False, 0.5)
-    while sim.boxes.sphere_rows.n[0] == 0:  # to a step in contact
+    while sim.boxes.rows.n[0] == 0:  # to a step in contact
         sim.run(n_steps=500)
         assert sim.time < 0.05
     sim.save(tmp_path / "s.npz")
@@ -237,7 +238,7 @@ def test_box_sphere_candidates_do_not_change_the_trajectory(planar):
     assert small.rec.n_rebuilds[0] > 3 * large.rec.n_rebuilds[0]
     np.testing.assert_array_equal(a.positions, b.positions)
     np.testing.assert_array_equal(a.angular_velocities, b.angular_velocities)
-    np.testing.assert_array_equal(small.boxes.sphere_rows.shear, large.boxes.sphere_rows.shear)
+    np.testing.assert_array_equal(small.boxes.rows.shear, large.boxes.rows.shear)
 
 
 def test_validate_recorded_ball_box_forces_give_the_momentum_change():
@@ -383,3 +384,19 @@ def test_validate_time_step_estimate_covers_a_box_on_a_bed_of_spheres(monkeypatc
         sim.run(n_steps=50)
         largest = max(largest, abs(sim.bodies.pos[-1, 2] - rest))
     assert largest < 1.5e-7
+
+
+def test_boxes_that_do_not_know_the_scene_s_spheres_are_refused():
+    """The box rows name a sphere partner ``j = n_boxes + s`` and find its body in
+    ``Boxes.partner_body``: box arrays built without the scene's spheres are refused in
+    one line, not read past their end."""
+    sim = _oblique(False, 0.5)
+    s = sim.settings
+    names = ("gravity", "dt", "damping", "damp_gravity", "skin", "record_pairs",
+             "record_peak_force", "check_every", "track_energy", "sleep_speed",
+             "sleep_time")  # fmt: skip
+    x = sim.boxes
+    boxes = empty_boxes(x.body, x.half, x.radius, x.material)  # (sphere_body not given)
+    with pytest.raises(ValueError, match=r"1 boxes and 1 spheres need 2 \(dem\.boxes\.empty"):
+        Simulation(sim.bodies, sim.spheres, sim.walls, sim.mats, critical_dt=sim.critical_dt,
+                   boxes=boxes, **{k: getattr(s, k) for k in names})  # fmt: skip

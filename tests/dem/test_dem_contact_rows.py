@@ -1,7 +1,7 @@
 """One record of a contact point and one bookkeeping for every table (dem/contact_rows.py).
 
 A scene with a row in every table -- sphere-wall and sphere-sphere rows in the spheres'
-Verlet list, box-wall rows and a box-sphere row in the boxes' tables -- is dropped and
+Verlet list, box-wall rows and a box-sphere row in the boxes' table -- is dropped and
 comes to rest.  Its records, energies and ledger come from the same functions for every
 table, and are checked against statics and conservation: the recorded forces on each
 body balance its weight, the elastic energy is that of springs carrying the recorded
@@ -69,7 +69,7 @@ def test_every_table_has_touching_rows(settled):
     pairs = set(zip(first.tolist(), second.tolist(), strict=True))
     assert (-1, 1) in pairs  # sphere-wall, the spheres' table
     assert {(2, 4), (3, 4)} <= pairs  # sphere-sphere, the spheres' table
-    assert (box, 0) in pairs  # box-sphere, the box-sphere rows
+    assert (box, 0) in pairs  # box-sphere, the boxes' table
     assert np.sum((first == -1) & (second == box)) == 4  # box-wall: a box lying flat, 4 corners
 
 
@@ -89,6 +89,47 @@ def test_validate_recorded_forces_balance_every_weight(settled):
         b = body_of[shape]
         weight = sim.bodies.mass[b] * G
         np.testing.assert_allclose(net[b], [0.0, 0.0, weight], atol=1e-6 * weight)
+
+
+def test_validate_wall_box_and_sphere_points_are_rows_of_one_table_under_one_law():
+    """A box lying on the floor, a box lying on it and a ball on that: the points of the
+    box-wall, box-box and box-sphere pairs are rows of the one table of the boxes
+    (``Boxes.rows``, one narrow phase: boxes.box_forces), each under the one point law
+    (laws.point.point_law): at rest its normal force less the dashpot's is ``k_n delta``
+    with the row's own ``k_n``, and the rows of each kind carry the weight above them --
+    the floor's all three bodies', the box-box rows the top box's and the ball's, the
+    box-sphere row the ball's -- to 1e-6 of it."""
+    scene = Scene(gravity=(0.0, 0.0, -G))
+    m = scene.add_material(Material(density=RHO, kn=KN, friction=0.4, restitution=0.3))
+    scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), m)
+    top = HALF[2] + R_BOX
+    lower = scene.add_box((0.0, 0.0, top + LIFT), HALF, R_BOX, m)
+    upper = scene.add_box((0.001, 0.0, 3.0 * top + 2.0 * LIFT), HALF, R_BOX, m)
+    ball = scene.add_sphere((0.0, 0.0, 4.0 * top + R_BALL + 3.0 * LIFT), R_BALL, m)
+    sim = scene.build(safety=0.2)
+    sim.run(until=0.5)
+    rows = sim.boxes.rows
+    n = rows.n[0]
+    i, j = rows.i[:n], rows.j[:n]
+    weight = sim.bodies.mass * G
+    kinds = {
+        "box-wall": (j < 0, weight[[lower, upper, ball]].sum()),
+        "box-box": ((j >= 0) & (j < 2), weight[[upper, ball]].sum()),
+        "box-sphere": (j >= 2, weight[ball]),
+    }
+    for name, (rows_of_kind, carried) in kinds.items():
+        assert rows_of_kind.any(), name
+        elastic = rows.fn[:n] - rows.fn_viscous[:n]
+        np.testing.assert_allclose(
+            elastic[rows_of_kind], (rows.kn[:n] * rows.overlap[:n])[rows_of_kind], rtol=1e-12
+        )
+        # (the normal points from box i into its partner: the force on the body above,
+        # the box on a wall, the partner above a box)
+        above = np.where(j < 0, -1.0, 1.0)
+        lift = (above * rows.mult[:n] * rows.fn[:n] * rows.normal[:n, 2])[rows_of_kind].sum()
+        assert lift == pytest.approx(carried, rel=1e-6), name
+    # (a sphere partner is j = n_boxes + sphere, here the ball: sphere 0, on box 1)
+    assert i[j >= 2].tolist() == [1] and sim.boxes.partner_body[j[j >= 2]].tolist() == [ball]
 
 
 def test_validate_elastic_energy_is_that_of_the_recorded_forces(settled):

@@ -4,7 +4,7 @@ A contact point is a sphere of radius ``r`` -- a sphere, or the rounded corner o
 with rounding ``r`` -- pressed into a partner.  The same point, at the same place with
 the same velocity, must get the same force whichever driver finds it:
 ``contact.compute_forces`` (sphere-wall, sphere-sphere), ``boxes.box_forces`` (box-wall,
-box-box) and ``box_sphere.box_sphere_forces`` (box-sphere).  The moving body slides at
+box-box, and box-sphere in the same table).  The moving body slides at
 a fixed overlap (its height and its rotations blocked, no gravity) until the tangential
 spring reaches the Coulomb limit; against a plane the force is then known in closed form:
 ``k_n delta`` along the normal and ``mu k_n delta`` against the sliding direction
@@ -137,13 +137,13 @@ def _striking(partner, moving_shape):
 def test_a_striking_spinning_point_gets_the_same_force_at_every_step(partner):
     """On a wall: contact.compute_forces (sphere) and boxes.box_forces (box); on a fixed
     box's face (a wall to the dashpot too: boxes.inverse_mass_at):
-    box_sphere.box_sphere_forces (sphere) and boxes.box_forces (box)."""
+    boxes.box_forces both (its box-sphere rows and its box-box rows)."""
     on_sphere, sim = _striking(partner, "sphere")
     on_box, _ = _striking(partner, "box")
     # the run holds an onset, the dashpot and a shear spring turned by the spin
     touching = np.flatnonzero(on_sphere[:, 2] > 0.0)
     assert 0 < touching[0] < 5 and touching.size == on_sphere.shape[0] - touching[0]
-    rows = sim.contacts if partner == "wall" else sim.boxes.sphere_rows
+    rows = sim.contacts if partner == "wall" else sim.boxes.rows
     assert np.any(rows.fn_viscous[: rows.n[0]] != 0.0)
     first, last = on_sphere[touching[0], :2], on_sphere[-1, :2]
     turn = np.arctan2(first[0] * last[1] - first[1] * last[0], first @ last)

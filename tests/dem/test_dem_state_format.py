@@ -4,8 +4,10 @@ A state of the current format round-trips as it is; a format-1 state (written be
 key existed, without the planar switch, the shear kinematics, the material-pair tables
 and the Hertz tables, and possibly without the boxes' held flags at the list build and
 the box-sphere list), a format-2 state (without the sleep settings and the rows of
-resting boxes), a format-3 state (one stiffness column for E or k_n) and a format-4 state
-(sphere contacts without their rows' points, normals and multiplicities) are read with
+resting boxes), a format-3 state (one stiffness column for E or k_n), a format-4 state
+(sphere contacts without their rows' points, normals and multiplicities), a format-5
+state (sphere contacts with a flag ``active``) and a format-6 state (the box-sphere rows
+in a table of their own) are read with
 the values their scene had implicitly and resume bit for bit (the older layouts:
 older_states.py); a state of a newer format, or of the current one with a key missing,
 is refused in one line.
@@ -38,7 +40,7 @@ def test_a_state_carries_its_format():
     assert int(restored.get_state()["state_format"]) == STATE_FORMAT
 
 
-@pytest.mark.parametrize("version", [1, 2, 3, 4, 5])
+@pytest.mark.parametrize("version", [1, 2, 3, 4, 5, 6])
 def test_an_older_state_resumes_bit_identically(version):
     sim = _bouncing_ball()
     sim.run(n_steps=500)
@@ -94,12 +96,33 @@ def _resume_alike(sim, old):
     assert restored.energy() == sim.energy()
 
 
-@pytest.mark.parametrize("version", [1, 2, 3, 4, 5])
+@pytest.mark.parametrize("version", [1, 2, 3, 4, 5, 6])
 def test_an_older_box_state_resumes_bit_identically(version):
     sim = _box_on_a_box()
     sim.run(n_steps=1500)
     assert sim.boxes.rows.n[0] >= 2  # (lying on the floor, struck by the other)
     _resume_alike(sim, older_state(sim.get_state(), version))
+
+
+@pytest.mark.parametrize("version", [1, 5, 6])
+def test_an_older_state_of_boxes_and_balls_resumes_bit_identically(version):
+    """Formats 1 to 6 kept the box-sphere rows in a table of their own: read into the one
+    table of the box rows, after the others, they continue bit for bit."""
+    scene = Scene(gravity=(0.0, 0.0, -9.81))
+    m = scene.add_material(Material(density=1000.0, kn=2e4, friction=0.4, restitution=0.5))
+    scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), m)
+    half = np.array([0.0125, 0.0125, 0.0025])
+    scene.add_box((0.0, 0.0, 0.0026), half, 0.0005, m)
+    scene.add_sphere((0.004, 0.0, 0.0092), 0.004, m, velocity=(0.05, 0.0, 0.0))
+    scene.add_sphere((-0.006, 0.003, 0.0092), 0.004, m)
+    sim = scene.build(safety=0.2)
+    sim.run(n_steps=2000)
+    rows = sim.boxes.rows
+    partners = rows.j[: rows.n[0]]
+    assert (partners < 0).any() and (partners >= 1).sum() == 2  # the floor, both balls
+    old = older_state(sim.get_state(), version)
+    assert old["boxes.sphere_rows.j"].tolist() == [0, 1]
+    _resume_alike(sim, old)
 
 
 def test_a_box_state_missing_a_key_is_refused():

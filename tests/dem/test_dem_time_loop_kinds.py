@@ -23,22 +23,27 @@ from dominowave.dem.shapes import cuboid, rectangle
 
 BOX_KERNELS = {"build_box_candidates", "box_power", "box_peak_force"}
 # the kernels of one source compiled for each kind of scene (contact._sphere_driver,
-# engine._body_pass, boxes._box_driver, box_sphere._box_sphere_driver), and the
-# integrator's
+# engine._body_pass, boxes._box_driver, boxes._box_sphere_pass), and the integrator's
 GENERAL = {contact.compute_forces, engine._advance_general,
            integrate.kick_general, integrate.drift_general}  # fmt: skip
 PLANAR = {contact.compute_forces_planar, engine._advance_planar,
           integrate.kick_planar, integrate.drift_planar}  # fmt: skip
-BOX_GENERAL = {boxes.box_forces_general, box_sphere.box_sphere_forces_general}
-BOX_PLANAR = {boxes.box_forces_planar, box_sphere.box_sphere_forces_planar}
+# the box driver that a scene of boxes and spheres calls, with the box-sphere points, and
+# every box driver of a kind
+BOX_GENERAL = {boxes.box_forces_general_spheres}
+BOX_PLANAR = {boxes.box_forces_planar_spheres}
+BOX_DRIVERS = {
+    False: {boxes.box_forces_general, boxes.box_forces_general_spheres},
+    True: {boxes.box_forces_planar, boxes.box_forces_planar_spheres},
+}
 # what only spheres need: their list, contacts and records, and the box-sphere contacts
 SPHERE_KERNELS = GENERAL - {engine._advance_general, integrate.kick_general,
                             integrate.drift_general} | {
     contact.compute_forces_planar, contact.build_verlet_list, engine._record_contact_forces,
     integrate.update_listed_sphere_positions, integrate.update_sphere_positions,
-    box_sphere.build_box_sphere_candidates,
-    *BOX_GENERAL - {boxes.box_forces_general},
-    *BOX_PLANAR - {boxes.box_forces_planar}, cuboid.box_sphere, rectangle.rect_sphere,
+    box_sphere.build_box_sphere_candidates, *BOX_GENERAL, *BOX_PLANAR,
+    boxes._sphere_pass_general, boxes._sphere_pass_planar, cuboid.box_sphere,
+    rectangle.rect_sphere,
 }  # fmt: skip
 # the geometry of the box pairs in 3D (shapes.cuboid) and in a plane (shapes.rectangle)
 GEOMETRY_GENERAL = {cuboid.box_box, cuboid.box_plane, cuboid.box_sphere, cuboid.faces_separate}
@@ -84,8 +89,9 @@ def test_a_kind_calls_only_its_own_kernels(planar, boxes):
     own_boxes, other_boxes = (BOX_PLANAR, BOX_GENERAL) if planar else (BOX_GENERAL, BOX_PLANAR)
     if boxes:
         assert BOX_KERNELS <= names and own_boxes <= called and not called & other_boxes
+        assert not called & BOX_DRIVERS[not planar]
     else:
-        assert not names & BOX_KERNELS and not called & (BOX_GENERAL | BOX_PLANAR)
+        assert not names & BOX_KERNELS and not called & (BOX_DRIVERS[True] | BOX_DRIVERS[False])
 
 
 @pytest.mark.parametrize("planar", [True, False])
@@ -108,7 +114,8 @@ def test_a_scene_of_boxes_alone_compiles_no_sphere_kernel(planar):
     alone = _compiled_with(time_loop(SceneKind(planar, True, spheres=False)))
     with_spheres = _compiled_with(time_loop(SceneKind(planar, True, spheres=True)))
     own_boxes = boxes.box_forces_planar if planar else boxes.box_forces_general
-    assert own_boxes in alone and own_boxes in with_spheres
+    own_points = boxes._sphere_pass_planar if planar else boxes._sphere_pass_general
+    assert own_boxes in alone and own_points in with_spheres
     assert engine._bookkeep in alone  # (the events of the box contacts)
     assert not alone & SPHERE_KERNELS
     own_spheres = contact.compute_forces_planar if planar else contact.compute_forces

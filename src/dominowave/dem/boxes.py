@@ -1,13 +1,15 @@
-"""Rounded-cuboid bodies in the engine: their state and the contact driver.
+"""Rounded-cuboid bodies in the engine: their state and the contact driver of their
+points with boxes, walls and spheres, in one table.
 
 A box body is a rigid body of ``Bodies`` (mass, inertia, quaternion, the same integrator
 as a clump) whose shape is a rounded cuboid (``shapes.cuboid``): core half-extents ``h``
 in its principal frame and rounding radius ``r``.  Each step :func:`box_forces` finds the
 contact manifold of every box-box and box-wall pair within reach (``shapes.cuboid`` in 3D,
 ``shapes.rectangle`` in a planar scene, each of whose points counts twice: the two ends
-of a cuboid edge along y) and applies to every point the contact law of the spheres
+of a cuboid edge along y), then the one point of every box-sphere pair
+(:func:`_box_sphere_pass`), and applies to every point the contact law of the spheres
 (laws.point.point_law, one pure per-point function, built from the per-pair functions
-of contact.py; box_sphere.py applies it to the box-sphere points):
+of contact.py):
 
 * normal ``F_n = k_n delta - c_n v_n`` (linear), with the onset average of the overlap
   (laws.linear.onset_averaged_overlap) and the end impulse (laws.linear.end_impulse); or,
@@ -29,8 +31,9 @@ of contact.py; box_sphere.py applies it to the box-sphere points):
 * stiffness, friction and restitution from the materials as for spheres, with the
   rounding radius as the sphere radius (material_pairs.material_pair).
 
-Contact rows are kept in pair order (box i, then partner: boxes j > i, then walls) and
-rebuilt every step.  Pairs within reach are found in two stages, as for spheres: a
+Contact rows are kept in pair order (box i, then partner: boxes j > i, then walls; then
+the box-sphere rows, box then sphere, partner ``j = nx + s``) in one table and rebuilt
+every step.  Pairs within reach are found in two stages, as for spheres: a
 neighbour (Verlet) list of candidate pairs whose bounding spheres come closer than the
 skin (:func:`build_box_candidates`, the linked-cell search of contact.py, rebuilt with the
 spheres' list when a body may have moved by half the skin, and after the release of a
@@ -82,12 +85,13 @@ from dominowave.dem.laws.hertz import (
 from dominowave.dem.laws.linear import end_impulse
 from dominowave.dem.laws.point import onset_dashpot, point_law
 from dominowave.dem.material_pairs import material_pair
-from dominowave.dem.shapes.cuboid import MAX_POINTS, box_box, box_plane, faces_separate
+from dominowave.dem.shapes.cuboid import MAX_POINTS, box_box, box_plane, box_sphere, faces_separate
 from dominowave.dem.shapes.rectangle import (
     PLANAR_MULTIPLICITY,
     edges_separate,
     rect_plane,
     rect_rect,
+    rect_sphere,
 )
 from dominowave.dem.state import Spheres, empty_contacts
 
@@ -102,13 +106,16 @@ __all__ = [
     "box_energies",
     "box_forces",
     "box_forces_general",
+    "box_forces_general_spheres",
     "box_forces_planar",
+    "box_forces_planar_spheres",
     "box_peak_force",
     "box_power",
     "box_state",
     "boxes_from_state",
     "build_box_candidates",
     "empty_boxes",
+    "sphere_centre",
 ]
 
 Boxes = namedtuple(
@@ -119,7 +126,7 @@ Boxes = namedtuple(
         "radius",  # (nx,) rounding radius [m]
         "material",  # (nx,) int material id
         "normal_law",  # (1,) int: laws.hertz.LAW_LINEAR or LAW_HERTZ
-        "rows",  # state.Contacts: the rows of the last step
+        "rows",  # state.Contacts: the rows of the last step, box pairs then box-sphere pairs
         "next",  # state.Contacts being built (scratch)
         "m_normal",  # (MAX_POINTS, 3) scratch: the manifold of one pair (shapes.cuboid)
         "m_point",  # (MAX_POINTS, 3)
@@ -148,8 +155,8 @@ Boxes = namedtuple(
         #   wall), kept as they were while neither moves (_drop_before, _wake_rows)
         "order",  # (K,) int64 scratch of _wake_rows
         "restless",  # (nx,) uint8 scratch of engine._sleep_and_wake
-        "sphere_rows",  # state.Contacts of the box-sphere contacts (box_sphere.py), j: sphere
-        "sphere_next",  # state.Contacts being built (scratch)
+        "partner_body",  # (nx + ns,) int64 the body of a row's partner j >= 0: box j < nx,
+        #   sphere j - nx (the scene's spheres, by index)
         "sphere_cand",  # (Q,) int64 candidate box-sphere pairs, box * ns + sphere, ascending
         "n_sphere_cand",  # (1,) int64 candidates listed; -1: no list, every pair a candidate
         "sphere_cand_start",  # (nx + 1,) int64 first candidate of each box
@@ -157,29 +164,31 @@ Boxes = namedtuple(
 )
 
 
-def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR, n_spheres=0):
+def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR, sphere_body=()):
     """The box state of a scene (no box: zero-length arrays); ``normal_law`` one of
-    laws.hertz.NORMAL_LAWS' values; ``n_spheres`` the scene's spheres (the box-sphere rows
-    hold one contact of every sphere with each of up to 6 boxes: a box lying on a bed of
-    spheres touches many of them)."""
+    laws.hertz.NORMAL_LAWS' values; ``sphere_body`` (ns,) the owners of the scene's
+    spheres (room for rows of one contact of every sphere with each of up to 6 boxes: a
+    box lying on a bed of spheres touches many of them)."""
     body = np.asarray(body, np.int64).reshape(-1)
+    sphere_body = np.asarray(sphere_body, np.int64).reshape(-1)
     nx = body.shape[0]
     capacity = 32 * nx + 32
-    sphere_capacity = capacity + min(nx, 6) * int(n_spheres)
+    sphere_capacity = capacity + min(nx, 6) * sphere_body.shape[0]
+    rows = capacity + (sphere_capacity if sphere_body.shape[0] else 0)
     return Boxes(
         body=body,
         half=np.asarray(half, float).reshape(nx, 3),
         radius=np.asarray(radius, float).reshape(nx),
         material=np.asarray(material, np.int64).reshape(nx),
         normal_law=np.array([normal_law], np.int64),
-        rows=empty_contacts(capacity),
-        next=empty_contacts(capacity),
+        rows=empty_contacts(rows),
+        next=empty_contacts(rows),
         m_normal=np.zeros((MAX_POINTS, 3)),
         m_point=np.zeros((MAX_POINTS, 3)),
         m_overlap=np.zeros(MAX_POINTS),
         m_key=np.zeros(MAX_POINTS, np.int64),
         work=np.zeros((2, 9, 4)),
-        used=np.zeros(capacity, np.uint8),
+        used=np.zeros(rows, np.uint8),
         props=np.zeros(5),
         n_changes=np.zeros(1, np.int64),
         changes=np.zeros((capacity + sphere_capacity, 3), np.int64),
@@ -198,8 +207,7 @@ def empty_boxes(body=(), half=(), radius=(), material=(), normal_law=LAW_LINEAR,
         dormant=empty_contacts(capacity),
         order=np.zeros(capacity, np.int64),
         restless=np.zeros(nx, np.uint8),
-        sphere_rows=empty_contacts(sphere_capacity),
-        sphere_next=empty_contacts(sphere_capacity),
+        partner_body=np.concatenate((body, sphere_body)),
         sphere_cand=np.zeros(8 * nx + 16, np.int64),
         n_sphere_cand=np.full(1, -1, np.int64),
         sphere_cand_start=np.zeros(nx + 1, np.int64),
@@ -507,7 +515,11 @@ def _held_pair(bodies, boxes, a, bj, wall):
 
 @inline_kernel()
 def _pair_code(i, j, nx, nw):
-    """Sort key of the pair (box i, partner j): boxes j > i first, then the walls."""
+    """Sort key of the pair (box i, partner j): boxes j > i first, then the walls; a
+    sphere partner (j >= nx) comes after every box pair (the box-sphere rows follow the
+    others, in their own order: :func:`_box_sphere_pass`)."""
+    if j >= nx:
+        return nx * (nx + nw)
     return i * (nx + nw) + (j if j >= 0 else nx - j - 1)
 
 
@@ -546,12 +558,17 @@ def _continuation_distance(boxes, a, j):
     key changed continues an old point of the pair: half the smallest outer half-extent
     of the two bodies (the points of one manifold that stand for distinct contacts lie a
     face apart; a point moves by far less in one step)."""
-    size = min(boxes.half[a, 0], boxes.half[a, 1], boxes.half[a, 2]) + boxes.radius[a]
+    size = _thickness(boxes, a)
     if j >= 0:
-        size = min(
-            size, min(boxes.half[j, 0], boxes.half[j, 1], boxes.half[j, 2]) + boxes.radius[j]
-        )
+        size = min(size, _thickness(boxes, j))
     return 0.5 * size
+
+
+@inline_kernel()
+def _thickness(boxes, x):
+    """The smallest outer half-extent [m] of box x."""
+    h = boxes.half[x]
+    return min(h[0], h[1], h[2]) + boxes.radius[x]
 
 
 @inner_kernel(_nrt=False)
@@ -626,8 +643,8 @@ def _spin(omega, ba, bj, wall, n0, n1, n2):
 
 @inline_kernel()
 def _open_row(new, c, a, j, key, mult, normal, point):
-    """Row c of ``new``: the point of box a with partner j (box, wall -(w + 1) or, for the
-    box-sphere rows, sphere), its feature key, multiplicity, unit normal (3,) and
+    """Row c of ``new``: the point of box a with partner j (box, wall -(w + 1) or sphere
+    ``nx + s``), its feature key, multiplicity, unit normal (3,) and
     position (3,) [m]; :func:`_point_row` fills in the rest."""
     if c == new.i.shape[0]:
         raise RuntimeError("box contact rows full")
@@ -643,8 +660,8 @@ def _open_row(new, c, a, j, key, mult, normal, point):
 @inline_kernel()
 def _point_row(bodies, old, new, c, q, props, ba, bj, wall, overlap, dt, first_step, hertz, ledger):
     """The contact law (laws.point.point_law) at the point of row c of ``new`` between body
-    ``ba`` (the box) and its partner (body ``bj``, or a wall), shared by box_forces and
-    box_sphere.box_sphere_forces.  The row's pair, key, multiplicity, normal and point are
+    ``ba`` (the box) and its partner (body ``bj``, or a wall), for every kind of partner
+    (box_forces, _box_sphere_pass).  The row's pair, key, multiplicity, normal and point are
     written; it continues old row q, or is a fresh point (q < 0) with the constants
     ``props`` (kn or Hertz K, kt, mu, restitution, Tsuji alpha) and its dashpot from the
     effective mass at the point along the normal (:func:`inverse_mass_at` of both
@@ -695,18 +712,14 @@ def _point_row(bodies, old, new, c, q, props, ba, bj, wall, overlap, dt, first_s
 
 @inline_kernel()
 def _log(boxes, a, j, kind, lag):
-    """Record that the contact of box a's body with partner j (box or -(wall + 1))
-    started (ONSET) or ended (END) ``lag`` [s] before this step."""
-    _log_bodies(boxes, boxes.body[a], boxes.body[j] if j >= 0 else j, kind, lag)
-
-
-@inline_kernel()
-def _log_bodies(boxes, bi, bj, kind, lag):
-    """Record that the contact of body ``bi`` with body ``bj`` (or wall ``-(bj + 1)``)
-    started (ONSET) or ended (END) ``lag`` [s] before this step (``boxes.changes``: those
-    of box_forces, then of box_sphere.box_sphere_forces: contact_rows.log_change)."""
+    """Record that the contact of box a's body with partner j (box, sphere ``nx + s`` or
+    -(wall + 1)) started (ONSET) or ended (END) ``lag`` [s] before this step
+    (``boxes.changes``, in the order of the rows: contact_rows.log_change)."""
+    bj = boxes.partner_body[j] if j >= 0 else j
     n = boxes.n_changes[0]
-    boxes.n_changes[0] = log_change(boxes.changes, boxes.change_lag, n, bi, bj, kind, lag)
+    boxes.n_changes[0] = log_change(
+        boxes.changes, boxes.change_lag, n, boxes.body[a], bj, kind, lag
+    )
 
 
 def _box_geometry(PLANAR):  # (capital: a constant of the compiled kernels)
@@ -799,20 +812,154 @@ _within_reach_planar, _manifold_planar = _box_geometry(True)
 _within_reach_general, _manifold_general = _box_geometry(False)
 
 
-def _box_driver(PLANAR):  # (capital: a constant of the compiled kernel)
+@inline_kernel()
+def sphere_centre(bodies, spheres, s, out):
+    """World centre ``x_b + R_b u_s`` [m] of sphere s into ``out`` (3,)."""
+    b = spheres.body[s]
+    u = spheres.local[s]
+    for d in range(3):
+        out[d] = (
+            bodies.pos[b, d]
+            + bodies.rot[b, d, 0] * u[0]
+            + bodies.rot[b, d, 1] * u[1]
+            + bodies.rot[b, d, 2] * u[2]
+        )
+
+
+@inline_kernel()
+def _sphere_margin(boxes, spheres, a, s):
+    """Margin [m] of the contact point of box a and sphere s: half the smaller of the
+    sphere's radius and the box's smallest outer half-extent (a point moves far less in
+    one step)."""
+    return 0.5 * min(_thickness(boxes, a), spheres.radius[s])
+
+
+@inline_kernel()
+def _sphere_code(old, o, nx, ns):
+    """Sort key ``box * ns + sphere`` of old box-sphere row o (partner ``j = nx + s``)."""
+    return old.i[o] * ns + old.j[o] - nx
+
+
+@inner_kernel(_nrt=False)
+def _drop_sphere_rows(old, boxes, o, code, nx, ns, ledger):
+    """Old box-sphere rows from o on of pairs before ``code`` are out of reach: release
+    their shear springs, log their ends; returns the first row of ``code`` or after."""
+    while o < old.n[0] and _sphere_code(old, o, nx, ns) < code:
+        _release(old, o, ledger)
+        _log(boxes, old.i[o], old.j[o], END, 0.0)
+        o += 1
+    return o
+
+
+def _box_sphere_pass(PLANAR):  # (capital: a constant of the compiled kernel)
+    """The box-sphere pass of :func:`box_forces` in a scene of the kind ``PLANAR``: the
+    planar geometry (shapes.rectangle.rect_sphere) or the 3D one
+    (shapes.cuboid.box_sphere)."""
+
+    @inner_kernel(_nrt=False)
+    def sphere_pass(bodies, spheres, boxes, mats, old, new, o, n_new, dt, ledger, first_step):
+        """The box-sphere points of this step, after those of the box pairs: new rows from
+        ``n_new`` on, continuing the old ones from row ``o`` on (partner ``j = nx + s``,
+        in pair order: box, then sphere); returns the number of new rows.
+
+        A sphere touches a convex box at one point (``box_sphere`` or ``rect_sphere``:
+        the sphere's centre against the core box, overlap ``r_box + R - distance``, the
+        face, edge or vertex region implicit), so the pair is its own key, and a planar
+        row stands for one point (no doubling along y).  The law is the box points'
+        (:func:`_point_row`), with the material pair of the rounding and the sphere's
+        radius; Hertz scenes hold no spheres (``Scene.build`` refuses them), so it is the
+        linear one.  The pairs visited are the candidates of
+        box_sphere.build_box_sphere_candidates (or every pair without a list: the same
+        pairs pass, in the same order) whose sphere's centre is closer to the box's
+        centre than the box's reach plus ``R`` plus the margin (:func:`_sphere_margin`,
+        so that a point is seen opening: its end impulse); a pair of two held bodies is
+        not visited."""
+        nx = boxes.body.shape[0]
+        ns = spheres.body.shape[0]
+        props = boxes.props
+        c_s = boxes.work[0, 0, :3]  # (scratch: the sphere's centre)
+        listed = boxes.n_sphere_cand[0] >= 0
+        start = boxes.sphere_cand_start
+        for a in range(nx):
+            lo, hi = (start[a], start[a + 1]) if listed else (0, ns)
+            if lo == hi:  # (most boxes: no sphere near)
+                continue
+            ba = boxes.body[a]
+            xa, Ra, ha, ra = bodies.pos[ba], bodies.rot[ba], boxes.half[a], boxes.radius[a]
+            reach = _reach_of(boxes, a)
+            for k in range(lo, hi):
+                s = boxes.sphere_cand[k] - a * ns if listed else k
+                bs = spheres.body[s]
+                if bs == ba or (bodies.held[ba] == 1 and bodies.held[bs] == 1):
+                    continue
+                sphere_centre(bodies, spheres, s, c_s)
+                radius = spheres.radius[s]
+                margin = _sphere_margin(boxes, spheres, a, s)
+                d2 = 0.0
+                for d in range(3):
+                    d2 += (c_s[d] - xa[d]) ** 2
+                if d2 >= (reach + radius + margin) ** 2:
+                    continue
+                code = a * ns + s
+                o = _drop_sphere_rows(old, boxes, o, code, nx, ns, ledger)
+                q = o if o < old.n[0] and _sphere_code(old, o, nx, ns) == code else -1
+                if q >= 0:
+                    o += 1
+                if PLANAR:
+                    m = rect_sphere(xa, Ra, ha, ra, c_s, radius, margin, boxes.m_normal,
+                                    boxes.m_point, boxes.m_overlap, boxes.m_key)  # fmt: skip
+                else:
+                    m = box_sphere(xa, Ra, ha, ra, c_s, radius, margin, boxes.m_normal,
+                                   boxes.m_point, boxes.m_overlap, boxes.m_key)  # fmt: skip
+                overlap = boxes.m_overlap[0] if m > 0 else -margin
+                j = nx + s
+                if overlap <= 0.0:
+                    if q >= 0:
+                        if m > 0:
+                            _end(bodies, old, q, overlap, dt, ba, bs, False, ledger, False)
+                        else:
+                            _release(old, q, ledger)
+                        speed = (old.overlap[q] - overlap) / dt
+                        _log(boxes, a, j, END, event_lag(overlap, speed, dt, first_step))
+                    continue
+                c = n_new
+                n_new += 1
+                _open_row(new, c, a, j, 0, 1.0, boxes.m_normal[0], boxes.m_point[0])
+                fresh = q < 0
+                if fresh:
+                    material_pair(mats, boxes.material[a], ra, spheres.material[s], radius, props)
+                _point_row(bodies, old, new, c, q, props, ba, bs, False, overlap, dt, first_step,
+                           False, ledger)  # fmt: skip
+                if fresh:
+                    _log(boxes, a, j, ONSET, event_lag(overlap, -new.vn[c], dt, first_step))
+        _drop_sphere_rows(old, boxes, o, 2**62, nx, ns, ledger)
+        return n_new
+
+    return sphere_pass
+
+
+_sphere_pass_planar = _box_sphere_pass(True)
+_sphere_pass_general = _box_sphere_pass(False)
+
+
+def _box_driver(PLANAR, SPHERES):  # (capitals: constants of the compiled kernel)
     """:func:`box_forces` of a scene of the kind ``PLANAR``, with its kind's geometry
     (:func:`_box_geometry`; module-level names, so that the closure holds only the
-    constant: numba keys a closure's disk cache by what it holds, and a kernel it held
-    would key it by a number drawn anew in every process)."""
+    constants: numba keys a closure's disk cache by what it holds, and a kernel it held
+    would key it by a number drawn anew in every process); with the box-sphere points
+    (:func:`_box_sphere_pass`) if ``SPHERES``, so that a scene of boxes alone does not
+    compile them."""
 
     # (inlined into the engine's loop: a call passes every array of the bodies and the box
     # state one by one, about 0.5 us per step; see manifold)
     @inline_kernel()
-    def forces(bodies, boxes, walls, mats, dt, ledger, first_step):
+    def forces(bodies, spheres, boxes, walls, mats, dt, ledger, first_step):
         """Add the forces and torques of every box contact to the bodies (after
         contact.compute_forces, which zeroes them), rebuild the contact rows, book the change
         of the energy stored in the shear springs in ``ledger[LEDGER_FRICTION]``.  Body pairs
-        whose contact (any point) started or ended are listed in ``boxes.changes``.
+        whose contact (any point) started or ended are listed in ``boxes.changes``.  The
+        rows are those of the box-box and box-wall pairs, in pair order, then those of the
+        box-sphere pairs (:func:`_box_sphere_pass`), in one table.
 
         The rows of a pair of resting bodies -- two held boxes, or a held box and a wall,
         that have rows: bodies put to sleep (engine._sleep_and_wake) -- are not visited; they
@@ -907,14 +1054,24 @@ def _box_driver(PLANAR):  # (capital: a constant of the compiled kernel)
                 elif o_end > o and n_new == first_row:
                     _log(boxes, a, j, END, event_lag(end_depth, end_speed, dt, first_step))
                 o = o_end
-        _drop_before(bodies, old, boxes, o, 2**62, nx, nw, ledger)
+        # (the old rows of the box pairs end where those of the sphere partners begin)
+        o = _drop_before(bodies, old, boxes, o, nx * (nx + nw), nx, nw, ledger)
+        if SPHERES:
+            if PLANAR:
+                n_new = _sphere_pass_planar(bodies, spheres, boxes, mats, old, new, o, n_new,
+                                            dt, ledger, first_step)  # fmt: skip
+            else:
+                n_new = _sphere_pass_general(bodies, spheres, boxes, mats, old, new, o, n_new,
+                                             dt, ledger, first_step)  # fmt: skip
         _copy_rows(new, old, n_new)
 
     return forces
 
 
-box_forces_planar = _box_driver(True)
-box_forces_general = _box_driver(False)
+box_forces_planar = _box_driver(True, False)
+box_forces_general = _box_driver(False, False)
+box_forces_planar_spheres = _box_driver(True, True)
+box_forces_general_spheres = _box_driver(False, True)
 
 
 @inline_kernel(python_entry=True)
@@ -936,13 +1093,18 @@ def _manifold(bodies, boxes, walls, a, j, planar, margin, frame_ready):
 
 
 @inline_kernel()
-def box_forces(bodies, boxes, walls, mats, dt, ledger, first_step, planar):
-    """:func:`box_forces_planar` or :func:`box_forces_general` by ``planar`` (the time
-    loop calls its kind's; this is for the benchmarks)."""
-    if planar:
-        box_forces_planar(bodies, boxes, walls, mats, dt, ledger, first_step)
+def box_forces(bodies, spheres, boxes, walls, mats, dt, ledger, first_step, planar):
+    """The box driver of a scene of the kind ``planar``, with the box-sphere points if it
+    has spheres (the time loop calls its kind's; this is for the benchmarks)."""
+    if spheres.body.shape[0] > 0:
+        if planar:
+            box_forces_planar_spheres(bodies, spheres, boxes, walls, mats, dt, ledger, first_step)
+        else:
+            box_forces_general_spheres(bodies, spheres, boxes, walls, mats, dt, ledger, first_step)
+    elif planar:
+        box_forces_planar(bodies, spheres, boxes, walls, mats, dt, ledger, first_step)
     else:
-        box_forces_general(bodies, boxes, walls, mats, dt, ledger, first_step)
+        box_forces_general(bodies, spheres, boxes, walls, mats, dt, ledger, first_step)
 
 
 @inline_kernel()
@@ -1033,25 +1195,22 @@ def _wake_rows(boxes, nx, nw):
 
 
 @inner_kernel(_nrt=False)
-def box_power(bodies, boxes, sphere_body, out):
+def box_power(bodies, boxes, out):
     """Add the power [W] of the box contacts' dashpots (``out[POWER_VISCOUS]``) and
     tangential forces (``out[POWER_FRICTION]``) at the full-step velocities
-    (contact_rows.rows_power): the box-box and box-wall rows, then the box-sphere rows
-    (``sphere_body`` (ns,): the spheres' owners)."""
-    rows_power(bodies, boxes.rows, boxes.body, boxes.body, out)
-    rows_power(bodies, boxes.sphere_rows, boxes.body, sphere_body, out)
+    (contact_rows.rows_power)."""
+    rows_power(bodies, boxes.rows, boxes.body, boxes.partner_body, out)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def box_energies(boxes, out):
     """Add the elastic energies [J] of the box contacts to ``out`` (ENERGY_NAMES vector:
     normal ``k_n delta^2 / 2`` (Hertz: ``2/5 K delta^{5/2}``) to entry 3, tangential
-    ``k_t |u|^2 / 2`` to 4, both to the total, 8): the box-box and box-wall rows, those put
-    aside (their springs keep their energy), the box-sphere rows (linear)."""
+    ``k_t |u|^2 / 2`` to 4, both to the total, 8): the rows, and those put aside (their
+    springs keep their energy).  (A scene with spheres is linear: Scene.build.)"""
     hertz = boxes.normal_law[0] == LAW_HERTZ
     _add_energies(rows_elastic_energy(boxes.rows, hertz), out)
     _add_energies(rows_elastic_energy(boxes.dormant, hertz), out)
-    _add_energies(rows_elastic_energy(boxes.sphere_rows, False), out)
 
 
 @inline_kernel()
@@ -1063,29 +1222,29 @@ def _add_energies(elastic, out):
 
 
 @inner_kernel(_nrt=False)
-def box_contact_forces(boxes, n_spheres, first, second, point, force):
-    """The contact forces of the last :func:`box_forces` and box_sphere.box_sphere_forces
-    for the engine's contact-force recorder (contact_rows.rows_contact_forces): the rows
-    of the pairs visited, those of the pairs at rest put aside (``boxes.dormant``: held or
-    sleeping boxes, with the force they had when put aside, which holds them where they
-    rest), then the box-sphere rows.  Shapes are numbered spheres first (``n_spheres``),
-    then boxes.  Writes from row 0 on and returns the number of rows."""
-    n = rows_contact_forces(boxes.rows, n_spheres, n_spheres, first, second, point, force)
-    n += rows_contact_forces(
-        boxes.dormant, n_spheres, n_spheres, first[n:], second[n:], point[n:], force[n:]
-    )
+def box_contact_forces(boxes, first, second, point, force):
+    """The contact forces of the last :func:`box_forces` for the engine's contact-force
+    recorder (contact_rows.rows_contact_forces): the rows of the pairs visited, then those
+    of the pairs at rest put aside (``boxes.dormant``: held or sleeping boxes, with the
+    force they had when put aside, which holds them where they rest).  Shapes are
+    numbered spheres first, then boxes.  Writes from row 0 on and returns the number of
+    rows."""
+    nx = boxes.body.shape[0]
+    ns = boxes.partner_body.shape[0] - nx
+    n = rows_contact_forces(boxes.rows, ns, ns, first, second, point, force)
+    for k in range(n):  # (a sphere partner j = nx + s is shape s)
+        if second[k] >= ns + nx:
+            second[k] -= ns + nx
     return n + rows_contact_forces(
-        boxes.sphere_rows, n_spheres, 0, first[n:], second[n:], point[n:], force[n:]
+        boxes.dormant, ns, ns, first[n:], second[n:], point[n:], force[n:]
     )
 
 
 @inner_kernel(_nrt=False)
-def box_peak_force(boxes, sphere_body, peak):
+def box_peak_force(boxes, peak):
     """Raise ``peak[a, b]`` (a < b bodies, [N]) to the normal force of any box-box or
-    box-sphere contact point of the pair (contact_rows.rows_peak_force; ``sphere_body``
-    (ns,): the spheres' owners)."""
-    rows_peak_force(boxes.rows, boxes.body, boxes.body, peak)
-    rows_peak_force(boxes.sphere_rows, boxes.body, sphere_body, peak)
+    box-sphere contact point of the pair (contact_rows.rows_peak_force)."""
+    rows_peak_force(boxes.rows, boxes.body, boxes.partner_body, peak)
 
 
 # --- checkpoints -----------------------------------------------------------------------------
@@ -1104,11 +1263,11 @@ def box_state(boxes) -> dict[str, np.ndarray]:
     """The box state a run resumes from, as a flat dict of NumPy arrays (copies): the
     bodies' shapes and materials, the normal law, the candidate list, and the contact
     rows of the last step (their used part: feature keys, shear histories, stiffness,
-    dashpot, overlap, normal velocity) under ``rows.<field>``, those of the box-sphere
-    contacts (box_sphere.py) under ``sphere_rows.<field>``, the rows of resting pairs put
-    aside (:func:`box_forces`) under ``dormant.<field>``."""
+    dashpot, overlap, normal velocity; the box-sphere rows after the others) under
+    ``rows.<field>``, the rows of resting pairs put aside (:func:`box_forces`) under
+    ``dormant.<field>``."""
     out = {name: np.array(getattr(boxes, name), copy=True) for name in _BOX_ARRAYS + _SPHERE_LIST}
-    for group in ("rows", "sphere_rows", "dormant"):
+    for group in ("rows", "dormant"):
         rows = getattr(boxes, group)
         n = int(rows.n[0])
         for name, value in rows._asdict().items():
@@ -1116,19 +1275,20 @@ def box_state(boxes) -> dict[str, np.ndarray]:
     return out
 
 
-def boxes_from_state(state: dict, n_spheres: int = 0) -> Boxes:
+def boxes_from_state(state: dict, sphere_body=()) -> Boxes:
     """The :class:`Boxes` of a :func:`box_state` dict (keys without a prefix), with the
-    row capacity of a freshly built scene of the same boxes and ``n_spheres`` spheres
-    (:func:`empty_boxes`).  Every key of :func:`box_state` must be there (a state of an
-    older layout is brought to the current one first: dem.simulation's ``_upgraded``)."""
+    row capacity of a freshly built scene of the same boxes and spheres of the bodies
+    ``sphere_body`` (ns,) (:func:`empty_boxes`).  Every key of :func:`box_state` must be
+    there (a state of an older layout is brought to the current one first:
+    dem.simulation's ``_upgraded``)."""
     missing = [k for k in box_state(empty_boxes()) if k not in state]
     if missing:
         raise ValueError(f"state is missing 'boxes.{missing[0]}'")
     boxes = empty_boxes(
         state["body"], state["half"], state["radius"], state["material"],
-        int(np.asarray(state["normal_law"]).reshape(-1)[0]), n_spheres,
+        int(np.asarray(state["normal_law"]).reshape(-1)[0]), sphere_body,
     )  # fmt: skip
-    for group in ("rows", "sphere_rows", "dormant"):
+    for group in ("rows", "dormant"):
         n = int(np.asarray(state[f"{group}.n"]).reshape(-1)[0])
         rows = getattr(boxes, group)
         if n > rows.i.shape[0]:

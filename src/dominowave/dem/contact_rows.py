@@ -10,9 +10,9 @@ of the pair (``kn``, ``kt``, ...): the one record ``state.Contacts``.  The table
 * the spheres' Verlet list (contact.compute_forces): one row per listed pair, a contact
   point while its overlap is positive (an idle pair's overlap is zero or the gap at
   which it ended);
-* the box-box and box-wall rows (``Boxes.rows``, boxes.box_forces) and the box-sphere
-  rows (``Boxes.sphere_rows``, box_sphere.py): one row per touching point, with the
-  feature key of the point (shapes.cuboid).
+* the rows of the boxes (``Boxes.rows``, boxes.box_forces): one row per touching point
+  of a box with a box, a wall or a sphere (the box-sphere rows after the others, their
+  partner ``j = n_boxes + sphere``), with the feature key of the point (shapes.cuboid).
 
 A row touches while ``overlap > 0``.  The power of the contact forces (the energy
 ledger), their elastic energy, the recorded contact forces and the peak forces of the

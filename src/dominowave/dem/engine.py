@@ -28,17 +28,15 @@ from collections import namedtuple
 
 from numba import njit
 
-from dominowave.dem.box_sphere import (
-    box_sphere_forces_general,
-    box_sphere_forces_planar,
-    build_box_sphere_candidates,
-)
+from dominowave.dem.box_sphere import build_box_sphere_candidates
 from dominowave.dem.boxes import (
     _reach_of,
     box_contact_forces,
     box_energies,
     box_forces_general,
+    box_forces_general_spheres,
     box_forces_planar,
+    box_forces_planar_spheres,
     box_peak_force,
     box_power,
     build_box_candidates,
@@ -264,8 +262,8 @@ def _sleep_and_wake(bodies, spheres, contacts, boxes, settings, t, ledger):
     restless[:] = 0
     for c in range(rows.n[0]):
         i, j = rows.i[c], rows.j[c]
-        if j < 0:
-            continue
+        if j < 0 or j >= boxes.body.shape[0]:  # (a wall, or a sphere: Scene.build refuses
+            continue  # sleep in a scene with spheres)
         bi, bj = boxes.body[i], boxes.body[j]
         for rest, mover, x in ((bi, bj, j), (bj, bi, i)):
             if held[mover]:
@@ -412,13 +410,12 @@ def _record_contact_forces(contacts, rec):
 
 
 @inner_kernel()
-def _record_box_contact_forces(spheres, rec, boxes):
+def _record_box_contact_forces(rec, boxes):
     """Append the touching box contact points of this step to trajectory frame traj_n,
     after its sphere contacts (boxes.box_contact_forces)."""
     k0 = rec.cf_n[0]
     rec.cf_n[0] = k0 + box_contact_forces(
         boxes,
-        spheres.body.shape[0],
         rec.cf_first[k0:],
         rec.cf_second[k0:],
         rec.cf_point[k0:],
@@ -580,10 +577,10 @@ def _advance_bodies(bodies, settings, first, stop):
 SceneKind = namedtuple("SceneKind", ["planar", "boxes", "spheres"], defaults=(True,))
 """What a scene holds, which decides the kernels its time loop calls (bools): ``planar``
 (the planar kernels, contact._sphere_driver, _body_pass, boxes._box_driver and
-box_sphere._box_sphere_driver, or the general ones), ``boxes`` (rounded-cuboid
-contacts: boxes.py, box_sphere.py) and ``spheres`` (sphere contacts: contact.py, and
-with boxes box_sphere.py; default True).  A scene of boxes alone (every box chain)
-compiles no sphere kernel: its first run is a tenth to a quarter shorter
+boxes._box_sphere_pass, or the general ones), ``boxes`` (rounded-cuboid contacts:
+boxes.py) and ``spheres`` (sphere contacts: contact.py, and with boxes the box-sphere
+points of boxes.py and their list, box_sphere.py; default True).  A scene of boxes
+alone (every box chain) compiles no sphere kernel: its first run is a tenth to a quarter shorter
 (benchmarks/README.md, "First run")."""
 
 
@@ -656,7 +653,6 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
             if BOXES:
                 room += boxes.changes.shape[0]
                 cf_room += boxes.rows.i.shape[0] + boxes.dormant.i.shape[0]
-                cf_room += boxes.sphere_rows.i.shape[0]
             if settings.record_pairs and rec.ev_time.shape[0] - rec.ev_n[0] < room:
                 outcome, steps = GROW_EVENTS, done
                 break
@@ -718,14 +714,18 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
             released = False
             if BOXES:
                 if PLANAR:
-                    box_forces_planar(bodies, boxes, walls, mats, dt, ledger, first)
-                else:
-                    box_forces_general(bodies, boxes, walls, mats, dt, ledger, first)
-                if SPHERES:
-                    if PLANAR:
-                        box_sphere_forces_planar(bodies, spheres, boxes, mats, dt, ledger, first)
+                    if SPHERES:
+                        box_forces_planar_spheres(
+                            bodies, spheres, boxes, walls, mats, dt, ledger, first
+                        )
                     else:
-                        box_sphere_forces_general(bodies, spheres, boxes, mats, dt, ledger, first)
+                        box_forces_planar(bodies, spheres, boxes, walls, mats, dt, ledger, first)
+                elif SPHERES:
+                    box_forces_general_spheres(
+                        bodies, spheres, boxes, walls, mats, dt, ledger, first
+                    )
+                else:
+                    box_forces_general(bodies, spheres, boxes, walls, mats, dt, ledger, first)
                 if boxes.n_changes[0] > 0:
                     released = _bookkeep(
                         bodies, spheres, contacts, rec, settings, boxes.changes,
@@ -743,7 +743,7 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
                 if SPHERES:
                     rows_peak_force(contacts, spheres.body, spheres.body, rec.peak_force)
                 if BOXES:
-                    box_peak_force(boxes, spheres.body, rec.peak_force)
+                    box_peak_force(boxes, rec.peak_force)
             # stop conditions, decided at t_n
             code = -1
             if touched_body >= 0 and rec.touched[touched_body]:
@@ -780,7 +780,7 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
                     if SPHERES:
                         rows_power(bodies, contacts, spheres.body, spheres.body, p_contacts)
                     if BOXES:
-                        box_power(bodies, boxes, spheres.body, p_contacts)
+                        box_power(bodies, boxes, p_contacts)
                     # trapezoidal rule for the work of the non-conservative forces since
                     # t_{n-1}
                     if step > 0:
@@ -799,7 +799,7 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
                     else:  # (the frame's rows start with its box rows)
                         rec.cf_start[rec.traj_n[0]] = rec.cf_n[0]
                     if BOXES:
-                        _record_box_contact_forces(spheres, rec, boxes)
+                        _record_box_contact_forces(rec, boxes)
                 if traj_due:
                     _record_frame(bodies, rec, t)
                 if energy_due:

@@ -16,7 +16,7 @@ material a with rounding or sphere radius r_a and one of material b with r_b get
   values where set (``Scene.set_pair``), else the smaller of the two materials'.
 
 :func:`material_pair` gives all four; the sphere (contact.pair_properties) and box
-(boxes, box_sphere) drivers call it.  The Hertz law's modulus and radius are
+(boxes.box_forces) drivers call it.  The Hertz law's modulus and radius are
 laws/hertz.py.
 """
 

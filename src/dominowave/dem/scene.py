@@ -520,7 +520,7 @@ class Scene:
                     f"sleep_speed = {sleep_speed} puts boxes to sleep, in scenes of boxes"
                     " only; this scene has spheres (leave sleep_speed = 0)"
                 )
-        boxes = self._boxes_arrays(spheres.radius.size)
+        boxes = self._boxes_arrays(spheres.body)
         if NORMAL_LAWS[self.normal_law] == LAW_HERTZ and spheres.radius.size:
             raise ValueError(
                 "normal_law = 'hertz' is implemented for box and wall contacts only; "
@@ -589,7 +589,7 @@ class Scene:
             height = float((z + reach).max() - (z - reach).min())
         return float(speed.max(initial=0.0) + math.sqrt(2.0 * g * height))
 
-    def _boxes_arrays(self, n_spheres):
+    def _boxes_arrays(self, sphere_body):
         specs = [(b, spec["box"]) for b, spec in enumerate(self._bodies) if "box" in spec]
         return empty_boxes(
             body=[b for b, _ in specs],
@@ -597,7 +597,7 @@ class Scene:
             radius=[box["rounding"] for _, box in specs],
             material=[box["material"] for _, box in specs],
             normal_law=NORMAL_LAWS[self.normal_law],
-            n_spheres=n_spheres,
+            sphere_body=sphere_body,
         )
 
 

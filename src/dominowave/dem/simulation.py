@@ -51,7 +51,7 @@ STOP_REASONS = {
     engine.STOP_AT_REST: "at_rest",
 }
 
-STATE_FORMAT = 6
+STATE_FORMAT = 7
 """Version of the layout of :meth:`Simulation.get_state` (key ``state_format``).
 1 (files without the key): no ``settings.planar``, ``planar_kernels``,
 ``mats.shear_kinematics``, material-pair tables or Hertz tables, and the stiffness rule
@@ -63,7 +63,9 @@ resting pairs ``boxes.dormant.*``); 1 to 3: one column ``mats.stiffness`` for E 
 without their rows' ``contacts.point``, ``contacts.normal`` and ``contacts.mult``, and an
 idle pair may hold a stale positive overlap; 1 to 5: sphere contacts with a flag
 ``contacts.active`` (1 while the overlap is positive) and without the record's feature
-key ``contacts.key`` (0 for spheres); :func:`_upgraded` reads them all."""
+key ``contacts.key`` (0 for spheres); 1 to 6: the box-sphere rows in a table of their own
+(``boxes.sphere_rows.*``, the partner ``j`` the sphere's index); :func:`_upgraded` reads
+them all."""
 
 
 def _upgraded(state: dict, n_materials: int) -> dict:
@@ -77,7 +79,9 @@ def _upgraded(state: dict, n_materials: int) -> dict:
     contacts' points and normals, which each step writes before they are read, zero, and
     an idle pair's overlap, which nothing read, not positive; formats 1 to 5: the sphere
     contacts' feature keys zero, their flag ``active`` dropped: a pair touches while its
-    overlap is positive); a state of a newer format is refused."""
+    overlap is positive; formats 1 to 6: the box-sphere rows appended to the box rows,
+    their partner the sphere after the boxes, ``j = n_boxes + sphere``); a state of a
+    newer format is refused."""
     version = int(np.asarray(state.get("state_format", 1)))
     if check_format("state_format", version, STATE_FORMAT) == STATE_FORMAT:
         return state
@@ -121,6 +125,24 @@ def _upgraded(state: dict, n_materials: int) -> dict:
     if "contacts.key" not in state:
         state.pop("contacts.active", None)
         state["contacts.key"] = np.zeros(np.shape(state["contacts.overlap"])[0], np.int64)
+    if "boxes.sphere_rows.n" in state:
+        state = _joined_sphere_rows(state)
+    return state
+
+
+def _joined_sphere_rows(state: dict) -> dict:
+    """``state`` (formats 1 to 6) with its box-sphere rows ``boxes.sphere_rows.*`` after
+    the box rows ``boxes.rows.*``, in one table, as box_forces writes them (the partner
+    sphere ``s`` is ``j = n_boxes + s``)."""
+    prefix = "boxes.sphere_rows."
+    spheres = {k[len(prefix) :]: state[k] for k in state if k.startswith(prefix)}
+    state = {k: v for k, v in state.items() if not k.startswith(prefix)}
+    n_boxes = np.asarray(state["boxes.body"]).size
+    for name, value in spheres.items():
+        if name != "n":
+            value = np.asarray(value) + n_boxes if name == "j" else np.asarray(value)
+            state[f"boxes.rows.{name}"] = np.concatenate((state[f"boxes.rows.{name}"], value))
+    state["boxes.rows.n"] = np.asarray(state["boxes.rows.n"]) + np.asarray(spheres["n"])
     return state
 
 
@@ -254,6 +276,13 @@ class Simulation:
         self.bodies = bodies
         #: rounded-cuboid bodies and their contact rows (dem/boxes.py)
         self.boxes = empty_boxes() if boxes is None else boxes
+        partners = self.boxes.body.size + spheres.body.size
+        if self.boxes.body.size and self.boxes.partner_body.size != partners:
+            raise ValueError(
+                f"boxes.partner_body has {self.boxes.partner_body.size} entries, the scene's"
+                f" {self.boxes.body.size} boxes and {spheres.body.size} spheres need"
+                f" {partners} (dem.boxes.empty_boxes(sphere_body=...))"
+            )
         self.spheres = spheres
         self.walls = walls
         self.mats = mats
@@ -693,7 +722,6 @@ class Simulation:
         elif code == engine.GROW_CONTACT_FORCES:
             need = 2 * r.cf_first.shape[0] + self.contacts.i.shape[0]
             need += self.boxes.rows.i.shape[0] + self.boxes.dormant.i.shape[0]
-            need += self.boxes.sphere_rows.i.shape[0]
             self.rec = r._replace(
                 **{
                     k: _grow_rows(getattr(r, k), need)
@@ -813,7 +841,7 @@ class Simulation:
         self.bodies, self.spheres, self.walls = new["bodies"], new["spheres"], new["walls"]
         self.mats, self.contacts, self.settings = new["mats"], new["contacts"], new["settings"]
         self.rec = new["rec"]
-        self.boxes = _restored_boxes(self.boxes, state, self.spheres.radius.size)
+        self.boxes = _restored_boxes(self.boxes, state, self.spheres.body)
         self.critical_dt = float(state["critical_dt"])
         self.planar_kernels = bool(state["planar_kernels"])
 
@@ -850,7 +878,7 @@ class Simulation:
             group("mats", MaterialTable),
             critical_dt=float(state["critical_dt"]),
             **settings,
-            boxes=_restored_boxes(empty_boxes(), state, spheres.radius.size),
+            boxes=_restored_boxes(empty_boxes(), state, spheres.body),
         )
         sim.set_state(state)
         return sim
@@ -867,16 +895,16 @@ class Simulation:
         }
 
 
-def _restored_boxes(boxes, state, n_spheres):
+def _restored_boxes(boxes, state, sphere_body):
     """The box state of ``state`` (keys ``boxes.*``, dem.boxes.box_state) for a scene whose
-    boxes are ``boxes`` and which has ``n_spheres`` spheres; a state without boxes fits a
-    scene without boxes only."""
+    boxes are ``boxes`` and whose spheres belong to the bodies ``sphere_body`` (ns,); a
+    state without boxes fits a scene without boxes only."""
     saved = {k[6:]: v for k, v in state.items() if k.startswith("boxes.")}
     if not saved:
         if boxes.body.size:
             raise ValueError("state is missing 'boxes.body' (the scene has boxes)")
         return boxes
-    restored = boxes_from_state(saved, n_spheres)
+    restored = boxes_from_state(saved, sphere_body)
     if boxes.body.size and not (
         np.array_equal(restored.body, boxes.body) and restored.half.shape == boxes.half.shape
     ):

@@ -127,8 +127,8 @@ Contacts = namedtuple(
     ],
 )
 """The one record of a contact point (contact_rows.py): the rows of every contact table --
-the spheres' Verlet list (contact.py), the box-box and box-wall rows and the box-sphere
-rows (boxes.py, box_sphere.py) -- have these fields."""
+the spheres' Verlet list (contact.py) and the rows of the boxes' box-box, box-wall and
+box-sphere points (boxes.py) -- have these fields."""
 
 
 def empty_contacts(capacity: int, n: int = 0) -> Contacts:

@@ -29,7 +29,7 @@ kt_ratio 1: unstable at 0.99 of the former single-contact estimate, stable at 0.
 at 0.99 of this one.  An unstable run is detected at run time (energy runaway or NaN)
 and aborted.
 
-A contact of a rounded cuboid x with a sphere s (box_sphere.py; linear: Hertz scenes hold
+A contact of a rounded cuboid x with a sphere s (boxes.py; linear: Hertz scenes hold
 no spheres) couples the two bodies at one point: its mode has ``omega^2 = k (1/m_x^eff
 + 1/m_s^eff)``, the inverse effective masses at the point (boxes.inverse_mass_at) summed.
 They are bounded as above: for the box ``1/m + rho^2/I`` with its outer half-diagonal

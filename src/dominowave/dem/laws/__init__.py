@@ -1,8 +1,8 @@
 """Contact laws: what a contact point does with its overlap and relative motion.
 
 Each law is a set of pure per-point functions (scalars in, scalars out), in the style of
-jax-md; the drivers of dem/ (contact.py for spheres, boxes.py and box_sphere.py for
-rounded cuboids) find the contact points and their kinematics and call
+jax-md; the drivers of dem/ (contact.py for spheres, boxes.py for rounded cuboids and
+their walls and spheres) find the contact points and their kinematics and call
 :func:`point.point_law`, the one law of every contact point:
 
 * linear.py: the linear spring-dashpot normal law, with its onset and end corrections;

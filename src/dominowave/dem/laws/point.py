@@ -1,12 +1,12 @@
 """The contact law of one contact point (a pure per-point function).
 
 Every contact point of the engine -- sphere-sphere and sphere-wall (contact.compute_forces),
-box-box and box-wall (boxes.box_forces), box-sphere (box_sphere.box_sphere_forces) --
-obeys this one law; the drivers find the point (geometry, shear history carried by its
-pair or feature key) and the kinematics of the two bodies there, :func:`point_law` turns
-them into the force and the point's new state, and the drivers apply the force and keep
-the state.  In the jax-md style (Schoenholz & Cubuk, NeurIPS 2020): scalars in, scalars
-out, nothing read from or written to the bodies.  (The planar kernel of the sphere
+box-box, box-wall and box-sphere (boxes.box_forces, in one table) -- obeys this one law;
+the drivers find the point (geometry, shear history carried by its pair or feature key)
+and the kinematics of the two bodies there, :func:`point_law` turns them into the force
+and the point's new state, and the drivers apply the force and keep the state.  In the
+jax-md style (Schoenholz & Cubuk, NeurIPS 2020): scalars in, scalars out, nothing read
+from or written to the bodies.  (The planar kernel of the sphere
 driver, contact.compute_forces_planar, passes the out-of-plane components as zero.)
 
 With ``n`` the unit normal from body i to body j, ``delta`` > 0 the overlap, ``dv`` the
