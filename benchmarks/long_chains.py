@@ -16,8 +16,8 @@ median CPU time of each part of the run:
 with the steps, the engine's CPU time per step and per domino, the dominoes awake on
 average over the run (sampled every 2000 steps), the share of the dense frames (frames x
 dominoes) that the run stores (``chain.frames``) and the front speed fitted from domino 10
-on, and the median over the rounds of the whole run's cost over that of the shortest
-chain.  A cost per domino that does not grow with the chain is the aim; the dominoes awake
+on, and the median (and range) over the rounds of the whole run's cost over that of the
+shortest chain.  A cost per domino that does not grow with the chain is the aim; the dominoes awake
 behind the front set the cost of a step (docs/shape.md, "Sleeping dominoes").
 
 Run:  python benchmarks/long_chains.py [--n 30,100,300] [--repeat 3]
@@ -88,7 +88,7 @@ def main() -> None:
     print(
         f"| dominoes | build [s] | engine [s] | analysis [s] | total [s] | steps | us/step"
         f" | ns per domino-step | awake (mean) | frames stored [%] | speed [m/s]"
-        f" | total over {lengths[0]} |  (median CPU of {args.repeat} interleaved rounds)"
+        f" | total over {lengths[0]} (range) |  (median CPU of {args.repeat} interleaved rounds)"
     )
     print("|---" * 12 + "|")
     for n in lengths:
@@ -96,12 +96,13 @@ def main() -> None:
         total = med["build"] + med["engine"] + med["analysis"]
         per_step = med["engine"] / med["steps"]
         pairs = zip(runs[lengths[0]], runs[n], strict=True)
-        ratio = statistics.median(_total(long) / _total(short) for short, long in pairs)
+        ratios = [_total(long) / _total(short) for short, long in pairs]
         print(
             f"| {n} | {med['build']:.3f} | {med['engine']:.3f} | {med['analysis']:.3f}"
             f" | {total:.3f} | {med['steps']:.0f} | {per_step * 1e6:.1f}"
             f" | {per_step / n * 1e9:.0f} | {med['awake']:.1f} | {100 * med['stored']:.1f}"
-            f" | {med['speed']:.4f} | {ratio:.2f} |",
+            f" | {med['speed']:.4f} | {statistics.median(ratios):.2f}"
+            f" ({min(ratios):.2f}-{max(ratios):.2f}) |",
             flush=True,
         )
 

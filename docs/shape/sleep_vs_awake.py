@@ -86,7 +86,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", default="30,100,300", help="standard chains' lengths")
     parser.add_argument(
-        "--criteria", default="1e-3:1,3e-3:0.5,1e-2:0.5", help="v_s:t_s of each criterion"
+        "--criteria",
+        default="1e-3:1,3e-3:0.5,1e-2:0.5,1e-2:0.25,2e-2:0.5",
+        help="v_s:t_s of each criterion",
     )
     parser.add_argument("--out", default="sleep_vs_awake.csv", help="CSV to write")
     args = parser.parse_args()

@@ -246,10 +246,10 @@ SLEEP_SPEED = 1e-2
 ``sqrt(g l)`` for :data:`SLEEP_TIME` (``DominoChain(sleep=True)``, the default of box
 chains; ``dem.Scene.build``'s ``sleep_speed``): 7 mm/s for the standard domino, against
 front speeds of about ``sqrt(g l)``.  Chosen by the measured error (docs/shape.md,
-"Sleeping dominoes"): it moves the front speeds of the measured chains by at most 3.5e-4
-and their arrivals by at most 4e-4, a fiftieth of the fidelity's default tolerance;
-``3e-3`` (with the same time) moves them by at most 1.5e-4 for about 1.2 times the
-cost."""
+"Sleeping dominoes"): it moves the front speeds and the arrivals of the measured chains
+by at most 3.5e-4, a fiftieth of the fidelity's default tolerance; twice this speed, or
+half of :data:`SLEEP_TIME`, moves them three to four times as much for a saving within
+the spread of single runs, and stricter criteria take up to 1.9 times the time."""
 SLEEP_TIME = 0.5
 """... for this times ``sqrt(l/g)``, the time scale of a domino's fall (35 ms for the
 standard domino)."""
@@ -302,8 +302,8 @@ class DominoChain:
     no cost until a moving body touches or drives it: once every point of it has moved
     slower than ``sleep_speed sqrt(g l)`` for ``sleep_time sqrt(l/g)`` (defaults
     :data:`SLEEP_SPEED`, :data:`SLEEP_TIME`; ``dem.Scene.build``). It changes the front
-    speeds of the measured chains by at most 4e-4 and makes a 300-domino chain cost a
-    fifth of its time awake (docs/shape.md, "Sleeping dominoes"); ``sleep=False`` keeps
+    speeds of the measured chains by at most 3.5e-4 and makes a 300-domino chain cost a
+    tenth of its time awake (docs/shape.md, "Sleeping dominoes"); ``sleep=False`` keeps
     every domino awake.
     """
 
