@@ -28,6 +28,7 @@ __all__ = [
     "critical_tilt",
     "forward_tilt",
     "merge_contacts",
+    "neighbour_intervals",
     "rotate_vectors",
 ]
 
@@ -154,10 +155,32 @@ def contact_intervals(record: ChainRecord, i: int, j: int) -> tuple[np.ndarray, 
     sel = (record.ev_i == a) & (record.ev_j == b)
     t, kind = record.ev_time[sel], record.ev_kind[sel]
     order = np.argsort(t, kind="stable")
-    t, kind = t[order], kind[order]
+    return _intervals(t[order], kind[order], record.end_time)
+
+
+def neighbour_intervals(record: ChainRecord, n: int) -> list[tuple[np.ndarray, np.ndarray]]:
+    """``contact_intervals(record, k, k + 1)`` for ``k = 0 .. n - 2``: the same arrays,
+    from one sort of the event log by pair and time (stable: events at one time keep
+    their order in the log), where a call per pair would scan the whole log each, a cost
+    that grows as the square of the chain."""
+    i, j = record.ev_i, record.ev_j
+    sel = (i >= 0) & (j == i + 1) & (j < n)
+    t, kind, pair = record.ev_time[sel], record.ev_kind[sel], i[sel]
+    order = np.lexsort((t, pair))
+    t, kind, pair = t[order], kind[order], pair[order]
+    start = np.searchsorted(pair, np.arange(n))  # (the first event of each pair)
+    return [
+        _intervals(t[start[k] : start[k + 1]], kind[start[k] : start[k + 1]], record.end_time)
+        for k in range(n - 1)
+    ]
+
+
+def _intervals(t: np.ndarray, kind: np.ndarray, end_time: float):
+    """Onsets and ends [s] of the contacts of one pair from its events in time order
+    (times ``t``, kinds ``kind``); a contact still open ends at ``end_time``."""
     onsets, ends = t[kind == ONSET], t[kind == END]
     if ends.size < onsets.size:  # still touching when the record stopped
-        ends = np.append(ends, record.end_time)
+        ends = np.append(ends, end_time)
     return onsets, ends[: onsets.size]
 
 
@@ -377,24 +400,26 @@ def analyse_events(
     motion = _motions(
         tracks, record.axis, record.base_offset, record.top_offset, floor_tolerance * height
     )
-    # the contacts of each domino with the next
-    intervals = [contact_intervals(record, k, k + 1) for k in range(n - 1)]
+    intervals = neighbour_intervals(record, n)  # (each domino's contacts with the next)
 
-    arrival = np.full(n, np.nan)
+    ev_i, ev_j = record.ev_i, record.ev_j
+    body = (ev_i >= 0) & (ev_j >= 0) & (record.ev_kind == ONSET)
+    # the arrival: the first onset with a lower-numbered domino
+    behind = body & (ev_i < ev_j) & (ev_j < n)
+    first = np.full(n, np.inf)
+    np.minimum.at(first, ev_j[behind], record.ev_time[behind])
+    arrival = np.where(np.isfinite(first), first, np.nan)
     arrival[0] = 0.0
+    two_ahead = np.zeros(n, bool)
+    two_ahead[ev_i[body & (ev_j == ev_i + 2) & (ev_j < n)]] = True
     hits_prev = np.zeros(n, int)
     hits_next = np.zeros(n, int)
     contacts_next = np.zeros(n, int)
     in_passage = np.zeros(n, int)
-    two_ahead = np.zeros(n, bool)
     first_end = np.full(n, np.nan)
     rebound = np.full(n, np.nan)
     mechanism = np.zeros(n, int)
-    body = (record.ev_i >= 0) & (record.ev_j >= 0) & (record.ev_kind == ONSET)
     for k in range(1, n):
-        from_behind = body & (record.ev_j == k) & (record.ev_i < k)
-        if from_behind.any():
-            arrival[k] = float(record.ev_time[from_behind].min())
         # the mechanism, at the first frame after the end of the first hit on k
         on, off = intervals[k - 1]
         f = int(np.searchsorted(times, off[0])) if on.size else times.size
@@ -416,8 +441,6 @@ def analyse_events(
             first_end[k] = off[0]
             later = on[1] if on.size > 1 else record.end_time
             rebound[k] = _lowest_tilt(times, tracks[k], motion[k].theta, off[0], later)
-        if k + 2 < n:
-            two_ahead[k] = bool(np.any(body & (record.ev_i == k) & (record.ev_j == k + 2)))
     return DominoEvents(
         arrival=arrival,
         n_hits_from_prev=hits_prev,

@@ -36,9 +36,9 @@ from dominowave.chain.events import (
     ChainRecord,
     DominoEvents,
     analyse_events,
-    contact_intervals,
     critical_tilt,
     merge_contacts,
+    neighbour_intervals,
 )
 from dominowave.chain.fidelity import ContactFidelity, Fidelity, choose_contact
 from dominowave.chain.fidelity import steps_per_collision as default_steps_per_collision
@@ -769,7 +769,7 @@ class DominoChain:
     def _secondary(self, record: ChainRecord) -> SecondaryWave | None:
         """Wave of second collisions (contacts closer than ``T_c`` merged, as in events)."""
         t_c = self.collision_time()
-        pairs = [contact_intervals(record, k, k + 1) for k in range(self.params.n_dominoes - 1)]
+        pairs = neighbour_intervals(record, self.params.n_dominoes)
         onsets = [merge_contacts(on, off, t_c)[0] for on, off in pairs]
         first, second = first_and_second_onsets(onsets)
         return secondary_wave(first, second, self.positions[1:], merge_lag=t_c)
