@@ -136,3 +136,17 @@ def test_the_contact_force_recorder_keeps_the_rows_of_sleeping_boxes():
             on_box = cf.second[rows] == box
             assert on_box.sum() >= 4
             np.testing.assert_allclose(cf.force[rows][on_box, 2].sum(), weight, rtol=1e-3)
+
+
+def test_a_run_in_pieces_sleeps_as_the_run_in_one():
+    """Two boxes that slide, sleep and wake, run in one piece and in pieces of 7 steps:
+    the same states to the bit.  A run checks its last step, and a piece of 7 steps
+    ends between the check steps (``check_every`` 100); a sleep decision is taken only
+    at those, so where the pieces end changes none."""
+    whole, pieces = _lying_boxes(striker_speed=0.75), _lying_boxes(striker_speed=0.75)
+    whole.run(until=0.3)
+    while pieces.rec.step[0] < whole.rec.step[0]:
+        pieces.run(n_steps=min(7, int(whole.rec.step[0] - pieces.rec.step[0])))
+    assert whole.bodies.held.tolist() == [1, 1]  # (both asleep)
+    for name in ("pos", "quat", "vel", "omega", "held", "calm_since"):
+        np.testing.assert_array_equal(getattr(pieces.bodies, name), getattr(whole.bodies, name))
