@@ -150,3 +150,24 @@ def test_a_run_in_pieces_sleeps_as_the_run_in_one():
     assert whole.bodies.held.tolist() == [1, 1]  # (both asleep)
     for name in ("pos", "quat", "vel", "omega", "held", "calm_since"):
         np.testing.assert_array_equal(getattr(pieces.bodies, name), getattr(whole.bodies, name))
+
+
+def test_frames_record_the_moving_boxes_and_rebuild_every_state():
+    """A run's frames record the boxes that may have moved since the frame before
+    (engine._record_frame): box 0 asleep while box 1 slides has no row, and none is
+    left once both sleep.  Rebuilt (``RunResult.positions``, ...), they are to the bit
+    the states of the same run in pieces of 7 steps, each piece's one frame recorded
+    whole."""
+    whole, pieces = _lying_boxes(striker_speed=0.75), _lying_boxes(striker_speed=0.75)
+    res = whole.run(until=0.3, trajectory_every=7)
+    parts = []
+    while pieces.rec.step[0] < whole.rec.step[0]:
+        left = int(whole.rec.step[0] - pieces.rec.step[0])
+        parts.append(pieces.run(n_steps=min(7, left), trajectory_every=7))
+    assert all(part.times.size == 1 for part in parts)
+    for name in ("times", "positions", "quaternions", "velocities", "angular_velocities"):
+        expected = np.concatenate([getattr(part, name) for part in parts])
+        np.testing.assert_array_equal(getattr(res, name), expected, err_msg=name)
+    rows = np.diff(res.frames.start)
+    assert rows[0] == 2 and 1 in rows and rows[-1] == 0
+    assert 1 in res.frames.first[rows == 1]  # (box 1 alone, box 0 asleep)

@@ -5,30 +5,28 @@ a frame repeats the frame before it: the dominoes ahead of the wave stand, those
 it sleep. Dense frames (frames x dominoes) grow as the square of the chain's length
 (about 270 MB for 300 standard dominoes), and so does every pass over them.
 
-:class:`SparseFrames` keeps the frames in blocks of at most :data:`BLOCK` consecutive
-frames. A block stores the dominoes whose state (any bit of position, orientation,
-velocity or angular velocity) differs in one of its frames from their state before the
-block; every other domino carries its last stored state through the block. So
-:meth:`SparseFrames.dense` rebuilds every frame to the bit, and each domino's
-:class:`Track` (the frames of the blocks that store it) holds every distinct state it
-went through: a value that depends on one frame's state is, at any frame, its value at
-the last frame of the track at or before it (:meth:`Track.at`).
+:class:`SparseFrames` keeps a row (frame, domino, state) for every domino at the first
+frame, and after it for a domino in a frame where its state may have changed: from dense
+frames, where any bit of its position, orientation, velocity or angular velocity differs
+from the frame before; from the engine's frames (``dem.FrameRows``), where the engine
+recorded it (the bodies that were not held since the frame before).  Every other domino
+carries its last stored state. So :meth:`SparseFrames.dense` rebuilds every frame to
+the bit, and each domino's :class:`Track` (its rows) holds every distinct state it went
+through: a value that depends on one frame's state is, at any frame, its value at the
+last frame of the track at or before it (:meth:`Track.at`).
 """
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["BLOCK", "FIELDS", "SparseFrames", "Track"]
+__all__ = ["FIELDS", "SparseFrames", "Track"]
 
 FIELDS = ("positions", "quaternions", "velocities", "angular_velocities")
 """The per-body arrays of a frame (``dem`` run result names): (F, N, 3 or 4) each."""
-
-BLOCK = 64
-"""Frames per block: a domino that moves in one frame of a block is stored for the whole
-block, so short blocks store less and long ones cost less bookkeeping."""
 
 
 @dataclass(frozen=True)
@@ -64,8 +62,10 @@ class SparseFrames:
         self._times = [np.asarray(first["times"], float)]
         self._last = {k: np.array(first[k][0]) for k in FIELDS}  # (N, d) the latest state
         n = self._last[FIELDS[0]].shape[0]
-        # blocks: (first frame, stored dominoes (C,), {field: (frames, C, d)})
-        self._blocks = [(0, np.arange(n), {k: np.array(first[k]) for k in FIELDS})]
+        # pieces of rows, in frame order: (frame (R,), domino (R,), {field: (R, d)})
+        self._rows = [
+            (np.zeros(n, np.int64), np.arange(n), {k: np.array(first[k][0]) for k in FIELDS})
+        ]
         self.n_frames = 1
 
     @classmethod
@@ -88,56 +88,72 @@ class SparseFrames:
         return self._times[0]
 
     def append(self, piece: dict[str, np.ndarray]) -> None:
-        """Add the frames of ``piece`` (``times`` (F,) and :data:`FIELDS` (F, N, d))."""
-        times = np.asarray(piece["times"], float)
-        for lo in range(0, times.size, BLOCK):
-            hi = min(times.size, lo + BLOCK)
-            self._add_block(times[lo:hi], {k: piece[k][lo:hi] for k in FIELDS})
-
-    def _add_block(self, times: np.ndarray, block: dict[str, np.ndarray]) -> None:
-        """Store the frames ``block`` (at most :data:`BLOCK`) of the dominoes that changed."""
-        changed = np.zeros(self.n_bodies, bool)
+        """Add the frames of ``piece`` (``times`` (F,) and :data:`FIELDS` (F, N, d)): a
+        row for each domino in each frame where its state differs from the frame before."""
+        changed = np.zeros(piece[FIELDS[0]].shape[:2], bool)  # (F, N)
         for k in FIELDS:
             # bit for bit: -0.0 is not 0.0, and a NaN is itself
-            now = np.ascontiguousarray(block[k]).view(np.int64)
-            # (over the frames first: that reduction runs along contiguous memory)
-            changed |= (now != self._last[k].view(np.int64)).any(axis=0).any(axis=1)
-        cols = np.flatnonzero(changed)
-        self._blocks.append((self.n_frames, cols, {k: block[k][:, cols] for k in FIELDS}))
+            now = np.ascontiguousarray(piece[k]).view(np.int64)
+            changed[:1] |= (now[:1] != self._last[k].view(np.int64)).any(axis=2)
+            changed[1:] |= (now[1:] != now[:-1]).any(axis=2)
+        frame, body = np.nonzero(changed)
+        self._add_rows(frame, body, {k: piece[k][frame, body] for k in FIELDS})
+        self._add_times(piece["times"])
+
+    def append_rows(self, rows) -> None:
+        """Add the frames of one ``dem`` run as the engine records them
+        (``dem.FrameRows``): its rows, but those of its first frame (which has every
+        body) only where the state differs from the one before."""
+        frame, body = rows.frame_and_body()
+        n0 = rows.start[min(1, rows.times.size)]  # (the rows of the first frame)
+        changed = np.zeros(n0, bool)
         for k in FIELDS:
-            self._last[k] = np.array(block[k][-1])
-        self._times.append(times)
-        self.n_frames += times.size
+            now = getattr(rows, k)[:n0].view(np.int64)
+            changed |= (now != self._last[k][body[:n0]].view(np.int64)).any(axis=1)
+        kept = np.flatnonzero(changed)
+        self._add_rows(frame[kept], body[kept], {k: getattr(rows, k)[kept] for k in FIELDS})
+        self._add_rows(frame[n0:], body[n0:], {k: getattr(rows, k)[n0:] for k in FIELDS})
+        self._add_times(rows.times)
+
+    def _add_rows(self, frame, body, values) -> None:
+        """Add the rows ``frame`` (R,) (frame indices of the frames being added,
+        ascending), ``body`` (R,) and ``values`` (:data:`FIELDS` (R, d))."""
+        # each domino's latest state: its last row
+        latest, last = np.unique(body[::-1], return_index=True)
+        for k in FIELDS:
+            self._last[k][latest] = values[k][body.size - 1 - last]
+        self._rows.append((frame + self.n_frames, body, values))
+
+    def _add_times(self, times) -> None:
+        """Add frames at ``times`` (F,) [s], after their rows."""
+        self._times.append(np.asarray(times, float))
+        self.n_frames += len(times)
+
+    def _joined(self) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
+        """Every row: ``(frame, domino, values)``, in frame order."""
+        if len(self._rows) > 1:
+            frame, body, values = zip(*self._rows, strict=True)
+            joined = {k: np.concatenate([v[k] for v in values]) for k in FIELDS}
+            self._rows[:] = [(np.concatenate(frame), np.concatenate(body), joined)]
+        return self._rows[0]
 
     def dense(self) -> dict[str, np.ndarray]:
         """Every frame: ``times`` (F,) and :data:`FIELDS` (F, N, d), as recorded."""
-        out = {"times": self.times.copy()}
-        for k in FIELDS:
-            arr = np.empty((self.n_frames, *self._last[k].shape))
-            for start, cols, data in self._blocks:
-                stop = start + data[k].shape[0]
-                if start > 0:
-                    arr[start:stop] = arr[start - 1]  # (the dominoes not stored carry on)
-                arr[start:stop, cols] = data[k]
-            out[k] = arr
-        return out
+        frame, body, values = self._joined()
+        # the row each domino's state at each frame comes from: its last row up to it
+        # (rows ascend by frame, and the first frame has one for every domino)
+        source = np.full((self.n_frames, self.n_bodies), -1)
+        source[frame, body] = np.arange(frame.size)
+        np.maximum.accumulate(source, axis=0, out=source)
+        return {"times": self.times.copy(), **{k: values[k][source] for k in FIELDS}}
 
     def tracks(self) -> list[Track]:
-        """Each domino's :class:`Track`: the frames of the blocks that store it."""
-        # (block, column in it) of every block that stores each domino
-        parts: list[list[tuple[int, int]]] = [[] for _ in range(self.n_bodies)]
-        for b, (_, cols, _) in enumerate(self._blocks):
-            for j, k in enumerate(cols):
-                parts[k].append((b, j))
+        """Each domino's :class:`Track`: its rows."""
+        frame, body, values = self._joined()
+        order = np.argsort(body, kind="stable")  # (by domino, each in frame order)
+        bounds = np.searchsorted(body[order], np.arange(self.n_bodies + 1))
         out = []
-        for k in range(self.n_bodies):
-            blocks = [self._blocks[b] for b, _ in parts[k]]
-            frames = np.concatenate([np.arange(s, s + d[FIELDS[0]].shape[0]) for s, _, d in blocks])
-            arrays = [
-                np.concatenate(
-                    [d[f][:, j] for (_, _, d), (_, j) in zip(blocks, parts[k], strict=True)]
-                )
-                for f in FIELDS
-            ]
-            out.append(Track(frames, *arrays))
+        for lo, hi in itertools.pairwise(bounds):
+            rows = order[lo:hi]
+            out.append(Track(frame[rows], *(values[k][rows] for k in FIELDS)))
         return out

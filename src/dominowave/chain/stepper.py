@@ -160,7 +160,7 @@ class ChainStepper:
     def _keep(self, res) -> None:
         """Append the frames and events of one engine call, count its steps."""
         self.steps += int(res.n_steps)
-        self.frames.append({k: getattr(res, k) for k in _FRAMES})
+        self.frames.append_rows(res.frames)
         for k in _EVENTS:
             self.events[k].append(np.asarray(getattr(res.events, k)))
         self.reached = max(self.reached, _highest_hit(res.events.body_j, res.events.kind))

@@ -13,6 +13,7 @@ from dominowave.dem.scene import Scene
 from dominowave.dem.simulation import (
     ContactEvents,
     ContactFrames,
+    FrameRows,
     PairStats,
     RunResult,
     Simulation,
@@ -27,6 +28,7 @@ __all__ = [
     "ONSET",
     "ContactEvents",
     "ContactFrames",
+    "FrameRows",
     "Material",
     "PairStats",
     "RunResult",

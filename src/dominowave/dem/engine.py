@@ -171,12 +171,16 @@ Recorder = namedtuple(
         "ev_j",  # (E,) int64 body, or -(wall + 1)
         "ev_kind",  # (E,) int8 ONSET / END
         "traj_every",  # (1,) int64, 0 = off
-        "traj_n",  # (1,) int64
-        "traj_t",  # (F,)
-        "traj_pos",  # (F, nb, 3)
-        "traj_quat",  # (F, nb, 4)
-        "traj_vel",  # (F, nb, 3)
-        "traj_omega",  # (F, nb, 3)
+        "traj_n",  # (1,) int64 trajectory frames recorded
+        "traj_t",  # (F,) time of each frame [s]
+        "traj_first",  # (F,) int64 the body of each frame's first row (_record_frame)
+        "traj_start",  # (F + 1,) int64 first row of each frame, then the rows recorded
+        "traj_span",  # (2,) int64 [lo, hi): every body that may have moved since the
+        #   last frame lies in range(lo, hi) (_record_frame)
+        "traj_pos",  # (R, 3) [m], a row per body of a frame
+        "traj_quat",  # (R, 4)
+        "traj_vel",  # (R, 3) [m/s]
+        "traj_omega",  # (R, 3) [rad/s]
         "cf_on",  # (1,) int64: 1 = record the contact forces at trajectory frames
         "cf_n",  # (1,) int64 contact rows recorded
         "cf_start",  # (F,) int64 first contact row of each trajectory frame
@@ -384,17 +388,40 @@ def _count_wall_change(rec, bi, j, kind, te):
 
 
 @inner_kernel(_nrt=False)
-def _record_frame(bodies, rec, t):
+def _record_frame(bodies, rec, t, first_moving, stop_moving):
+    """Append trajectory frame ``traj_n`` at time t [s]: the rows of the bodies of
+    ``range(lo, hi)``, the span of the bodies that may have moved since the last frame
+    (``rec.traj_span``, widened by :func:`_widen_span`) and of those moving now.
+
+    A body outside it has been held since the last frame: it is where it was, at rest,
+    so the frame leaves it out and it keeps its row of an earlier frame (the first frame
+    of a run has every body: Simulation.run sets the span to all).  A chain held until
+    touched then records its moving dominoes, not all of them (simulation.FrameRows)."""
     f = rec.traj_n[0]
-    rec.traj_t[f] = t
-    for b in range(bodies.mass.shape[0]):
+    span = rec.traj_span
+    lo = min(span[0], first_moving)
+    hi = max(span[1], stop_moving, lo)  # (lo: no body moved, an empty frame)
+    row = rec.traj_start[f] - lo
+    for b in range(lo, hi):
         for k in range(3):
-            rec.traj_pos[f, b, k] = bodies.pos[b, k]
-            rec.traj_vel[f, b, k] = bodies.vel_full[b, k]
-            rec.traj_omega[f, b, k] = bodies.omega_full[b, k]
+            rec.traj_pos[row + b, k] = bodies.pos[b, k]
+            rec.traj_vel[row + b, k] = bodies.vel_full[b, k]
+            rec.traj_omega[row + b, k] = bodies.omega_full[b, k]
         for k in range(4):
-            rec.traj_quat[f, b, k] = bodies.quat[b, k]
+            rec.traj_quat[row + b, k] = bodies.quat[b, k]
+    rec.traj_t[f] = t
+    rec.traj_first[f] = lo
+    rec.traj_start[f + 1] = row + hi
     rec.traj_n[0] = f + 1
+    span[0], span[1] = first_moving, stop_moving
+
+
+@inline_kernel()
+def _widen_span(rec, first_moving, stop_moving):
+    """The moving bodies changed (a release or a sleep): the next frame records the new
+    ``range(first_moving, stop_moving)`` too (``rec.traj_span``, :func:`_record_frame`)."""
+    rec.traj_span[0] = min(rec.traj_span[0], first_moving)
+    rec.traj_span[1] = max(rec.traj_span[1], stop_moving)
 
 
 @inner_kernel()
@@ -659,7 +686,10 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
             step = rec.step[0]
             traj_due = rec.traj_every[0] > 0 and step % rec.traj_every[0] == 0
             energy_due = rec.energy_every[0] > 0 and step % rec.energy_every[0] == 0
-            if traj_due and rec.traj_n[0] == rec.traj_t.shape[0]:
+            if traj_due and (
+                rec.traj_n[0] == rec.traj_t.shape[0]
+                or rec.traj_pos.shape[0] - rec.traj_start[rec.traj_n[0]] < bodies.mass.shape[0]
+            ):
                 outcome, steps = GROW_TRAJECTORY, done
                 break
             if energy_due and rec.energy_n[0] == rec.energy_t.shape[0]:
@@ -737,6 +767,7 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
                 )
             if released:  # (the held flags changed)
                 first_moving, stop_moving = _moving_range(bodies)
+                _widen_span(rec, first_moving, stop_moving)
                 if BOXES:
                     held_flags_changed(bodies, boxes)
             if settings.record_peak_force:
@@ -805,7 +836,7 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
                     if BOXES:
                         _record_box_contact_forces(rec, boxes)
                 if traj_due:
-                    _record_frame(bodies, rec, t)
+                    _record_frame(bodies, rec, t, first_moving, stop_moving)
                 if energy_due:
                     k = rec.energy_n[0]
                     rec.energy_t[k] = t
@@ -846,6 +877,7 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
                         )
                     if slept:  # (the held flags changed)
                         first_moving, stop_moving = _moving_range(bodies)
+                        _widen_span(rec, first_moving, stop_moving)
                         held_flags_changed(bodies, boxes)
                 if PLANAR:
                     drift_planar(bodies, dt, first_moving, stop_moving)

@@ -4,6 +4,7 @@ its buffers, returns recorded data, saves and restores checkpoints."""
 from __future__ import annotations
 
 import copy
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -36,6 +37,7 @@ from dominowave.dem.state import (
 __all__ = [
     "ContactEvents",
     "ContactFrames",
+    "FrameRows",
     "PairStats",
     "RunResult",
     "Simulation",
@@ -50,6 +52,15 @@ STOP_REASONS = {
     engine.STOP_KINETIC: "kinetic",
     engine.STOP_AT_REST: "at_rest",
 }
+
+_FRAME_ROWS = {
+    "positions": "traj_pos",
+    "quaternions": "traj_quat",
+    "velocities": "traj_vel",
+    "angular_velocities": "traj_omega",
+}
+"""The fields of :class:`FrameRows` and the recorder's rows they come from
+(engine._record_frame)."""
 
 STATE_FORMAT = 7
 """Version of the layout of :meth:`Simulation.get_state` (key ``state_format``).
@@ -224,21 +235,86 @@ class PairStats:
 
 
 @dataclass(frozen=True)
+class FrameRows:
+    """The trajectory frames of one run as the engine records them: frame ``f`` has a
+    row for each body of ``range(first[f], first[f] + start[f + 1] - start[f])``, its
+    rows ``start[f]:start[f + 1]``; the first frame has every body.  A body a frame
+    leaves out was held since the frame before it (untouched or asleep: engine.py), so
+    it has, to the bit, its state of that frame.  In a chain held until touched a frame
+    holds the moving dominoes, not all of them.
+
+    n_bodies: the bodies of a frame; times (F,) [s]; first (F,) int64; start (F + 1,)
+    int64; per row (R,): positions (R, 3) [m], quaternions (R, 4) (w, x, y, z),
+    velocities (R, 3) [m/s] and angular_velocities (R, 3) [rad/s] (full-step values,
+    t_n)."""
+
+    n_bodies: int
+    times: np.ndarray
+    first: np.ndarray
+    start: np.ndarray
+    positions: np.ndarray
+    quaternions: np.ndarray
+    velocities: np.ndarray
+    angular_velocities: np.ndarray
+
+    def frame_and_body(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(frame, body)`` (R,) int64 each: the frame and the body of every row."""
+        frame = np.repeat(np.arange(self.times.size), np.diff(self.start))
+        return frame, self.first[frame] + np.arange(frame.size) - self.start[frame]
+
+    def dense(self, name: str) -> np.ndarray:
+        """(F, n_bodies, d) field ``name`` at every frame, of every body: its row of the
+        last frame up to it that has one."""
+        frame, body = self.frame_and_body()
+        # (rows ascend by frame, and the first frame has a row of every body)
+        source = np.zeros((self.times.size, self.n_bodies), np.int64)
+        source[frame, body] = np.arange(frame.size)
+        np.maximum.accumulate(source, axis=0, out=source)
+        return getattr(self, name)[source]
+
+
+@dataclass(frozen=True)
 class RunResult:
-    """What one :meth:`Simulation.run` recorded (frames at full steps t_n)."""
+    """What one :meth:`Simulation.run` recorded (frames at full steps t_n).
+
+    ``frames`` holds the trajectory frames as recorded (:class:`FrameRows`); ``times``
+    (F,) and the dense ``positions`` (F, nb, 3), ``quaternions`` (F, nb, 4),
+    ``velocities`` (F, nb, 3) and ``angular_velocities`` (F, nb, 3) are built from it
+    on first use."""
 
     stop_reason: str
     n_steps: int
     time: float
-    times: np.ndarray  # (F,)
-    positions: np.ndarray  # (F, nb, 3)
-    quaternions: np.ndarray  # (F, nb, 4)
-    velocities: np.ndarray  # (F, nb, 3)
-    angular_velocities: np.ndarray  # (F, nb, 3)
+    frames: FrameRows
     energy_times: np.ndarray  # (G,)
     energy: dict = field(default_factory=dict)  # name -> (G,)
     events: ContactEvents | None = None
     contact_frames: ContactFrames | None = None  # with record_contact_forces=True
+
+    @property
+    def times(self) -> np.ndarray:
+        """(F,) [s] the time of every frame."""
+        return self.frames.times
+
+    @functools.cached_property
+    def positions(self) -> np.ndarray:
+        """(F, nb, 3) [m] every body's centre of mass at every frame."""
+        return self.frames.dense("positions")
+
+    @functools.cached_property
+    def quaternions(self) -> np.ndarray:
+        """(F, nb, 4) every body's orientation (w, x, y, z) at every frame."""
+        return self.frames.dense("quaternions")
+
+    @functools.cached_property
+    def velocities(self) -> np.ndarray:
+        """(F, nb, 3) [m/s] every body's velocity at every frame."""
+        return self.frames.dense("velocities")
+
+    @functools.cached_property
+    def angular_velocities(self) -> np.ndarray:
+        """(F, nb, 3) [rad/s] every body's angular velocity at every frame."""
+        return self.frames.dense("angular_velocities")
 
 
 def _symmetric(a, fill):
@@ -640,6 +716,7 @@ class Simulation:
         r.ev_n[0] = 0
         r.traj_every[0] = trajectory_every
         r.traj_n[0] = 0
+        r.traj_span[:] = 0, self.n_bodies  # (the first frame has every body)
         r.energy_every[0] = energy_every
         r.energy_n[0] = 0
         r.cf_on[0] = 1 if record_contact_forces else 0
@@ -699,20 +776,14 @@ class Simulation:
                     for k in ("ev_time", "ev_i", "ev_j", "ev_kind")
                 }
             )
-        elif code == engine.GROW_TRAJECTORY:
+        elif code == engine.GROW_TRAJECTORY:  # (room for a frame of every body)
             need = 2 * r.traj_t.shape[0] + 16
+            rows = 2 * r.traj_pos.shape[0] + self.n_bodies
             self.rec = r._replace(
-                **{
-                    k: _grow_rows(getattr(r, k), need)
-                    for k in (
-                        "traj_t",
-                        "traj_pos",
-                        "traj_quat",
-                        "traj_vel",
-                        "traj_omega",
-                        "cf_start",
-                    )
-                }
+                **{k: _grow_rows(getattr(r, k), need) for k in ("traj_t", "traj_first")},
+                traj_start=_grow_rows(r.traj_start, need + 1),
+                cf_start=_grow_rows(r.cf_start, need),
+                **{k: _grow_rows(getattr(r, k), rows) for k in _FRAME_ROWS.values()},
             )
         elif code == engine.GROW_ENERGY:
             need = 2 * r.energy_t.shape[0] + 16
@@ -748,11 +819,13 @@ class Simulation:
             stop_reason=reason,
             n_steps=n_steps,
             time=self.time,
-            times=r.traj_t[:f].copy(),
-            positions=r.traj_pos[:f].copy(),
-            quaternions=r.traj_quat[:f].copy(),
-            velocities=r.traj_vel[:f].copy(),
-            angular_velocities=r.traj_omega[:f].copy(),
+            frames=FrameRows(
+                n_bodies=self.n_bodies,
+                times=r.traj_t[:f].copy(),
+                first=r.traj_first[:f].copy(),
+                start=r.traj_start[: f + 1].copy(),
+                **{k: getattr(r, v)[: r.traj_start[f]].copy() for k, v in _FRAME_ROWS.items()},
+            ),
             energy_times=r.energy_t[:g].copy(),
             energy={name: r.energy_val[:g, k].copy() for k, name in enumerate(ENERGY_NAMES)},
             events=events,
@@ -781,10 +854,10 @@ class Simulation:
         "ev_j",
         "ev_kind",
         "traj_t",
-        "traj_pos",
-        "traj_quat",
-        "traj_vel",
-        "traj_omega",
+        "traj_first",
+        "traj_start",
+        "traj_span",
+        *_FRAME_ROWS.values(),
         "cf_on",
         "cf_n",
         "cf_start",
@@ -961,10 +1034,13 @@ def _empty_recorder(nb, nw, capacity, record_pairs):
         traj_every=np.zeros(1, np.int64),
         traj_n=np.zeros(1, np.int64),
         traj_t=np.zeros(0),
-        traj_pos=np.zeros((0, nb, 3)),
-        traj_quat=np.zeros((0, nb, 4)),
-        traj_vel=np.zeros((0, nb, 3)),
-        traj_omega=np.zeros((0, nb, 3)),
+        traj_first=np.zeros(0, np.int64),
+        traj_start=np.zeros(1, np.int64),
+        traj_span=np.zeros(2, np.int64),
+        traj_pos=np.zeros((0, 3)),
+        traj_quat=np.zeros((0, 4)),
+        traj_vel=np.zeros((0, 3)),
+        traj_omega=np.zeros((0, 3)),
         cf_on=np.zeros(1, np.int64),
         cf_n=np.zeros(1, np.int64),
         cf_start=np.zeros(0, np.int64),
