@@ -152,8 +152,8 @@ class SparseFrames:
         frame, body, values = self._joined()
         order = np.argsort(body, kind="stable")  # (by domino, each in frame order)
         bounds = np.searchsorted(body[order], np.arange(self.n_bodies + 1))
-        out = []
-        for lo, hi in itertools.pairwise(bounds):
-            rows = order[lo:hi]
-            out.append(Track(frame[rows], *(values[k][rows] for k in FIELDS)))
-        return out
+        frame, columns = frame[order], [values[k][order] for k in FIELDS]
+        return [
+            Track(frame[lo:hi], *(c[lo:hi] for c in columns))
+            for lo, hi in itertools.pairwise(bounds)
+        ]
