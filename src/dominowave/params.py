@@ -2,7 +2,8 @@
 
 A scenario's parameter class (e.g. :class:`dominowave.chain.ChainParams`) declares each
 field with :func:`parameter`: its default, SI unit, one-line description and valid
-range (or the choices of a categorical field). That one declaration is
+range (or, with :func:`choice`, the values of a categorical field, from its ``Literal``
+type). That one declaration is
 
 * checked when an instance is made (:func:`check_parameters`, the same one-line errors
   as :mod:`dominowave.checks`: name, value, valid range), and
@@ -20,11 +21,11 @@ import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, get_args
 
 from dominowave.checks import check_in_range
 
-__all__ = ["ParameterSpec", "check_parameters", "parameter", "parameter_specs"]
+__all__ = ["ParameterSpec", "check_parameters", "choice", "parameter", "parameter_specs"]
 
 
 @dataclass(frozen=True)
@@ -102,6 +103,19 @@ def parameter(
         unit, doc, gt, ge, lt, le, allow_inf, None if choices is None else tuple(choices), group
     )
     return dataclasses.field(default=default, metadata={"parameter": spec})
+
+
+_FIRST = object()
+"""The default of :func:`choice`: the first of the choices."""
+
+
+def choice(kind, doc: str, *, default: Any = _FIRST, group: str = "") -> Any:
+    """A :func:`parameter` that takes one of the values of ``kind`` (a ``typing.Literal``,
+    the field's type), without a unit; its default the first of them, or ``default``
+    (None: not set)."""
+    values = get_args(kind)
+    default = values[0] if default is _FIRST else default
+    return parameter(default, "", doc, choices=values, group=group)
 
 
 def parameter_specs(cls) -> dict[str, tuple[dataclasses.Field, ParameterSpec]]:

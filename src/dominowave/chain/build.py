@@ -87,7 +87,7 @@ from typing import Literal
 import numpy as np
 
 from dominowave.checks import check_in_range
-from dominowave.params import check_parameters, parameter
+from dominowave.params import check_parameters, choice, parameter
 from dominowave.theory import contact_stiffness, contact_stiffness_from_material
 from dominowave.units import G_STANDARD, k_star
 
@@ -137,11 +137,9 @@ class ChainParams:
     """
 
     n_dominoes: int = parameter(30, "", "number of dominoes", ge=2, le=100_000, group="layout")
-    shape: Shape = parameter(
-        "clump",
-        "",
+    shape: Shape = choice(
+        Shape,
         "domino shape: clump (a clump of spheres, the paper's) or box (one rounded cuboid)",
-        choices=("clump", "box"),
         group="shape",
     )
     height: float = parameter(0.05, "m", "domino height l", gt=0, group="shape")
@@ -186,12 +184,10 @@ class ChainParams:
     young: float | None = parameter(
         None, "Pa", "Young's modulus (with young_rule)", gt=0, group="contact"
     )
-    normal_law: NormalLaw = parameter(
-        "linear",
-        "",
+    normal_law: NormalLaw = choice(
+        NormalLaw,
         "normal force of a contact point: linear (k_n delta) or hertz (box with young: 4/3 E*"
         " sqrt(r) delta^{3/2})",
-        choices=("linear", "hertz"),
         group="contact",
     )
     poisson: float | None = parameter(
@@ -202,12 +198,8 @@ class ChainParams:
         lt=0.5,
         group="contact",
     )
-    young_rule: YoungRule = parameter(
-        "paper",
-        "",
-        "k_n from young: paper pi R E / 2 (eq 24) or yade E R",
-        choices=("paper", "yade"),
-        group="contact",
+    young_rule: YoungRule = choice(
+        YoungRule, "k_n from young: paper pi R E / 2 (eq 24) or yade E R", group="contact"
     )
     kt_ratio: float = parameter(
         1.0,
@@ -217,11 +209,9 @@ class ChainParams:
         allow_inf=True,
         group="contact",
     )
-    shear_kinematics: ShearKinematics = parameter(
-        "contact_point",
-        "",
+    shear_kinematics: ShearKinematics = choice(
+        ShearKinematics,
         "tangential spring rate: contact_point (material points, the default) or yade",
-        choices=("contact_point", "yade"),
         group="contact",
     )
     friction_dominoes: float = parameter(
@@ -255,9 +245,7 @@ class ChainParams:
         le=1,
         group="contact",
     )
-    model: Model = parameter(
-        "2d", "", "2d: xz plane only; 3d: free", choices=("2d", "3d"), group="layout"
-    )
+    model: Model = choice(Model, "2d: xz plane only; 3d: free", group="layout")
     spheres_per_column: int | None = parameter(
         None,
         "",
@@ -265,11 +253,10 @@ class ChainParams:
         ge=2,
         group="shape",
     )
-    base: Base | None = parameter(
-        None,
-        "",
+    base: Base | None = choice(
+        Base,
         "clump only: one bottom sphere, or two half-size (not set: one)",
-        choices=("one", "two"),
+        default=None,
         group="shape",
     )
     held: bool = parameter(

@@ -30,9 +30,13 @@ from dataclasses import dataclass
 from typing import Literal
 
 from dominowave.chain.build import ChainParams
-from dominowave.params import check_parameters, parameter
+from dominowave.params import check_parameters, choice, parameter
 
 __all__ = ["HingedChainParams", "RodsParams", "TheoryParams"]
+
+StiffnessConvention = Literal["paper", "contact"]
+MassModel = Literal["point", "rod", "block"]
+ContactNormal = Literal["geometric", "head-on"]
 
 _CHAIN = ChainParams()
 """The chain's default domino, the default of every scenario kind."""
@@ -89,11 +93,9 @@ class HingedChainParams:
 class TheoryParams(HingedChainParams):
     """The chain the closed-form theory describes (eqs 2-42)."""
 
-    stiffness_convention: Literal["paper", "contact"] = parameter(
-        "paper",
-        "",
+    stiffness_convention: StiffnessConvention = choice(
+        StiffnessConvention,
         "paper: k per particle, contact spring k_r = k/2 (eqs 22-24); contact: k_r = k (YADE)",
-        choices=("paper", "contact"),
     )
     friction_floor: float = parameter(
         0.3, "", "domino-floor friction coefficient mu (eqs 38-42)", ge=0
@@ -110,17 +112,11 @@ class RodsParams(HingedChainParams):
     stiffness_ratio: float | None = parameter(
         1e4, "", "contact stiffness as k / k* with k* = m g / l (Fig 4); replaces stiffness", gt=0
     )
-    mass_model: Literal["point", "rod", "block"] = parameter(
-        "point",
-        "",
-        "mass distribution: point mass at the tip (the paper's), thin rod, block",
-        choices=("point", "rod", "block"),
+    mass_model: MassModel = choice(
+        MassModel, "mass distribution: point mass at the tip (the paper's), thin rod, block"
     )
-    normal: Literal["geometric", "head-on"] = parameter(
-        "geometric",
-        "",
-        "contact normal: from the geometry, or head-on as in the theory",
-        choices=("geometric", "head-on"),
+    normal: ContactNormal = choice(
+        ContactNormal, "contact normal: from the geometry, or head-on as in the theory"
     )
     damping_ratio: float = parameter(
         0.0, "", "dashpot damping ratio zeta of a contact (0 = elastic)", ge=0, lt=1
