@@ -4,7 +4,6 @@ its buffers, returns recorded data, saves and restores checkpoints."""
 from __future__ import annotations
 
 import copy
-import functools
 import math
 from dataclasses import dataclass, field
 
@@ -273,6 +272,21 @@ class FrameRows:
         return getattr(self, name)[source]
 
 
+class _DenseFrames:
+    """A field of :class:`FrameRows` as dense (F, nb, d) frames of a :class:`RunResult`,
+    built from ``result.frames`` on first use and kept."""
+
+    def __set_name__(self, owner, name):
+        self.name = name
+
+    def __get__(self, result, owner=None):
+        if result is None:
+            return self
+        value = result.frames.dense(self.name)
+        result.__dict__[self.name] = value  # (kept: an attribute of the instance now)
+        return value
+
+
 @dataclass(frozen=True)
 class RunResult:
     """What one :meth:`Simulation.run` recorded (frames at full steps t_n).
@@ -296,25 +310,10 @@ class RunResult:
         """(F,) [s] the time of every frame."""
         return self.frames.times
 
-    @functools.cached_property
-    def positions(self) -> np.ndarray:
-        """(F, nb, 3) [m] every body's centre of mass at every frame."""
-        return self.frames.dense("positions")
-
-    @functools.cached_property
-    def quaternions(self) -> np.ndarray:
-        """(F, nb, 4) every body's orientation (w, x, y, z) at every frame."""
-        return self.frames.dense("quaternions")
-
-    @functools.cached_property
-    def velocities(self) -> np.ndarray:
-        """(F, nb, 3) [m/s] every body's velocity at every frame."""
-        return self.frames.dense("velocities")
-
-    @functools.cached_property
-    def angular_velocities(self) -> np.ndarray:
-        """(F, nb, 3) [rad/s] every body's angular velocity at every frame."""
-        return self.frames.dense("angular_velocities")
+    positions = _DenseFrames()  # (F, nb, 3) [m] centres of mass
+    quaternions = _DenseFrames()  # (F, nb, 4) orientations (w, x, y, z)
+    velocities = _DenseFrames()  # (F, nb, 3) [m/s]
+    angular_velocities = _DenseFrames()  # (F, nb, 3) [rad/s]
 
 
 def _symmetric(a, fill):
