@@ -5,7 +5,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
-from typing import Annotated
+from typing import Annotated, Literal
 
 import pytest
 from hypothesis import given
@@ -14,7 +14,7 @@ from pydantic import TypeAdapter, ValidationError
 
 from dominowave.chain import ChainParams
 from dominowave.io.models import ChainScenario
-from dominowave.params import ParameterSpec, check_parameters, parameter, parameter_specs
+from dominowave.params import ParameterSpec, check_parameters, choice, parameter, parameter_specs
 
 
 @dataclasses.dataclass(frozen=True)
@@ -95,3 +95,21 @@ def test_class_and_schema_accept_the_same_values(name, value):
     except ValidationError:
         schema_ok = False
     assert class_ok == schema_ok, (name, value)
+
+
+def test_a_choice_takes_its_values_and_default_from_its_literal_type():
+    """``choice`` declares a categorical field from its Literal type: the values in their
+    order, the first the default unless another is given, no unit; anything but a
+    Literal is refused."""
+    Mode = Literal["small", "large"]
+    spec_field = choice(Mode, "amplitude model", group="model")
+    spec = spec_field.metadata["parameter"]
+    assert (spec_field.default, spec.choices, spec.unit, spec.group) == (
+        "small",
+        ("small", "large"),
+        "",
+        "model",
+    )
+    assert choice(Mode, "amplitude model", default=None).default is None
+    with pytest.raises(TypeError, match="Literal"):
+        choice(Mode | None, "amplitude model")

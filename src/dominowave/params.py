@@ -21,7 +21,7 @@ import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, get_args
+from typing import Any, Literal, get_args, get_origin
 
 from dominowave.checks import check_in_range
 
@@ -113,6 +113,8 @@ def choice(kind, doc: str, *, default: Any = _FIRST, group: str = "") -> Any:
     """A :func:`parameter` that takes one of the values of ``kind`` (a ``typing.Literal``,
     the field's type), without a unit; its default the first of them, or ``default``
     (None: not set)."""
+    if get_origin(kind) is not Literal:
+        raise TypeError(f"choice needs a typing.Literal of the values, not {kind!r}")
     values = get_args(kind)
     default = values[0] if default is _FIRST else default
     return parameter(default, "", doc, choices=values, group=group)

@@ -2,6 +2,7 @@
 again, its rows with the floor and other resting boxes are put aside as they were, and a
 moving body wakes it (engine._sleep_and_wake, boxes.box_forces)."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -171,3 +172,20 @@ def test_frames_record_the_moving_boxes_and_rebuild_every_state():
     rows = np.diff(res.frames.start)
     assert rows[0] == 2 and 1 in rows and rows[-1] == 0
     assert 1 in res.frames.first[rows == 1]  # (box 1 alone, box 0 asleep)
+    # in pieces of 10 steps, most of whose frames are not their first step's
+    tens = _lying_boxes(striker_speed=0.75)
+    parts = []
+    while tens.rec.step[0] < whole.rec.step[0]:
+        left = int(whole.rec.step[0] - tens.rec.step[0])
+        parts.append(tens.run(n_steps=min(10, left), trajectory_every=7))
+    for name in ("times", "positions", "quaternions", "velocities", "angular_velocities"):
+        expected = np.concatenate([getattr(part, name) for part in parts])
+        np.testing.assert_array_equal(getattr(res, name), expected, err_msg=name)
+
+
+def test_frames_without_every_body_at_the_first_are_refused():
+    """A run's frames rebuild every body from its first frame: rows that start without
+    some body are refused with the bodies they have."""
+    res = _lying_boxes().run(n_steps=20, trajectory_every=10)
+    with pytest.raises(ValueError, match="the first frame has the rows of 2 bodies from body 1"):
+        dataclasses.replace(res.frames, first=res.frames.first + 1)

@@ -104,6 +104,8 @@ class SparseFrames:
         """Add the frames of one ``dem`` run as the engine records them
         (``dem.FrameRows``): its rows, but those of its first frame (which has every
         body) only where the state differs from the one before."""
+        if rows.n_bodies != self.n_bodies:
+            raise ValueError(f"frames of {rows.n_bodies} bodies, these have {self.n_bodies}")
         frame, body = rows.frame_and_body()
         n0 = rows.start[min(1, rows.times.size)]  # (the rows of the first frame)
         changed = np.zeros(n0, bool)
@@ -112,7 +114,7 @@ class SparseFrames:
             changed |= (now != self._last[k][body[:n0]].view(np.int64)).any(axis=1)
         kept = np.flatnonzero(changed)
         self._add_rows(frame[kept], body[kept], {k: getattr(rows, k)[kept] for k in FIELDS})
-        self._add_rows(frame[n0:], body[n0:], {k: getattr(rows, k)[n0:] for k in FIELDS})
+        self._add_rows(frame[n0:], body[n0:], {k: getattr(rows, k)[n0:].copy() for k in FIELDS})
         self._add_times(rows.times)
 
     def _add_rows(self, frame, body, values) -> None:

@@ -44,8 +44,8 @@ from dominowave.dem.engine import steps_until_quiet
 __all__ = ["ChainStepper", "steps_until_quiet"]
 
 _FRAMES = ("times", *FIELDS)
-"""Trajectory arrays of a ``dem`` run result, one row per frame (``DominoChain.record``),
-kept as :class:`~dominowave.chain.frames.SparseFrames`."""
+"""The dense trajectory frames of a checkpoint, one row per frame
+(:meth:`~dominowave.chain.frames.SparseFrames.dense`)."""
 _EVENTS = ("time", "body_i", "body_j", "kind")
 """Contact event arrays of a ``dem`` run result, one row per event."""
 _EVENT_DTYPES = (np.float64, np.int64, np.int64, np.int8)

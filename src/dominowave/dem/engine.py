@@ -395,7 +395,7 @@ def _record_frame(bodies, rec, t, first_moving, stop_moving):
 
     A body outside it has been held since the last frame: it is where it was, at rest,
     so the frame leaves it out and it keeps its row of an earlier frame (the first frame
-    of a run has every body: Simulation.run sets the span to all).  A chain held until
+    of a run has every body: Simulation._start_run sets the span to all).  A chain held until
     touched then records its moving dominoes, not all of them (simulation.FrameRows)."""
     f = rec.traj_n[0]
     span = rec.traj_span

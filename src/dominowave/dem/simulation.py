@@ -256,6 +256,16 @@ class FrameRows:
     velocities: np.ndarray
     angular_velocities: np.ndarray
 
+    def __post_init__(self):
+        if not self.times.size:
+            return
+        count = self.start[1] - self.start[0]
+        if self.first[0] != 0 or count != self.n_bodies:
+            raise ValueError(
+                f"the first frame has the rows of {count} bodies from body {self.first[0]} "
+                f"on; it needs every body, 0 to {self.n_bodies - 1}"
+            )
+
     def frame_and_body(self) -> tuple[np.ndarray, np.ndarray]:
         """``(frame, body)`` (R,) int64 each: the frame and the body of every row."""
         frame = np.repeat(np.arange(self.times.size), np.diff(self.start))
