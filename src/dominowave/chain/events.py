@@ -302,7 +302,8 @@ def _motions(tracks: tuple[Track, ...], axis, base_offset, top_offset, floor_hei
     # the three vectors of each domino in its body frame at frame 0: (N, 3 vectors, 3)
     vectors = np.stack([axis, base_offset, top_offset], axis=1)
     body = _in_body(np.repeat(quat[first], 3, axis=0), vectors.reshape(-1, 3))
-    turned = _turn(quat[:, None], body.reshape(-1, 3, 3)[owner])  # (K, 3, 3)
+    # (np.take: a gather of whole rows, many times faster than fancy indexing)
+    turned = _turn(quat[:, None], np.take(body.reshape(-1, 3, 3), owner, 0))  # (K, 3, 3)
     base = com + turned[:, 1]
     top_rel = turned[:, 2]
     v_top = np.empty_like(top_rel)

@@ -147,14 +147,15 @@ class SparseFrames:
         source = np.full((self.n_frames, self.n_bodies), -1)
         source[frame, body] = np.arange(frame.size)
         np.maximum.accumulate(source, axis=0, out=source)
-        return {"times": self.times.copy(), **{k: values[k][source] for k in FIELDS}}
+        # (np.take: a gather of whole rows, many times faster than fancy indexing)
+        return {"times": self.times.copy(), **{k: np.take(values[k], source, 0) for k in FIELDS}}
 
     def tracks(self) -> list[Track]:
         """Each domino's :class:`Track`: its rows."""
         frame, body, values = self._joined()
         order = np.argsort(body, kind="stable")  # (by domino, each in frame order)
         bounds = np.searchsorted(body[order], np.arange(self.n_bodies + 1))
-        frame, columns = frame[order], [values[k][order] for k in FIELDS]
+        frame, columns = frame[order], [np.take(values[k], order, 0) for k in FIELDS]
         return [
             Track(frame[lo:hi], *(c[lo:hi] for c in columns))
             for lo, hi in itertools.pairwise(bounds)

@@ -279,7 +279,7 @@ class FrameRows:
         source = np.zeros((self.times.size, self.n_bodies), np.int64)
         source[frame, body] = np.arange(frame.size)
         np.maximum.accumulate(source, axis=0, out=source)
-        return getattr(self, name)[source]
+        return np.take(getattr(self, name), source, 0)  # (whole rows: faster than a[source])
 
 
 class _DenseFrames:
