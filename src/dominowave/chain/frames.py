@@ -9,7 +9,8 @@ it sleep. Dense frames (frames x dominoes) grow as the square of the chain's len
 frame, and after it for a domino in a frame where its state may have changed: from dense
 frames, where any bit of its position, orientation, velocity or angular velocity differs
 from the frame before; from the engine's frames (``dem.FrameRows``), where the engine
-recorded it (the bodies that were not held since the frame before).  Every other domino
+recorded it (the range of bodies not held at some step since the frame before, which may
+hold a few held ones).  Every other domino
 carries its last stored state. So :meth:`SparseFrames.dense` rebuilds every frame to
 the bit, and each domino's :class:`Track` (its rows) holds every distinct state it went
 through: a value that depends on one frame's state is, at any frame, its value at the
