@@ -24,6 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from dominowave.dem.simulation import carried_rows
+
 __all__ = ["FIELDS", "SparseFrames", "Track"]
 
 FIELDS = ("positions", "quaternions", "velocities", "angular_velocities")
@@ -143,11 +145,7 @@ class SparseFrames:
     def dense(self) -> dict[str, np.ndarray]:
         """Every frame: ``times`` (F,) and :data:`FIELDS` (F, N, d), as recorded."""
         frame, body, values = self._joined()
-        # the row each domino's state at each frame comes from: its last row up to it
-        # (rows ascend by frame, and the first frame has one for every domino)
-        source = np.full((self.n_frames, self.n_bodies), -1)
-        source[frame, body] = np.arange(frame.size)
-        np.maximum.accumulate(source, axis=0, out=source)
+        source = carried_rows(frame, body, self.n_frames, self.n_bodies)
         # (np.take: a gather of whole rows, many times faster than fancy indexing)
         return {"times": self.times.copy(), **{k: np.take(values[k], source, 0) for k in FIELDS}}
 

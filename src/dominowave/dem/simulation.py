@@ -274,12 +274,18 @@ class FrameRows:
     def dense(self, name: str) -> np.ndarray:
         """(F, n_bodies, d) field ``name`` at every frame, of every body: its row of the
         last frame up to it that has one."""
-        frame, body = self.frame_and_body()
-        # (rows ascend by frame, and the first frame has a row of every body)
-        source = np.zeros((self.times.size, self.n_bodies), np.int64)
-        source[frame, body] = np.arange(frame.size)
-        np.maximum.accumulate(source, axis=0, out=source)
+        source = carried_rows(*self.frame_and_body(), self.times.size, self.n_bodies)
         return np.take(getattr(self, name), source, 0)  # (whole rows: faster than a[source])
+
+
+def carried_rows(frame, body, n_frames: int, n_bodies: int) -> np.ndarray:
+    """(n_frames, n_bodies) int64: the row that holds each body's state at each frame,
+    its last row up to that frame, of the rows ``frame`` (R,) (ascending) and ``body``
+    (R,); the first frame has a row of every body."""
+    source = np.zeros((n_frames, n_bodies), np.int64)
+    source[frame, body] = np.arange(frame.size)
+    np.maximum.accumulate(source, axis=0, out=source)  # (rows ascend by frame)
+    return source
 
 
 class _DenseFrames:
