@@ -248,8 +248,9 @@ chains; ``dem.Scene.build``'s ``sleep_speed``): 7 mm/s for the standard domino, 
 front speeds of about ``sqrt(g l)``.  Chosen by the measured error (docs/shape.md,
 "Sleeping dominoes"): it moves the front speeds and the arrivals of the measured chains
 by at most 3.5e-4, a fiftieth of the fidelity's default tolerance; twice this speed, or
-half of :data:`SLEEP_TIME`, moves them three to four times as much for a saving within
-the spread of single runs, and stricter criteria take up to 1.9 times the time."""
+half of :data:`SLEEP_TIME`, moves them three to four times as much and saves a fifth to a
+third of the 300-domino chain's time, and stricter criteria take up to 2.3 times the
+time."""
 SLEEP_TIME = 0.5
 """... for this times ``sqrt(l/g)``, the time scale of a domino's fall (35 ms for the
 standard domino)."""
@@ -302,8 +303,8 @@ class DominoChain:
     no cost until a moving body touches or drives it: once every point of it has moved
     slower than ``sleep_speed sqrt(g l)`` for ``sleep_time sqrt(l/g)`` (defaults
     :data:`SLEEP_SPEED`, :data:`SLEEP_TIME`; ``dem.Scene.build``). It changes the front
-    speeds of the measured chains by at most 3.5e-4 and makes a 300-domino chain cost a
-    tenth of its time awake (docs/shape.md, "Sleeping dominoes"); ``sleep=False`` keeps
+    speeds of the measured chains by at most 3.5e-4 and makes a 300-domino chain nine
+    times faster than awake (docs/shape.md, "Sleeping dominoes"); ``sleep=False`` keeps
     every domino awake.
     """
 
