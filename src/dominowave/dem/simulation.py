@@ -4,6 +4,7 @@ its buffers, returns recorded data, saves and restores checkpoints."""
 from __future__ import annotations
 
 import copy
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -274,8 +275,13 @@ class FrameRows:
     def dense(self, name: str) -> np.ndarray:
         """(F, n_bodies, d) field ``name`` at every frame, of every body: its row of the
         last frame up to it that has one."""
-        source = carried_rows(*self.frame_and_body(), self.times.size, self.n_bodies)
-        return np.take(getattr(self, name), source, 0)  # (whole rows: faster than a[source])
+        return np.take(getattr(self, name), self._source, 0)  # (faster than a[source])
+
+    @functools.cached_property
+    def _source(self) -> np.ndarray:
+        """(F, n_bodies) the row of each body's state at each frame (:func:`carried_rows`),
+        found once for every field."""
+        return carried_rows(*self.frame_and_body(), self.times.size, self.n_bodies)
 
 
 def carried_rows(frame, body, n_frames: int, n_bodies: int) -> np.ndarray:
