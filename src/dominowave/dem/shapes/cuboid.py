@@ -65,6 +65,7 @@ __all__ = [
     "cuboid_mass_properties",
     "manifold_is_deepest",
     "merge_deepest",
+    "plane_row",
     "point_box_distance",
     "rows_from",
     "separating_axes",
@@ -126,16 +127,25 @@ def box_plane(x, R, h, r, p0, nw, margin, normal, point, overlap, key):
             v2 += s * R[2, m]
         d = (v0 - p0[0]) * nw[0] + (v1 - p0[1]) * nw[1] + (v2 - p0[2]) * nw[2]
         if d < r + margin:
-            delta = r - d
-            reach = r - 0.5 * delta
-            normal[n, 0], normal[n, 1], normal[n, 2] = -nw[0], -nw[1], -nw[2]
-            point[n, 0] = v0 - reach * nw[0]
-            point[n, 1] = v1 - reach * nw[1]
-            point[n, 2] = v2 - reach * nw[2]
-            overlap[n] = delta
-            key[n] = k
+            plane_row(v0, v1, v2, d, r, -nw[0], -nw[1], -nw[2], k, n, normal, point, overlap, key)
             n += 1
     return n
+
+
+@inline_kernel()
+def plane_row(v0, v1, v2, d, r, m0, m1, m2, k, n, normal, point, overlap, key):
+    """Row ``n`` of a plane contact of the rounded core vertex ``v`` (key ``k``) at the
+    distance ``d`` [m] from the plane, ``m`` the unit normal from the body into the wall:
+    overlap ``r - d``, point ``v + m (r - overlap / 2)`` (the middle of the overlap).
+    The planar scenes' rows share it (:mod:`~dominowave.dem.shapes.rectangle`)."""
+    delta = r - d
+    reach = r - 0.5 * delta
+    normal[n, 0], normal[n, 1], normal[n, 2] = m0, m1, m2
+    point[n, 0] = v0 + reach * m0
+    point[n, 1] = v1 + reach * m1
+    point[n, 2] = v2 + reach * m2
+    overlap[n] = delta
+    key[n] = k
 
 
 @inline_kernel()

@@ -24,6 +24,7 @@ from dominowave.dem.compiled import inline_kernel, inner_kernel
 from dominowave.dem.shapes.cuboid import (
     manifold_is_deepest,
     merge_deepest,
+    plane_row,
     point_box_distance,
     rows_from,
     sphere_point,
@@ -54,15 +55,8 @@ def rect_plane(x, R, h, r, p0, nw, margin, normal, point, overlap, key):
     for k in range(4):
         v0, v2 = _corner(x, R, h, k)
         d = (v0 - p0[0]) * nw[0] + (x[1] - p0[1]) * nw[1] + (v2 - p0[2]) * nw[2]
-        if d < r + margin:
-            delta = r - d
-            reach = r - 0.5 * delta
-            normal[n, 0], normal[n, 1], normal[n, 2] = -nw[0], 0.0, -nw[2]
-            point[n, 0] = v0 - reach * nw[0]
-            point[n, 1] = x[1]
-            point[n, 2] = v2 - reach * nw[2]
-            overlap[n] = delta
-            key[n] = k
+        if d < r + margin:  # (the y of the point is the body's own: no y in the normal)
+            plane_row(v0, x[1], v2, d, r, -nw[0], 0.0, -nw[2], k, n, normal, point, overlap, key)
             n += 1
     return n
 
