@@ -117,6 +117,12 @@ BOX_ONLY = ("rounding", "restitution_dominoes", "restitution_floor")
 ShearKinematics = Literal["contact_point", "yade"]
 
 
+def _restitution(doc: str):
+    """The declaration of a normal restitution coefficient in (0, 1] (the normal law's
+    dashpot, :mod:`dominowave.dem.laws`), not set by default, described by ``doc``."""
+    return parameter(None, "", doc, gt=0, le=1, group="contact")
+
+
 @dataclass(frozen=True)
 class ChainParams:
     """Physical parameters of a domino chain (SI units).
@@ -221,29 +227,14 @@ class ChainParams:
         0.3, "", "friction with the floor phi_f", ge=0, group="contact"
     )
     damping: float = parameter(0.0, "", "local (YADE-style) damping", ge=0, lt=1, group="contact")
-    restitution: float | None = parameter(
-        None,
-        "",
-        "normal restitution of every contact (not set = elastic)",
-        gt=0,
-        le=1,
-        group="contact",
+    restitution: float | None = _restitution(
+        "normal restitution of every contact (not set = elastic)"
     )
-    restitution_dominoes: float | None = parameter(
-        None,
-        "",
-        "box only: restitution between dominoes (not set: restitution)",
-        gt=0,
-        le=1,
-        group="contact",
+    restitution_dominoes: float | None = _restitution(
+        "box only: restitution between dominoes (not set: restitution)"
     )
-    restitution_floor: float | None = parameter(
-        None,
-        "",
-        "box only: restitution with the floor (not set: restitution)",
-        gt=0,
-        le=1,
-        group="contact",
+    restitution_floor: float | None = _restitution(
+        "box only: restitution with the floor (not set: restitution)"
     )
     model: Model = choice(Model, "2d: xz plane only; 3d: free", group="layout")
     spheres_per_column: int | None = parameter(
