@@ -16,6 +16,7 @@ import numpy as np
 from pydantic import create_model, model_validator
 
 from dominowave.chain.build import ChainParams
+from dominowave.chain.fidelity import DEFAULT_TOLERANCE
 from dominowave.chain.params import RodsParams, TheoryParams
 from dominowave.io.schema import ScenarioModel, fields_from_parameters, quantity
 from dominowave.params import parameter_specs
@@ -351,8 +352,8 @@ ChainScenario = create_model(
             None,
             "",
             "box chain given young (a preset): exact (the material's contact) or the"
-            " tolerance of the speed, the softest contact within it (not set: 0.01;"
-            " chain.fidelity)",
+            " tolerance of the speed, the softest contact within it (not set:"
+            f" {DEFAULT_TOLERANCE:g}; chain.fidelity)",
         ),
     ),
     sleep=(

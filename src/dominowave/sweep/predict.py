@@ -42,6 +42,7 @@ import numpy as np
 from pydantic import Field, field_validator
 
 from dominowave.chain.fidelity import (
+    DEFAULT_TOLERANCE,
     EXACT,
     Fidelity,
     check_fidelity,
@@ -104,7 +105,8 @@ class PredictSample(ScenarioModel):
         None,
         "",
         "exact (the plastic's contact) or the tolerance of the speed: the softest contact"
-        " whose estimated error stays within it (not set: 0.01; chain.fidelity)",
+        f" whose estimated error stays within it (not set: {DEFAULT_TOLERANCE:g};"
+        " chain.fidelity)",
     )
 
     @field_validator("fidelity")
@@ -280,35 +282,22 @@ def predict(
     out_dir: Path,
     samples: int = 4,
     *,
-    n_dominoes: int = 12,
-    fit_from: int = 3,
-    seed: int = 0,
-    model: str = "3d",
-    stiffness_ratio: float | None = None,
-    fidelity: Fidelity = None,
     workers: int | None = None,
     scheduler: str | None = None,
     client=None,
     progress: Callable[[dict], None] | None = None,
+    **design,
 ) -> Prediction:
     """Predict the front speed [m/s] of standard dominoes at ``gap`` [m] on ``floor``.
 
-    Runs (or resumes) the points of :func:`predict_points` in the sweep folder
+    Runs (or resumes) the points of :func:`predict_points` (``gap``, ``floor``,
+    ``samples`` and the keywords ``design`` of its chains: ``n_dominoes``, ``fit_from``,
+    ``seed``, ``model``, ``stiffness_ratio``, ``fidelity``) in the sweep folder
     ``out_dir`` and writes there ``samples.csv`` and ``samples.nc`` (every sample's
     values and speed) and ``prediction.csv`` (the band, the mean and the Sobol' indices).
     ``workers`` processes (default ``min(2, cores)``), or ``scheduler``/``client``.
     """
-    points, problem, x, fixed = predict_points(
-        gap,
-        floor,
-        samples,
-        n_dominoes=n_dominoes,
-        fit_from=fit_from,
-        seed=seed,
-        model=model,
-        stiffness_ratio=stiffness_ratio,
-        fidelity=fidelity,
-    )
+    points, problem, x, fixed = predict_points(gap, floor, samples, **design)
     out_dir = Path(out_dir)
     done = run_preset(
         points,
@@ -320,7 +309,7 @@ def predict(
     )
     speed = _summary_column(done.summaries, "speed")
     prediction = _analyse(gap, floor, problem, x, speed, fixed, done)
-    prediction.fidelity = fidelity
+    prediction.fidelity = points[0].fidelity
     if prediction.n_missing == 0:  # a point that did not run is never written as a result
         write_prediction(prediction, out_dir)
     return prediction
