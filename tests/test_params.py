@@ -14,7 +14,14 @@ from pydantic import TypeAdapter, ValidationError
 
 from dominowave.chain import ChainParams
 from dominowave.io.models import ChainScenario
-from dominowave.params import ParameterSpec, check_parameters, choice, parameter, parameter_specs
+from dominowave.params import (
+    ParameterSpec,
+    check_parameters,
+    choice,
+    parameter,
+    parameter_specs,
+    text,
+)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -113,3 +120,27 @@ def test_a_choice_takes_its_values_and_default_from_its_literal_type():
     assert choice(Mode, "amplitude model", default=None).default is None
     with pytest.raises(TypeError, match="Literal"):
         choice(Mode | None, "amplitude model")
+
+
+def test_a_text_is_not_set_by_default_and_left_to_its_reader():
+    """``text`` declares a free text (a name, a path): not set by default and without a
+    range, so that any text passes the class's check, while a number beside it is still
+    checked; its reader checks what it means."""
+
+    @dataclasses.dataclass(frozen=True)
+    class Labelled:
+        label: str | None = text("a name", group="output")
+        length: float = parameter(1.0, "m", "length", gt=0)
+
+        def __post_init__(self):
+            check_parameters(self)
+
+    spec = text("a name", group="output").metadata["parameter"]
+    assert (spec.text, spec.unit, spec.group) == (True, "", "output")
+    assert Labelled().label is None
+    assert Labelled(label="felt, or [0, 1)").label == "felt, or [0, 1)"
+    with pytest.raises(ValueError, match=re.escape("length = -1 is outside")):
+        Labelled(label="x", length=-1.0)
+    assert not ParameterSpec("m", "length").text  # (a number is checked as before)
+    with pytest.raises(ValueError, match="is not a number"):
+        ParameterSpec("m", "length").check("length", "felt")

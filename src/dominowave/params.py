@@ -3,7 +3,7 @@
 A scenario's parameter class (e.g. :class:`dominowave.chain.ChainParams`) declares each
 field with :func:`parameter`: its default, SI unit, one-line description and valid
 range (or, with :func:`choice`, the values of a categorical field, from its ``Literal``
-type). That one declaration is
+type; with :func:`text`, a free text that its reader checks). That one declaration is
 
 * checked when an instance is made (:func:`check_parameters`, the same one-line errors
   as :mod:`dominowave.checks`: name, value, valid range), and
@@ -25,7 +25,14 @@ from typing import Any, Literal, get_args, get_origin
 
 from dominowave.checks import check_in_range
 
-__all__ = ["ParameterSpec", "check_parameters", "choice", "parameter", "parameter_specs"]
+__all__ = [
+    "ParameterSpec",
+    "check_parameters",
+    "choice",
+    "parameter",
+    "parameter_specs",
+    "text",
+]
 
 
 @dataclass(frozen=True)
@@ -36,7 +43,8 @@ class ParameterSpec:
     each pair); ``allow_inf`` lets an unbounded side reach infinity (e.g. a rigid
     stiffness); ``choices`` lists the values of a categorical field; ``group`` names the
     concern the parameter belongs to (e.g. the domino's shape, the contact law), by which
-    the command line groups its options.
+    the command line groups its options; ``text`` marks a free text (a name, a path)
+    that whoever reads it checks (:func:`text`).
     """
 
     unit: str
@@ -48,10 +56,11 @@ class ParameterSpec:
     allow_inf: bool = False
     choices: tuple | None = None
     group: str = ""
+    text: bool = False
 
     def check(self, name: str, value) -> None:
         """Raise ``ValueError`` naming ``name``, ``value`` and the valid range or choices."""
-        if value is None:
+        if value is None or self.text:
             return
         if self.choices is not None:
             if value not in self.choices:
@@ -118,6 +127,14 @@ def choice(kind, doc: str, *, default: Any = _FIRST, group: str = "") -> Any:
     values = get_args(kind)
     default = values[0] if default is _FIRST else default
     return parameter(default, "", doc, choices=values, group=group)
+
+
+def text(doc: str, *, group: str = "") -> Any:
+    """A :func:`parameter` whose value is free text (a name, a number with a word beside
+    it, a path), not set by default: it has no range here, and whoever reads it checks
+    it and names it in its error (e.g. ``chain.fidelity.parse_fidelity``)."""
+    spec = ParameterSpec("", doc, group=group, text=True)
+    return dataclasses.field(default=None, metadata={"parameter": spec})
 
 
 def parameter_specs(cls) -> dict[str, tuple[dataclasses.Field, ParameterSpec]]:

@@ -235,7 +235,7 @@ def test_predict_command_bad_input_is_one_line(args, fragment, tmp_path):
 @pytest.mark.parametrize(
     ("args", "fragment"),
     [
-        (["--preset", "tiny", "--gap", "0.01", "--floor", "felt"], "--preset 'tiny' is not one"),
+        (["--preset", "tiny", "--gap", "0.01", "--floor", "felt"], "preset = 'tiny' is not one"),
         (["--preset", "standard", "--floor", "felt"], "needs --gap [m] and --floor"),
         (
             ["--preset", "standard", "--gap", "0.01", "--floor", "felt", "--friction-floor", "1"],

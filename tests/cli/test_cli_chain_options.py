@@ -1,10 +1,11 @@
-"""``dominowave chain``: its ChainParams options come from the parameter declarations.
+"""``dominowave chain``: its options come from the parameter declarations.
 
-Each declared field of :class:`~dominowave.chain.ChainParams` is an option, shown in
-``--help`` at 80 columns with its description, unit and default, in the panel of its
-concern; a value given reaches ``ChainParams``; bad input is one line naming the
-parameter. Nothing is simulated: ``DominoChain`` is replaced by one that records what
-it is given and stops the command.
+Each declared field of :class:`~dominowave.chain.ChainParams` and of the command's own
+:class:`~dominowave.cli.chain.RunOptions` (push, ensemble, preset, numerics, output) is
+an option, shown in ``--help`` at 80 columns with its description, unit and default, in
+the panel of its concern; a value given reaches ``ChainParams`` or the run; bad input is
+one line naming the parameter. Nothing is simulated: ``DominoChain`` is replaced by one
+that records what it is given and stops the command.
 """
 
 from __future__ import annotations
@@ -24,6 +25,8 @@ from dominowave.cli import chain as chain_cli
 from dominowave.params import parameter_specs
 
 SPECS = parameter_specs(ChainParams)
+RUN_SPECS = parameter_specs(chain_cli.RunOptions)
+EVERY_SPEC = SPECS | RUN_SPECS
 COMMAND = typer.main.get_command(app).commands["chain"]
 RENAMED = {
     "n_dominoes": "--n",
@@ -39,7 +42,7 @@ def flag(name: str) -> str:
 
 def expected_help(name: str) -> str:
     """The field's description with its unit and default, as ``--help`` must show it."""
-    field, spec = SPECS[name]
+    field, spec = EVERY_SPEC[name]
     parts = [spec.unit] if spec.unit else []
     default = field.default
     if isinstance(default, bool):
@@ -73,16 +76,17 @@ def panels(text: str) -> dict[str, str]:
 
 def test_every_declared_field_is_an_option_of_its_name():
     options = {p.name: p for p in COMMAND.params}
-    assert len(SPECS) >= 30
-    for name in SPECS:
+    assert len(SPECS) >= 30 and len(RUN_SPECS) >= 14
+    assert set(options) == set(EVERY_SPEC)  # (no option written by hand)
+    for name in EVERY_SPEC:
         assert name in options, f"ChainParams.{name} is not an option of chain"
         assert options[name].opts[0] == flag(name), name
         assert options[name].default is None, name  # not given: ChainParams' default
 
 
-@pytest.mark.parametrize("name", list(SPECS))
+@pytest.mark.parametrize("name", list(EVERY_SPEC))
 def test_help_at_80_columns_shows_description_unit_and_default(name, help_80):
-    field, spec = SPECS[name]
+    field, spec = EVERY_SPEC[name]
     shown = flat(help_80)
     assert expected_help(name) in shown, f"{flag(name)}: {expected_help(name)!r} not shown"
     if spec.unit:
@@ -94,21 +98,20 @@ def test_help_at_80_columns_shows_description_unit_and_default(name, help_80):
 def test_help_fits_80_columns_with_one_panel_per_concern(help_80):
     assert max(len(line) for line in help_80.splitlines()) <= 80
     shown = panels(help_80)
-    for name, (_, spec) in SPECS.items():
-        title = chain_cli.PANELS[spec.group]
+    for name, (_, spec) in EVERY_SPEC.items():
+        title = chain_cli.PANELS.get(spec.group, spec.group.capitalize())
         assert re.search(rf"(?<![\w-]){re.escape(flag(name))}(?![\w-])", shown[title]), (
             f"{flag(name)} is not in the panel {title!r}"
         )
-    for title in ("Push", "Ensemble", "Preset", "Numerics", "Output"):  # the hand-written
+    for title in ("Push", "Ensemble", "Preset", "Numerics", "Output"):  # RunOptions'
         assert title in shown
     assert "--sleep" in shown["Numerics"] and "--no-sleep" in shown["Numerics"]
-    assert "--out" in shown["Output"] and "--gap" in shown["Preset"]
 
 
-def test_brackets_of_the_hand_written_options_are_shown_too(help_80):
+def test_brackets_of_the_units_and_defaults_are_shown(help_80):
     shown = flat(help_80)
-    default = f"within it [default {DEFAULT_TOLERANCE:g}]"
-    for text in ("push as impulse [N s]", "clear gap d [m]", default):
+    default = f"the softest contact within it (not set: {DEFAULT_TOLERANCE:g})"
+    for text in ("push as impulse (not set: push_omega) [N s]", "clear gap d [m;", default):
         assert text in shown
 
 
@@ -195,6 +198,33 @@ def test_a_value_given_reaches_chain_params(args, fields, built):
         assert getattr(params, name) == getattr(ChainParams(), name), name
 
 
+def test_run_options_reach_the_run(built, monkeypatch):
+    seen = {}
+
+    class Recording:
+        def __init__(self, params, **options):
+            seen["params"], seen["options"] = params, options
+
+        def ensemble(self, push, **options):
+            seen["push"], seen["ensemble"] = push, options
+            raise Stop
+
+    monkeypatch.setattr(chain_cli, "DominoChain", Recording)
+    args = ["--members", "3", "--seed", "4", "--jitter", "0.01", "--vary-placement"]
+    args += ["--impulse", "2e-3", "--impulse-height", "0.04", "--fit-from", "2"]
+    result = CliRunner().invoke(app, ["chain", "--no-sleep", *args])
+    assert isinstance(result.exception, Stop), result.output
+    assert seen["options"] == {"fidelity": None, "sleep": False}
+    assert (seen["push"].impulse, seen["push"].height) == (2e-3, 0.04)
+    assert seen["ensemble"] == {
+        "members": 3,
+        "seed": 4,
+        "jitter": 0.01,
+        "fit_from": 2,
+        "vary_placement": True,
+    }
+
+
 def test_no_option_given_is_the_default_chain_awake_or_asleep(built):
     params, options = built()
     assert params == ChainParams()
@@ -226,6 +256,12 @@ def test_a_preset_takes_the_other_fields_given(built):
         (["--model", "4d"], "model = '4d' is not one of '2d', '3d'"),
         (["--base", "three"], "base = 'three' is not one of 'one', 'two'"),
         (["--density", "heavy"], "Invalid value for '--density'"),
+        (["--members", "0"], "members = 0 is outside the valid range [1, inf)"),
+        (["--jitter", "-1"], "jitter = -1 is outside the valid range [0, inf)"),
+        (["--push-omega", "0"], "push_omega = 0 is outside the valid range (0, inf)"),
+        (["--preset", "tiny"], "preset = 'tiny' is not one of 'standard'"),
+        (["--gap", "0.01", "--floor", "felt"], "--gap and --floor need --preset standard"),
+        (["--fidelity", "loose"], "--fidelity 'loose' is not 'exact' or a tolerance"),
         (
             ["--preset", "standard", "--gap", "0.01", "--floor", "felt", "--height", "0.05"],
             "--height: set by --preset standard from materials.toml, give not both",

@@ -11,8 +11,9 @@ import csv
 import math
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Literal
 
 import numpy as np
 import typer
@@ -24,10 +25,10 @@ from dominowave.chain.build import ChainParams
 from dominowave.chain.fidelity import DEFAULT_TOLERANCE, parse_fidelity
 from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push, scene_kind
 from dominowave.chain.wave import check_fit_from, fit_speed, local_speeds, unsettled_reason
-from dominowave.checks import check_in_range
 from dominowave.cli.compiling import notice_if_compiling
 from dominowave.cli.declared import PanelledCommand, option_name, parameter_options, with_options
 from dominowave.io.atomic import ensure_writable_dir
+from dominowave.params import check_parameters, choice, parameter, parameter_specs, text
 from dominowave.units import speed_scale
 
 __all__ = ["register"]
@@ -199,10 +200,8 @@ def _preset_params(preset, gap, floor, fields: dict) -> ChainParams:
     given; a field the preset sets itself may not be given too (one error naming them)."""
     from dominowave.chain.presets import standard_domino
 
-    if preset != "standard":
-        raise ValueError(
-            f"--preset {preset!r} is not one of standard (give it with --gap, --floor)"
-        )
+    if preset is None:  # (RunOptions checked its value)
+        raise ValueError("--gap and --floor need --preset standard")
     if gap is None or floor is None:
         raise ValueError("--preset standard needs --gap [m] and --floor (felt, glass, ...)")
     # an option given is refused even when it equals the chain's default (the preset
@@ -215,113 +214,111 @@ def _preset_params(preset, gap, floor, fields: dict) -> ChainParams:
     return standard_domino(gap=gap, floor=floor, **fields)
 
 
-def chain_command(
-    push_omega: Annotated[
-        float, typer.Option(help="push in units of sqrt(g/l)", rich_help_panel="Push")
-    ] = 1.0,
-    impulse: Annotated[
-        float | None, typer.Option(help="push as impulse [N s]", rich_help_panel="Push")
-    ] = None,
-    impulse_height: Annotated[
-        float | None, typer.Option(help="impulse height [m]", rich_help_panel="Push")
-    ] = None,
-    members: Annotated[
-        int,
-        typer.Option(help="ensemble members (perturbed pushes)", rich_help_panel="Ensemble"),
-    ] = 1,
-    seed: Annotated[int, typer.Option(help="ensemble seed", rich_help_panel="Ensemble")] = 0,
-    jitter: Annotated[
-        float, typer.Option(help="relative push perturbation", rich_help_panel="Ensemble")
-    ] = 1e-3,
-    vary_placement: Annotated[
-        bool,
-        typer.Option(
-            help="each member set up anew (own placement errors)", rich_help_panel="Ensemble"
-        ),
-    ] = False,
-    preset: Annotated[
-        str | None,
-        typer.Option(
-            help="standard: the 48 x 24 x 7.5 mm box domino from materials.toml (its size,"
-            " mass and contact, --model 3d unless given)",
-            rich_help_panel="Preset",
-        ),
-    ] = None,
-    gap: Annotated[
-        float | None,
-        typer.Option(help="with --preset: clear gap d [m]", rich_help_panel="Preset"),
-    ] = None,
-    floor: Annotated[
-        str | None,
-        typer.Option(
-            help="with --preset: felt, glass, hardwood, laminate", rich_help_panel="Preset"
-        ),
-    ] = None,
-    fidelity: Annotated[
-        str | None,
-        typer.Option(
-            help="box chain given --young (a --preset): exact (the material's contact) or a"
-            f" tolerance of the speed, softest contact within it [default {DEFAULT_TOLERANCE:g}]",
-            rich_help_panel="Numerics",
-        ),
-    ] = None,
-    sleep: Annotated[
-        bool,
-        typer.Option(
-            help="box chain: dominoes at rest are put to sleep (the speed changes by at most"
-            " 4e-4, a long chain runs faster); --no-sleep keeps every box awake",
-            rich_help_panel="Numerics",
-        ),
-    ] = True,
-    fit_from: Annotated[
-        int | None,
-        typer.Option(
-            help="fit the front speed from domino K on (pitch-based, as cameras do)",
-            rich_help_panel="Output",
-        ),
-    ] = None,
-    out: Annotated[
-        Path | None, typer.Option(help="directory for CSV + PNG", rich_help_panel="Output")
-    ] = None,
-    **fields,  # the ChainParams fields, an option each: with_options(...) below
-) -> None:
+Preset = Literal["standard"]
+
+
+@dataclass(frozen=True)
+class RunOptions:
+    """The options of ``dominowave chain`` besides the chain's own (``ChainParams``): the
+    push, the ensemble, a preset, the numerics and the output, declared once
+    (:mod:`dominowave.params`) and checked when made; each is an option of the same
+    name (:func:`~dominowave.cli.declared.parameter_options`)."""
+
+    push_omega: float = parameter(
+        1.0, "sqrt(g/l)", "push: domino 0's angular velocity", gt=0, group="push"
+    )
+    impulse: float | None = parameter(
+        None, "N s", "push as impulse (not set: push_omega)", gt=0, group="push"
+    )
+    impulse_height: float | None = parameter(
+        None,
+        "m",
+        "height of the impulse (not set: the top sphere's centre, a box's top - s/2)",
+        gt=0,
+        group="push",
+    )
+    members: int = parameter(1, "", "ensemble members (perturbed pushes)", ge=1, group="ensemble")
+    seed: int = parameter(0, "", "ensemble seed", ge=0, group="ensemble")
+    jitter: float = parameter(1e-3, "", "relative push perturbation", ge=0, group="ensemble")
+    vary_placement: bool = parameter(
+        False, "", "each member set up anew (own placement errors)", group="ensemble"
+    )
+    preset: Preset | None = choice(
+        Preset,
+        "standard: the 48 x 24 x 7.5 mm box domino from materials.toml (its size, mass and"
+        " contact, --model 3d unless given; with --gap, --floor; not set: none)",
+        default=None,
+        group="preset",
+    )
+    gap: float | None = parameter(None, "m", "with --preset: clear gap d", gt=0, group="preset")
+    floor: str | None = text("with --preset: felt, glass, hardwood, laminate", group="preset")
+    fidelity: str | None = text(
+        "box chain given --young (a --preset): exact (the material's contact) or a"
+        " tolerance of the speed, the softest contact within it (not set:"
+        f" {DEFAULT_TOLERANCE:g})",
+        group="numerics",
+    )
+    sleep: bool = parameter(
+        True,
+        "",
+        "box chain: dominoes at rest are put to sleep (the speed changes by at most 4e-4, a"
+        " long chain runs faster); --no-sleep keeps every box awake",
+        group="numerics",
+    )
+    fit_from: int | None = parameter(
+        None,
+        "",
+        "fit the front speed from domino K on (pitch-based, as cameras do; not set: over"
+        " the settled dominoes)",
+        ge=0,
+        group="output",
+    )
+    out: Path | None = text("directory for CSV + PNG (not set: none written)", group="output")
+
+    def __post_init__(self):
+        check_parameters(self)
+
+
+def chain_command(**fields) -> None:
     """Run one DEM domino chain (or an ensemble): per-domino table, speed vs theory, plot.
 
     The options of the domino, the contact, the chain and its placement errors are the
-    fields of ChainParams (dominowave.chain), with its defaults.
+    fields of ChainParams (dominowave.chain), with its defaults; those of the push, the
+    ensemble, the preset, the numerics and the output are the fields of RunOptions.
     """
-    # checked here too: a single run (members = 1) never reaches DominoChain.ensemble
-    check_in_range("members", members, 1, math.inf, lo_inclusive=True)
-    check_in_range("seed", seed, 0, math.inf, lo_inclusive=True)
-    tolerance = parse_fidelity(fidelity)
+    given = {name: value for name, value in fields.items() if value is not None}
+    options = RunOptions(**{k: given.pop(k) for k in RUN_OPTIONS if k in given})
+    tolerance = parse_fidelity(options.fidelity)
+    out = options.out
     if out is not None:
         ensure_writable_dir(out)  # before the run, not after it
-    given = {name: value for name, value in fields.items() if value is not None}
+    preset, gap, floor = options.preset, options.gap, options.floor
     if preset is not None or gap is not None or floor is not None:
         p = _preset_params(preset, gap, floor, given)
     else:
         p = ChainParams(**given)
     n = p.n_dominoes
     d_over_l = p.d_over_l
+    fit_from = options.fit_from
     if fit_from is not None:
         check_fit_from(fit_from, n)
 
-    if impulse is not None:
-        push = Push(impulse=impulse, height=impulse_height)
+    if options.impulse is not None:
+        push = Push(impulse=options.impulse, height=options.impulse_height)
     else:
-        push = Push(omega=push_omega * math.sqrt(p.g / p.height))
-    chain = DominoChain(p, fidelity=tolerance, sleep=sleep)
+        push = Push(omega=options.push_omega * math.sqrt(p.g / p.height))
+    chain = DominoChain(p, fidelity=tolerance, sleep=options.sleep)
     compiling = notice_if_compiling(scene_kind(p))
     start = time.perf_counter()
     ens = None
-    if members > 1:
+    if options.members > 1:
         ens = chain.ensemble(
             push,
-            members=members,
-            seed=seed,
-            jitter=jitter,
+            members=options.members,
+            seed=options.seed,
+            jitter=options.jitter,
             fit_from=fit_from,
-            vary_placement=vary_placement,
+            vary_placement=options.vary_placement,
         )
     run = ens.runs[0] if ens is not None else chain.run(push)
     wall = time.perf_counter() - start
@@ -376,7 +373,9 @@ def chain_command(
         )
     if ens is not None:
         how = "settled-region fit" if fit_from is None else f"fit from domino {fit_from} on"
-        console.print(f"ensemble ({members} members, {how}): {ens.speed} m/s{_unsettled(ens)}")
+        console.print(
+            f"ensemble ({options.members} members, {how}): {ens.speed} m/s{_unsettled(ens)}"
+        )
         for i, r in enumerate(ens.runs):
             if not r.wave.settled:
                 reason = unsettled_reason(r.arrival, r.positions)
@@ -433,7 +432,14 @@ def chain_command(
         console.print(f"wrote {out}/chain_dominoes.csv, chain.png")
 
 
-with_options(chain_command, parameter_options(ChainParams, renamed=OPTION_NAMES, panels=PANELS))
+RUN_OPTIONS = tuple(parameter_specs(RunOptions))
+"""The options of ``chain`` that are not ChainParams fields."""
+
+with_options(
+    chain_command,
+    parameter_options(ChainParams, renamed=OPTION_NAMES, panels=PANELS)
+    + parameter_options(RunOptions),
+)
 
 
 def paper_fig6_command(
