@@ -65,6 +65,7 @@ __all__ = [
     "cuboid_mass_properties",
     "manifold_is_deepest",
     "merge_deepest",
+    "owner_first",
     "plane_row",
     "point_box_distance",
     "rows_from",
@@ -729,6 +730,16 @@ def vertex_owner(best_i, best_j, ri, hi, rj, hj, margin):
     return (0 if best_i <= best + tol else 1), best, tol
 
 
+@inline_kernel()
+def owner_first(owner, xi, Ri, hi, ri, xj, Rj, hj, rj):
+    """The two bodies of a nearest-vertex contact, the owner of the vertex first:
+    ``(x, R, h, r)`` of the owner, the same of the other, and the sign that turns the
+    normal from i to j into the normal towards the vertex (-1 if i owns it)."""
+    if owner == 0:
+        return xi, Ri, hi, ri, xj, Rj, hj, rj, -1.0
+    return xj, Rj, hj, rj, xi, Ri, hi, ri, 1.0
+
+
 @inner_kernel(_nrt=False)
 def _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, ties, out):
     """The vertices of one box nearest the other core, as contact points: the box owning
@@ -745,11 +756,7 @@ def _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, ties, out):
     owner, best, tol = vertex_owner(best_i, best_j, ri, hi, rj, hj, margin)
     if owner < 0:
         return 0
-    x, R, h = (xi, Ri, hi) if owner == 0 else (xj, Rj, hj)
-    xo, Ro, ho = (xj, Rj, hj) if owner == 0 else (xi, Ri, hi)
-    r_own = ri if owner == 0 else rj
-    r_other = rj if owner == 0 else ri
-    sign = -1.0 if owner == 0 else 1.0  # normal from i to j: towards the vertex if j owns it
+    x, R, h, r_own, xo, Ro, ho, r_other, sign = owner_first(owner, xi, Ri, hi, ri, xj, Rj, hj, rj)
     n = 0
     for k in range(8):
         if n > 0 and not ties:

@@ -24,6 +24,7 @@ from dominowave.dem.compiled import inline_kernel, inner_kernel
 from dominowave.dem.shapes.cuboid import (
     manifold_is_deepest,
     merge_deepest,
+    owner_first,
     plane_row,
     point_box_distance,
     rows_from,
@@ -156,11 +157,7 @@ def _nearest_corners(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, out):
     owner, best, tol = vertex_owner(best_i, best_j, ri, hi, rj, hj, margin)
     if owner < 0:
         return 0
-    x, R, h = (xi, Ri, hi) if owner == 0 else (xj, Rj, hj)
-    xo, Ro, ho = (xj, Rj, hj) if owner == 0 else (xi, Ri, hi)
-    r_own = ri if owner == 0 else rj
-    r_other = rj if owner == 0 else ri
-    sign = -1.0 if owner == 0 else 1.0
+    x, R, h, r_own, xo, Ro, ho, r_other, sign = owner_first(owner, xi, Ri, hi, ri, xj, Rj, hj, rj)
     n = 0
     for k in range(4):
         v0, v2 = _corner(x, R, h, k)
