@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
+import typing
 from typing import Annotated, Literal
 
 import pytest
@@ -13,6 +14,7 @@ from hypothesis import strategies as st
 from pydantic import TypeAdapter, ValidationError
 
 from dominowave.chain import ChainParams
+from dominowave.cli.declared import parameter_options
 from dominowave.io.models import ChainScenario
 from dominowave.params import (
     ParameterSpec,
@@ -142,5 +144,8 @@ def test_a_text_is_not_set_by_default_and_left_to_its_reader():
     with pytest.raises(ValueError, match=re.escape("length = -1 is outside")):
         Labelled(label="x", length=-1.0)
     assert not ParameterSpec("m", "length").text  # (a number is checked as before)
+    option = {p.name: p for p in parameter_options(Labelled)}["label"]
+    assert typing.get_args(option.annotation)[0] == str | None
+    assert option.annotation.__metadata__[0].help == "a name [not set by default]"
     with pytest.raises(ValueError, match="is not a number"):
         ParameterSpec("m", "length").check("length", "felt")

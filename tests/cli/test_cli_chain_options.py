@@ -79,7 +79,7 @@ def test_every_declared_field_is_an_option_of_its_name():
     assert len(SPECS) >= 30 and len(RUN_SPECS) >= 14
     assert set(options) == set(EVERY_SPEC)  # (no option written by hand)
     for name in EVERY_SPEC:
-        assert name in options, f"ChainParams.{name} is not an option of chain"
+        assert name in options, f"the declared field {name} is not an option of chain"
         assert options[name].opts[0] == flag(name), name
         assert options[name].default is None, name  # not given: ChainParams' default
 
@@ -225,6 +225,29 @@ def test_run_options_reach_the_run(built, monkeypatch):
     }
 
 
+def test_a_single_run_takes_the_push_in_sqrt_g_over_l_the_fidelity_and_the_folder(
+    monkeypatch, tmp_path
+):
+    seen = {}
+
+    class Recording:
+        def __init__(self, params, **options):
+            seen["params"], seen["options"] = params, options
+
+        def run(self, push):
+            seen["push"] = push
+            raise Stop
+
+    monkeypatch.setattr(chain_cli, "DominoChain", Recording)
+    out = tmp_path / "new" / "out"
+    args = ["--height", 0.04, "--g", 9.0, "--push-omega", 2.0, "--fidelity", 0.05]
+    result = CliRunner().invoke(app, ["chain", *map(str, args), "--out", str(out)])
+    assert isinstance(result.exception, Stop), result.output
+    assert seen["push"].omega == 2.0 * (9.0 / 0.04) ** 0.5 and seen["push"].impulse is None
+    assert seen["options"] == {"fidelity": 0.05, "sleep": True}
+    assert out.is_dir()  # (made, and checked writable, before the run)
+
+
 def test_no_option_given_is_the_default_chain_awake_or_asleep(built):
     params, options = built()
     assert params == ChainParams()
@@ -257,6 +280,9 @@ def test_a_preset_takes_the_other_fields_given(built):
         (["--base", "three"], "base = 'three' is not one of 'one', 'two'"),
         (["--density", "heavy"], "Invalid value for '--density'"),
         (["--members", "0"], "members = 0 is outside the valid range [1, inf)"),
+        (["--seed", "-1"], "seed = -1 is outside the valid range [0, inf)"),
+        (["--impulse", "0"], "impulse = 0 is outside the valid range (0, inf)"),
+        (["--fit-from", "-1"], "fit_from = -1 is outside [1, 28]"),
         (["--jitter", "-1"], "jitter = -1 is outside the valid range [0, inf)"),
         (["--push-omega", "0"], "push_omega = 0 is outside the valid range (0, inf)"),
         (["--preset", "tiny"], "preset = 'tiny' is not one of 'standard'"),

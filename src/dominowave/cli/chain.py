@@ -246,7 +246,8 @@ class RunOptions:
     preset: Preset | None = choice(
         Preset,
         "standard: the 48 x 24 x 7.5 mm box domino from materials.toml (its size, mass and"
-        " contact, --model 3d unless given; with --gap, --floor; not set: none)",
+        " contact, --model 3d unless given; with --gap, --floor; not set: the chain of the"
+        " other options)",
         default=None,
         group="preset",
     )
@@ -268,9 +269,8 @@ class RunOptions:
     fit_from: int | None = parameter(
         None,
         "",
-        "fit the front speed from domino K on (pitch-based, as cameras do; not set: over"
-        " the settled dominoes)",
-        ge=0,
+        "fit the front speed from this domino on (pitch-based, as cameras do; 1 to n - 2,"
+        " checked with the chain; not set: over the settled dominoes)",
         group="output",
     )
     out: Path | None = text("directory for CSV + PNG (not set: none written)", group="output")

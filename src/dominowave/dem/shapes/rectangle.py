@@ -56,7 +56,7 @@ def rect_plane(x, R, h, r, p0, nw, margin, normal, point, overlap, key):
     for k in range(4):
         v0, v2 = _corner(x, R, h, k)
         d = (v0 - p0[0]) * nw[0] + (x[1] - p0[1]) * nw[1] + (v2 - p0[2]) * nw[2]
-        if d < r + margin:  # (the y of the point is the body's own: no y in the normal)
+        if d < r + margin:  # (no y in the normal: the point's y is the body's own, x[1] + 0)
             plane_row(v0, x[1], v2, d, r, -nw[0], 0.0, -nw[2], k, n, normal, point, overlap, key)
             n += 1
     return n
