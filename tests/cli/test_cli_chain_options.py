@@ -110,8 +110,8 @@ def test_help_fits_80_columns_with_one_panel_per_concern(help_80):
 
 def test_brackets_of_the_units_and_defaults_are_shown(help_80):
     shown = flat(help_80)
-    default = f"the softest contact within it (not set: {DEFAULT_TOLERANCE:g})"
-    for text in ("push as impulse (not set: push_omega) [N s]", "clear gap d [m;", default):
+    default = f"the softest contact within it (not set: {DEFAULT_TOLERANCE:g};"
+    for text in ("push as impulse (not set: push_omega) [N s]", "between neighbours [m;", default):
         assert text in shown
 
 
@@ -306,3 +306,20 @@ def test_bad_input_is_one_line_naming_the_parameter(args, fragment, cli):
     assert len(lines) == 1 and lines[0].startswith("dominowave: error: "), err
     assert fragment in lines[0], lines[0]
     assert out == ""
+
+
+def test_the_preset_and_numerics_are_those_of_a_study_file(help_80):
+    """``--preset``, ``--gap``, ``--floor``, ``--fidelity`` and ``--sleep`` and the study
+    file's fields of the same names come from one declaration (``ChainSettings``): the
+    same description, default and unit in both."""
+    from dominowave.chain.settings import ChainSettings
+    from dominowave.io.models import ChainScenario
+
+    settings = parameter_specs(ChainSettings)
+    assert set(settings) == {"preset", "gap", "floor", "fidelity", "sleep"}
+    for name, (field, spec) in settings.items():
+        study = ChainScenario.model_fields[name]
+        assert (study.description, study.default) == (spec.doc, field.default), name
+        assert study.json_schema_extra == {"unit": spec.unit}, name
+        assert RUN_SPECS[name][1] == spec, name
+        assert expected_help(name) in flat(help_80), name

@@ -13,7 +13,7 @@ import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Annotated
 
 import numpy as np
 import typer
@@ -22,13 +22,14 @@ from rich.markup import escape
 from rich.table import Table
 
 from dominowave.chain.build import ChainParams
-from dominowave.chain.fidelity import DEFAULT_TOLERANCE, parse_fidelity
+from dominowave.chain.fidelity import parse_fidelity
 from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push, scene_kind
+from dominowave.chain.settings import ChainSettings
 from dominowave.chain.wave import check_fit_from, fit_speed, local_speeds, unsettled_reason
 from dominowave.cli.compiling import notice_if_compiling
 from dominowave.cli.declared import PanelledCommand, option_name, parameter_options, with_options
 from dominowave.io.atomic import ensure_writable_dir
-from dominowave.params import check_parameters, choice, parameter, parameter_specs, text
+from dominowave.params import parameter, parameter_specs, text
 from dominowave.units import speed_scale
 
 __all__ = ["register"]
@@ -214,15 +215,13 @@ def _preset_params(preset, gap, floor, fields: dict) -> ChainParams:
     return standard_domino(gap=gap, floor=floor, **fields)
 
 
-Preset = Literal["standard"]
-
-
 @dataclass(frozen=True)
-class RunOptions:
+class RunOptions(ChainSettings):
     """The options of ``dominowave chain`` besides the chain's own (``ChainParams``): the
-    push, the ensemble, a preset, the numerics and the output, declared once
-    (:mod:`dominowave.params`) and checked when made; each is an option of the same
-    name (:func:`~dominowave.cli.declared.parameter_options`)."""
+    preset and the numerics (those of a study file, ``chain.settings.ChainSettings``), the
+    push, the ensemble and the output, declared once (:mod:`dominowave.params`) and
+    checked when made; each is an option of the same name
+    (:func:`~dominowave.cli.declared.parameter_options`)."""
 
     push_omega: float = parameter(
         1.0, "sqrt(g/l)", "push: domino 0's angular velocity", gt=0, group="push"
@@ -243,29 +242,6 @@ class RunOptions:
     vary_placement: bool = parameter(
         False, "", "each member set up anew (own placement errors)", group="ensemble"
     )
-    preset: Preset | None = choice(
-        Preset,
-        "standard: the 48 x 24 x 7.5 mm box domino from materials.toml (its size, mass and"
-        " contact, --model 3d unless given; with --gap, --floor; not set: the chain of the"
-        " other options)",
-        default=None,
-        group="preset",
-    )
-    gap: float | None = parameter(None, "m", "with --preset: clear gap d", gt=0, group="preset")
-    floor: str | None = text("with --preset: felt, glass, hardwood, laminate", group="preset")
-    fidelity: str | None = text(
-        "box chain given --young (a --preset): exact (the material's contact) or a"
-        " tolerance of the speed, the softest contact within it (not set:"
-        f" {DEFAULT_TOLERANCE:g})",
-        group="numerics",
-    )
-    sleep: bool = parameter(
-        True,
-        "",
-        "box chain: dominoes at rest are put to sleep (the speed changes by at most 4e-4, a"
-        " long chain runs faster); --no-sleep keeps every box awake",
-        group="numerics",
-    )
     fit_from: int | None = parameter(
         None,
         "",
@@ -274,9 +250,6 @@ class RunOptions:
         group="output",
     )
     out: Path | None = text("directory for CSV + PNG (not set: none written)", group="output")
-
-    def __post_init__(self):
-        check_parameters(self)
 
 
 def chain_command(**fields) -> None:
@@ -287,8 +260,10 @@ def chain_command(**fields) -> None:
     ensemble, the preset, the numerics and the output are the fields of RunOptions.
     """
     given = {name: value for name, value in fields.items() if value is not None}
+    if "fidelity" in given:  # (text on the command line: "exact" or a number)
+        given["fidelity"] = parse_fidelity(given["fidelity"])
     options = RunOptions(**{k: given.pop(k) for k in RUN_OPTIONS if k in given})
-    tolerance = parse_fidelity(options.fidelity)
+    tolerance = options.fidelity
     out = options.out
     if out is not None:
         ensure_writable_dir(out)  # before the run, not after it

@@ -63,11 +63,13 @@ def help_text(field: dataclasses.Field, spec: ParameterSpec, flag: str) -> str:
 
 def _option_type(hint: Any, spec: ParameterSpec) -> type:
     """The type the command line parses: a categorical field is text (its class names the
-    valid choices when a value is not one of them), an optional field its value's type."""
+    valid choices when a value is not one of them), an optional field its value's type,
+    a field of several types (e.g. a number or a word) text that the command reads."""
     if spec.choices is not None:
         return type(spec.choices[0])
     if typing.get_origin(hint) in (typing.Union, types.UnionType):
-        (hint,) = [a for a in typing.get_args(hint) if a is not type(None)]
+        kinds = [a for a in typing.get_args(hint) if a is not type(None)]
+        return kinds[0] if len(kinds) == 1 else str
     return hint
 
 

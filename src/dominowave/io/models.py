@@ -16,8 +16,8 @@ import numpy as np
 from pydantic import create_model, model_validator
 
 from dominowave.chain.build import ChainParams
-from dominowave.chain.fidelity import DEFAULT_TOLERANCE
 from dominowave.chain.params import RodsParams, TheoryParams
+from dominowave.chain.settings import ChainSettings
 from dominowave.io.schema import ScenarioModel, fields_from_parameters, quantity
 from dominowave.params import parameter_specs
 from dominowave.units import k_star
@@ -325,9 +325,10 @@ ChainScenario = create_model(
     __doc__=(
         "DEM chain of sphere clumps (dominowave.chain on dominowave.dem, paper section 3)."
         "\n\nThe physical fields are those of :class:`dominowave.chain.ChainParams`, derived"
-        " from its declarations (names, defaults, units, ranges), plus how the run is"
-        " driven: ``push_omega``, ``steps_per_collision``, ``fidelity``, ``sleep`` and"
-        " ``fit_from``."
+        " from its declarations (names, defaults, units, ranges); the preset (``preset``,"
+        " ``gap``, ``floor``) and the numerics (``fidelity``, ``sleep``) those of"
+        " :class:`dominowave.chain.settings.ChainSettings`, derived the same way; plus how"
+        " the run is driven: ``push_omega``, ``steps_per_collision`` and ``fit_from``."
     ),
     __module__=__name__,
     **fields_from_parameters(ChainParams),
@@ -346,42 +347,7 @@ ChainScenario = create_model(
             ge=10,
         ),
     ),
-    fidelity=(
-        float | Literal["exact"] | None,
-        quantity(
-            None,
-            "",
-            "box chain given young (a preset): exact (the material's contact) or the"
-            " tolerance of the speed, the softest contact within it (not set:"
-            f" {DEFAULT_TOLERANCE:g}; chain.fidelity)",
-        ),
-    ),
-    sleep=(
-        bool,
-        quantity(
-            True,
-            "",
-            "box chain: dominoes at rest are put to sleep (the speed changes by at most 4e-4,"
-            " a long chain runs faster); false keeps every box awake (chain.scenario)",
-        ),
-    ),
-    preset=(
-        Literal["standard"] | None,
-        quantity(
-            None,
-            "",
-            "standard: 48 x 24 x 7.5 mm box dominoes, every value from materials.toml"
-            " (chain.presets.standard_domino; with gap and floor)",
-        ),
-    ),
-    gap=(
-        float | None,
-        quantity(None, "m", "with preset: clear gap d between neighbours", gt=0),
-    ),
-    floor=(
-        str | None,
-        quantity(None, "", "with preset: named floor (felt, glass, hardwood, laminate)"),
-    ),
+    **fields_from_parameters(ChainSettings),
     fit_from=(
         int | None,
         quantity(
