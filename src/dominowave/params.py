@@ -130,9 +130,9 @@ def choice(kind, doc: str, *, default: Any = _FIRST, group: str = "") -> Any:
 
 
 def text(doc: str, *, group: str = "") -> Any:
-    """A :func:`parameter` whose value is free text (a name, a number with a word beside
-    it, a path), not set by default: it has no range here, and whoever reads it checks
-    it and names it in its error (e.g. ``chain.fidelity.parse_fidelity``)."""
+    """A :func:`parameter` whose value is free text (a name, a path, a number or a word),
+    not set by default: it has no range here, and whoever reads it checks it and names it
+    in its error (e.g. ``chain.fidelity.parse_fidelity``)."""
     spec = ParameterSpec("", doc, group=group, text=True)
     return dataclasses.field(default=None, metadata={"parameter": spec})
 
