@@ -111,7 +111,7 @@ def test_help_fits_80_columns_with_one_panel_per_concern(help_80):
 def test_brackets_of_the_units_and_defaults_are_shown(help_80):
     shown = flat(help_80)
     default = f"the softest contact within it (not set: {DEFAULT_TOLERANCE:g};"
-    for text in ("push as impulse (not set: push_omega) [N s]", "between neighbours [m;", default):
+    for text in ("push as impulse (not set: --push) [N s]", "between neighbours [m;", default):
         assert text in shown
 
 
@@ -240,7 +240,7 @@ def test_a_single_run_takes_the_push_in_sqrt_g_over_l_the_fidelity_and_the_folde
 
     monkeypatch.setattr(chain_cli, "DominoChain", Recording)
     out = tmp_path / "new" / "out"
-    args = ["--height", 0.04, "--g", 9.0, "--push-omega", 2.0, "--fidelity", 0.05]
+    args = ["--height", 0.04, "--g", 9.0, "--push", 2.0, "--fidelity", 0.05]
     result = CliRunner().invoke(app, ["chain", *map(str, args), "--out", str(out)])
     assert isinstance(result.exception, Stop), result.output
     assert seen["push"].omega == 2.0 * (9.0 / 0.04) ** 0.5 and seen["push"].impulse is None
@@ -284,7 +284,7 @@ def test_a_preset_takes_the_other_fields_given(built):
         (["--impulse", "0"], "impulse = 0 is outside the valid range (0, inf)"),
         (["--fit-from", "-1"], "fit_from = -1 is outside [1, 28]"),
         (["--jitter", "-1"], "jitter = -1 is outside the valid range [0, inf)"),
-        (["--push-omega", "0"], "push_omega = 0 is outside the valid range (0, inf)"),
+        (["--push", "0"], "push = 0 is outside the valid range (0, inf)"),
         (["--preset", "tiny"], "preset = 'tiny' is not one of 'standard'"),
         (["--gap", "0.01", "--floor", "felt"], "--gap and --floor need --preset standard"),
         (["--fidelity", "loose"], "--fidelity 'loose' is not 'exact' or a tolerance"),

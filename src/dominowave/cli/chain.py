@@ -223,11 +223,15 @@ class RunOptions(ChainSettings):
     checked when made; each is an option of the same name
     (:func:`~dominowave.cli.declared.parameter_options`)."""
 
-    push_omega: float = parameter(
-        1.0, "sqrt(g/l)", "push: domino 0's angular velocity", gt=0, group="push"
+    push: float = parameter(
+        1.0,
+        "sqrt(g/l)",
+        "push: domino 0's angular velocity (in a study file and the output, push_omega, in rad/s)",
+        gt=0,
+        group="push",
     )
     impulse: float | None = parameter(
-        None, "N s", "push as impulse (not set: push_omega)", gt=0, group="push"
+        None, "N s", "push as impulse (not set: --push)", gt=0, group="push"
     )
     impulse_height: float | None = parameter(
         None,
@@ -281,7 +285,7 @@ def chain_command(**fields) -> None:
     if options.impulse is not None:
         push = Push(impulse=options.impulse, height=options.impulse_height)
     else:
-        push = Push(omega=options.push_omega * math.sqrt(p.g / p.height))
+        push = Push(omega=options.push * math.sqrt(p.g / p.height))
     chain = DominoChain(p, fidelity=tolerance, sleep=options.sleep)
     compiling = notice_if_compiling(scene_kind(p))
     start = time.perf_counter()
