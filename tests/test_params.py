@@ -132,6 +132,7 @@ def test_a_text_is_not_set_by_default_and_left_to_its_reader():
     @dataclasses.dataclass(frozen=True)
     class Labelled:
         label: str | None = text("a name", group="output")
+        tolerance: float | Literal["exact"] | None = text("a number or 'exact'")
         length: float = parameter(1.0, "m", "length", gt=0)
 
         def __post_init__(self):
@@ -144,8 +145,11 @@ def test_a_text_is_not_set_by_default_and_left_to_its_reader():
     with pytest.raises(ValueError, match=re.escape("length = -1 is outside")):
         Labelled(label="x", length=-1.0)
     assert not ParameterSpec("m", "length").text  # (a number is checked as before)
-    option = {p.name: p for p in parameter_options(Labelled)}["label"]
+    options = {p.name: p for p in parameter_options(Labelled)}
+    option = options["label"]
     assert typing.get_args(option.annotation)[0] == str | None
+    # a number or a word is text on the command line, read by its reader
+    assert typing.get_args(options["tolerance"].annotation)[0] == str | None
     assert option.annotation.__metadata__[0].help == "a name [not set by default]"
     with pytest.raises(ValueError, match="is not a number"):
         ParameterSpec("m", "length").check("length", "felt")

@@ -1,7 +1,7 @@
 """``dominowave chain``: its options come from the parameter declarations.
 
 Each declared field of :class:`~dominowave.chain.ChainParams` and of the command's own
-:class:`~dominowave.cli.chain.RunOptions` (push, ensemble, preset, numerics, output) is
+:class:`~dominowave.cli.chain.RunOptions` (numerics, preset, push, ensemble, output) is
 an option, shown in ``--help`` at 80 columns with its description, unit and default, in
 the panel of its concern; a value given reaches ``ChainParams`` or the run; bad input is
 one line naming the parameter. Nothing is simulated: ``DominoChain`` is replaced by one

@@ -24,7 +24,7 @@ from rich.table import Table
 from dominowave.chain.build import ChainParams
 from dominowave.chain.fidelity import parse_fidelity
 from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push, scene_kind
-from dominowave.chain.settings import ChainSettings
+from dominowave.chain.settings import ChainSettings, numerics
 from dominowave.chain.wave import check_fit_from, fit_speed, local_speeds, unsettled_reason
 from dominowave.cli.compiling import notice_if_compiling
 from dominowave.cli.declared import PanelledCommand, option_name, parameter_options, with_options
@@ -218,7 +218,7 @@ def _preset_params(preset, gap, floor, fields: dict) -> ChainParams:
 @dataclass(frozen=True)
 class RunOptions(ChainSettings):
     """The options of ``dominowave chain`` besides the chain's own (``ChainParams``): the
-    preset and the numerics (those of a study file, ``chain.settings.ChainSettings``), the
+    numerics and the preset (those of a study file, ``chain.settings.ChainSettings``), the
     push, the ensemble and the output, declared once (:mod:`dominowave.params`) and
     checked when made; each is an option of the same name
     (:func:`~dominowave.cli.declared.parameter_options`)."""
@@ -260,14 +260,13 @@ def chain_command(**fields) -> None:
     """Run one DEM domino chain (or an ensemble): per-domino table, speed vs theory, plot.
 
     The options of the domino, the contact, the chain and its placement errors are the
-    fields of ChainParams (dominowave.chain), with its defaults; those of the push, the
-    ensemble, the preset, the numerics and the output are the fields of RunOptions.
+    fields of ChainParams (dominowave.chain), with its defaults; those of the numerics,
+    the preset, the push, the ensemble and the output are the fields of RunOptions.
     """
     given = {name: value for name, value in fields.items() if value is not None}
     if "fidelity" in given:  # (text on the command line: "exact" or a number)
         given["fidelity"] = parse_fidelity(given["fidelity"])
     options = RunOptions(**{k: given.pop(k) for k in RUN_OPTIONS if k in given})
-    tolerance = options.fidelity
     out = options.out
     if out is not None:
         ensure_writable_dir(out)  # before the run, not after it
@@ -286,7 +285,7 @@ def chain_command(**fields) -> None:
         push = Push(impulse=options.impulse, height=options.impulse_height)
     else:
         push = Push(omega=options.push * math.sqrt(p.g / p.height))
-    chain = DominoChain(p, fidelity=tolerance, sleep=options.sleep)
+    chain = DominoChain(p, **numerics(options))
     compiling = notice_if_compiling(scene_kind(p))
     start = time.perf_counter()
     ens = None

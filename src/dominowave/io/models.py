@@ -16,8 +16,9 @@ import numpy as np
 from pydantic import create_model, model_validator
 
 from dominowave.chain.build import ChainParams
+from dominowave.chain.fidelity import check_fidelity
 from dominowave.chain.params import RodsParams, TheoryParams
-from dominowave.chain.settings import ChainSettings
+from dominowave.chain.settings import ChainSettings, numerics
 from dominowave.io.schema import ScenarioModel, fields_from_parameters, quantity
 from dominowave.params import parameter_specs
 from dominowave.units import k_star
@@ -219,6 +220,8 @@ class _ChainRun(ScenarioModel):
     @model_validator(mode="before")
     @classmethod
     def _given_field_unsets_its_alternatives(cls, data):
+        if isinstance(data, dict) and "fidelity" in data:  # (one line, before pydantic's
+            check_fidelity(data["fidelity"])  # two on the union's members)
         data = cls._expand_preset(data)
         return _HingedRun._given_field_unsets_its_alternatives.__func__(cls, data)
 
@@ -282,12 +285,9 @@ class _ChainRun(ScenarioModel):
 
     def run_options(self) -> dict:
         """The settings of the run that :class:`~dominowave.chain.scenario.DominoChain`
-        takes besides the parameters: ``steps_per_collision``, ``fidelity``, ``sleep``."""
-        return {
-            "steps_per_collision": self.steps_per_collision,
-            "fidelity": self.fidelity,
-            "sleep": self.sleep,
-        }
+        takes besides the parameters: ``steps_per_collision`` and the numerics of
+        :class:`~dominowave.chain.settings.ChainSettings` (``fidelity``, ``sleep``)."""
+        return {"steps_per_collision": self.steps_per_collision, **numerics(self)}
 
     def params(self, **changes) -> ChainParams:
         """The :class:`~dominowave.chain.build.ChainParams` of this config."""
