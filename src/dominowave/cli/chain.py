@@ -221,14 +221,12 @@ class RunOptions(ChainSettings):
     numerics and the preset (those of a study file, ``chain.settings.ChainSettings``), the
     push, the ensemble and the output, declared once (:mod:`dominowave.params`) and
     checked when made; each is an option of the same name
-    (:func:`~dominowave.cli.declared.parameter_options`)."""
+    (:func:`~dominowave.cli.declared.parameter_options`).  ``push`` is in units of
+    ``sqrt(g/l)``, where a study file and ``chain_members.csv`` give ``push_omega`` in
+    rad/s."""
 
     push: float = parameter(
-        1.0,
-        "sqrt(g/l)",
-        "push: domino 0's angular velocity (in a study file and the output, push_omega, in rad/s)",
-        gt=0,
-        group="push",
+        1.0, "sqrt(g/l)", "push: domino 0's angular velocity", gt=0, group="push"
     )
     impulse: float | None = parameter(
         None, "N s", "push as impulse (not set: --push)", gt=0, group="push"
