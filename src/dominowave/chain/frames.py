@@ -95,10 +95,9 @@ class SparseFrames:
         row for each domino in each frame where its state differs from the frame before."""
         changed = np.zeros(piece[FIELDS[0]].shape[:2], bool)  # (F, N)
         for k in FIELDS:
-            # bit for bit: -0.0 is not 0.0, and a NaN is itself
-            now = np.ascontiguousarray(piece[k]).view(np.int64)
-            changed[:1] |= (now[:1] != self._last[k].view(np.int64)).any(axis=2)
-            changed[1:] |= (now[1:] != now[:-1]).any(axis=2)
+            now = np.ascontiguousarray(piece[k])
+            changed[:1] |= _differs(now[:1], self._last[k])
+            changed[1:] |= _differs(now[1:], now[:-1])
         frame, body = np.nonzero(changed)
         self._add_rows(frame, body, {k: piece[k][frame, body] for k in FIELDS})
         self._add_times(piece["times"])
@@ -113,8 +112,7 @@ class SparseFrames:
         n0 = rows.start[min(1, rows.times.size)]  # (the rows of the first frame)
         changed = np.zeros(n0, bool)
         for k in FIELDS:
-            now = getattr(rows, k)[:n0].view(np.int64)
-            changed |= (now != self._last[k][body[:n0]].view(np.int64)).any(axis=1)
+            changed |= _differs(getattr(rows, k)[:n0], self._last[k][body[:n0]])
         kept = np.flatnonzero(changed)
         self._add_rows(frame[kept], body[kept], {k: getattr(rows, k)[kept] for k in FIELDS})
         self._add_rows(frame[n0:], body[n0:], {k: getattr(rows, k)[n0:].copy() for k in FIELDS})
@@ -159,3 +157,9 @@ class SparseFrames:
             Track(frame[lo:hi], *(c[lo:hi] for c in columns))
             for lo, hi in itertools.pairwise(bounds)
         ]
+
+
+def _differs(now: np.ndarray, before: np.ndarray) -> np.ndarray:
+    """Whether each state (the last axis) of ``now`` differs from ``before`` in any bit:
+    -0.0 is not 0.0, and a NaN is itself.  Both C-contiguous along the last axis."""
+    return (now.view(np.int64) != before.view(np.int64)).any(axis=-1)
