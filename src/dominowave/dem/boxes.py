@@ -87,8 +87,8 @@ from dominowave.dem.laws.point import onset_dashpot, point_law
 from dominowave.dem.material_pairs import material_pair
 from dominowave.dem.shapes.cuboid import MAX_POINTS, box_box, box_plane, box_sphere, faces_separate
 from dominowave.dem.shapes.rectangle import (
-    PLANAR_MULTIPLICITY,
     edges_separate,
+    multiplicity,
     rect_plane,
     rect_rect,
     rect_sphere,
@@ -978,7 +978,6 @@ def _box_driver(PLANAR, SPHERES):  # (capitals: constants of the compiled kernel
         old, new = boxes.rows, boxes.next
         within_reach = _within_reach_planar if PLANAR else _within_reach_general
         manifold = _manifold_planar if PLANAR else _manifold_general
-        mult = float(PLANAR_MULTIPLICITY) if PLANAR else 1.0
         used = boxes.used
         used[: old.n[0]] = 0
         props = boxes.props
@@ -997,6 +996,7 @@ def _box_driver(PLANAR, SPHERES):  # (capitals: constants of the compiled kernel
                 if margin < 0.0:
                     continue
                 bj = ba if wall else boxes.body[j]
+                mult = multiplicity(boxes.half[a], boxes.half[a if wall else j]) if PLANAR else 1.0
                 code = _pair_code(a, j, nx, nw)
                 # old rows of pairs before this one are gone: release their springs
                 o = _drop_before(bodies, old, boxes, o, code, nx, nw, ledger)

@@ -50,6 +50,30 @@ def parse_blocked(blocked) -> np.ndarray:
     return mask
 
 
+def _rotation(name, value) -> np.ndarray:
+    """A proper rotation matrix (3, 3), or a ValueError naming ``name``."""
+    R = np.asarray(value, float)
+    if R.shape != (3, 3) or not np.allclose(R.T @ R, np.eye(3), atol=1e-12):
+        raise ValueError(f"{name} = {value!r} is not a 3 x 3 rotation matrix")
+    if np.linalg.det(R) < 0:
+        raise ValueError(f"{name} = {value!r} is a reflection (det -1)")
+    return R
+
+
+def _axis_frame(axis) -> np.ndarray:
+    """The body axes (columns) of a body of symmetry axis ``axis`` (3,): axis 2 along it,
+    axis 1 the part of world y normal to it (world x if it is along y), axis 0 = 1 x 2."""
+    v = _vector("axis", axis)
+    norm = float(np.linalg.norm(v))
+    if norm == 0.0:
+        raise ValueError(f"axis = {axis!r} has no direction; give a nonzero vector")
+    e2 = v / norm
+    ref = np.array([0.0, 1.0, 0.0]) if abs(e2[1]) < 0.9 else np.array([1.0, 0.0, 0.0])
+    e1 = ref - (ref @ e2) * e2
+    e1 /= np.linalg.norm(e1)
+    return np.column_stack((np.cross(e1, e2), e1, e2))
+
+
 def _vector(name, value):
     v = np.asarray(value, dtype=float).reshape(-1)
     if v.shape != (3,):
@@ -261,17 +285,77 @@ class Scene:
 
         centre = _vector("centre", centre)
         half = _vector("half_extents", half_extents)
-        body = len(self._bodies)
         for k, h in enumerate(half):
-            check_positive(f"half_extents[{k}] of body {body}", h)
+            check_positive(f"half_extents[{k}] of body {len(self._bodies)}", h)
         check_in_range("rounding", rounding, 0.0, float(half.min()), lo_inclusive=True)
+        R = np.eye(3) if orientation is None else _rotation("orientation", orientation)
+        density = self.materials[self._material_id("material", material)].density
+        return self._add_rounded(
+            centre, half - float(rounding), rounding, material, R,
+            cuboid_mass_properties(half, density), mass, inertia,
+            blocked, velocity, angular_velocity, held,
+        )  # fmt: skip
+
+    def add_capsule(
+        self,
+        centre,
+        half_length: float,
+        radius: float,
+        material: int,
+        *,
+        axis=(0.0, 0.0, 1.0),
+        mass: float | None = None,
+        inertia=None,
+        blocked="",
+        velocity=(0.0, 0.0, 0.0),
+        angular_velocity=(0.0, 0.0, 0.0),
+        held: bool = False,
+    ) -> int:
+        """A rigid capsule (a spherocylinder); returns the body id.
+
+        The capsule is the rounded cuboid of :meth:`add_box` whose core is a segment: core
+        half-extents ``(0, 0, c)`` along its axes, rounding ``r``.  Its contacts are the
+        cuboid's (dem/shapes/cuboid.py; a core vertex of zero extent is one point), so it
+        meets boxes, capsules, spheres and walls with the same law.
+
+        Parameters
+        ----------
+        centre : (3,) centre of the capsule [m] (its centre of mass).
+        half_length : half the length c of the axis segment between the centres of the two
+            hemispherical caps [m], ``c > 0`` (a sphere is :meth:`add_sphere`'s); the
+            capsule is ``2 (c + r)`` long.
+        radius : radius r of the cylinder and the caps [m], ``r > 0``.
+        material : material id (its density gives the default mass).
+        axis : (3,) direction of the capsule's axis in the world frame (default z); it is
+            body axis 2, and body axis 1 is the part of world y normal to it (world x if the
+            axis is along y): a capsule whose axis lies in the xz plane may move in a planar
+            scene (blocked "y rx rz"), where it touches at one point, not along y.
+        mass, inertia : the body's mass [kg] and principal moments (3,) about the body axes
+            [kg m^2]; default those of a uniform solid capsule
+            (shapes.cuboid.capsule_mass_properties).
+        blocked, velocity, angular_velocity, held : as :meth:`add_box`.
+        """
+        from dominowave.dem.shapes.cuboid import capsule_mass_properties
+
+        check_positive("half_length", half_length)
+        check_positive("radius", radius)
+        density = self.materials[self._material_id("material", material)].density
+        return self._add_rounded(
+            centre, np.array([0.0, 0.0, float(half_length)]), radius, material,
+            _axis_frame(axis),
+            capsule_mass_properties(half_length, radius, density), mass, inertia,
+            blocked, velocity, angular_velocity, held,
+        )  # fmt: skip
+
+    def _add_rounded(
+        self, centre, core, rounding, material, R, mass_properties, mass, inertia,
+        blocked, velocity, angular_velocity, held,
+    ) -> int:  # fmt: skip
+        """A rounded body of core half-extents ``core`` (3,) [m] and rounding [m], body axes
+        the columns of ``R``; ``mass_properties`` the default (mass, moments) of its shape."""
+        centre = _vector("centre", centre)
         mat = self._material_id("material", material)
-        R = np.eye(3) if orientation is None else np.asarray(orientation, float)
-        if R.shape != (3, 3) or not np.allclose(R.T @ R, np.eye(3), atol=1e-12):
-            raise ValueError(f"orientation = {orientation!r} is not a 3 x 3 rotation matrix")
-        if np.linalg.det(R) < 0:
-            raise ValueError(f"orientation = {orientation!r} is a reflection (det -1)")
-        m_default, i_default = cuboid_mass_properties(half, self.materials[mat].density)
+        m_default, i_default = mass_properties
         if mass is not None:
             check_positive("mass", mass)
         moments = i_default if inertia is None else np.asarray(inertia, float).reshape(3)
@@ -279,7 +363,7 @@ class Scene:
             check_positive("inertia", moments)
         box = {
             "centre": centre,
-            "core": half - float(rounding),
+            "core": np.asarray(core, float),
             "rounding": float(rounding),
             "material": mat,
             "axes": R,
@@ -287,7 +371,7 @@ class Scene:
             "moments": moments,
         }
         self._bodies.append(_body(blocked, velocity, angular_velocity, held, box=box))
-        return body
+        return len(self._bodies) - 1
 
     # ------------------------------------------------------------------ build
     def _material_table(self):

@@ -62,7 +62,9 @@ __all__ = [
     "box_box",
     "box_plane",
     "box_sphere",
+    "capsule_mass_properties",
     "cuboid_mass_properties",
+    "distinct_vertex",
     "manifold_is_deepest",
     "merge_deepest",
     "owner_first",
@@ -102,6 +104,25 @@ def cuboid_mass_properties(half_extents, density):
     return mass, moments
 
 
+def capsule_mass_properties(half_length, radius, density):
+    """Mass [kg] and principal moments (3,) [kg m^2] of a uniform solid capsule: a
+    cylinder of radius ``r`` and length ``2 c`` (``half_length`` c [m]) closed by two
+    hemispheres of radius ``r`` [m], density [kg/m^3]; its axis is body axis 2.
+
+    With the cylinder's mass ``m_c = 2 pi r^2 c rho`` and the two hemispheres' ``m_s = 4/3
+    pi r^3 rho``: ``I_2 = m_c r^2 / 2 + 2/5 m_s r^2`` about the axis, and about a diameter
+    through the centre ``I_0 = I_1 = m_c (r^2 / 4 + c^2 / 3) + m_s (2/5 r^2 + c^2 + 3/4 c r)``
+    (each hemisphere's moment about its centroid, ``83/320 m r^2``, shifted by the parallel
+    axis theorem to its centroid at ``c + 3 r / 8`` from the centre).
+    """
+    c, r = float(half_length), float(radius)
+    m_cyl = 2.0 * math.pi * r * r * c * density
+    m_sph = 4.0 / 3.0 * math.pi * r**3 * density
+    axial = 0.5 * m_cyl * r * r + 0.4 * m_sph * r * r
+    diametral = m_cyl * (r * r / 4.0 + c * c / 3.0) + m_sph * (0.4 * r * r + c * c + 0.75 * c * r)
+    return m_cyl + m_sph, np.array([diametral, diametral, axial])
+
+
 @inline_kernel()
 def unit_sign(x):
     """+1 for ``x >= 0``, else -1: the side of a point or a direction, never 0 (a point
@@ -116,10 +137,13 @@ def box_plane(x, R, h, r, p0, nw, margin, normal, point, overlap, key):
     One point per core vertex ``v`` with ``d = (v - p0).nw < r + margin`` (a face resting
     on the plane gets its 4 corners): overlap ``r - d``, normal ``-nw`` (from the box into
     the wall), point ``v - nw (r - overlap / 2)``; key = the vertex id ``k`` (bit 0, 1, 2:
-    the sign of the box coordinate x, y, z, 1 = positive).
+    the sign of the box coordinate x, y, z, 1 = positive).  A core of zero extent along
+    an axis (a capsule's segment) has half as many vertices (:func:`distinct_vertex`).
     """
     n = 0
     for k in range(8):
+        if not distinct_vertex(h, k):
+            continue
         v0, v1, v2 = x[0], x[1], x[2]
         for m in range(3):
             s = h[m] if (k >> m) & 1 else -h[m]
@@ -147,6 +171,15 @@ def plane_row(v0, v1, v2, d, r, m0, m1, m2, k, n, normal, point, overlap, key):
     point[n, 2] = v2 + reach * m2
     overlap[n] = delta
     key[n] = k
+
+
+@inline_kernel()
+def distinct_vertex(h, k):
+    """False if vertex k of a core of half-extents ``h`` coincides with a vertex of lower
+    id: a bit m of k is set where ``h[m] = 0`` (the core of a capsule is a segment, two
+    vertices; of a rounded plate, a rectangle).  Each location is then one contact point,
+    not two or four with their forces added."""
+    return not ((k & 1 and h[0] == 0.0) or (k & 2 and h[1] == 0.0) or (k & 4 and h[2] == 0.0))
 
 
 @inline_kernel()
@@ -761,6 +794,8 @@ def _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, ties, out):
     for k in range(8):
         if n > 0 and not ties:
             break
+        if not distinct_vertex(h, k):
+            continue
         v0, v1, v2 = _vertex(x, R, h, k)
         g, u0, u1, u2, c0, c1, c2 = point_box_distance(xo, Ro, ho, v0, v1, v2)
         if g > best + tol:

@@ -33,7 +33,15 @@ from dominowave.dem.shapes.cuboid import (
     vertex_owner,
 )
 
-__all__ = ["PLANAR_MULTIPLICITY", "edges_separate", "rect_plane", "rect_rect", "rect_sphere"]
+__all__ = [
+    "PLANAR_MULTIPLICITY",
+    "distinct_corner",
+    "edges_separate",
+    "multiplicity",
+    "rect_plane",
+    "rect_rect",
+    "rect_sphere",
+]
 
 PLANAR_MULTIPLICITY = 2  # the two ends y = +-b of a cuboid edge parallel to y
 KEY_VERTEX = 2 * 4 * 4 * 4
@@ -47,6 +55,24 @@ def _corner(x, R, h, k):
     return x[0] + s0 * R[0, 0] + s2 * R[0, 2], x[2] + s0 * R[2, 0] + s2 * R[2, 2]
 
 
+@inline_kernel()
+def distinct_corner(h, k):
+    """False if corner k coincides with a corner of lower id (cuboid.distinct_vertex: a
+    core of zero extent along axis 0 or 2, a capsule's segment)."""
+    return not ((k & 1 and h[0] == 0.0) or (k & 2 and h[2] == 0.0))
+
+
+@inline_kernel()
+def multiplicity(hi, hj):
+    """The number of contact points a planar row stands for: the two ends ``y = +-b`` of
+    a cuboid edge along y (:data:`PLANAR_MULTIPLICITY`), or one where a body's core has
+    no extent along y (a capsule lying in the plane touches at one point).  ``hj`` is
+    ``hi`` for a wall."""
+    if hi[1] == 0.0 or hj[1] == 0.0:
+        return 1.0
+    return float(PLANAR_MULTIPLICITY)
+
+
 @njit(cache=True, error_model="numpy", _nrt=False)
 def rect_plane(x, R, h, r, p0, nw, margin, normal, point, overlap, key):
     """Contacts of a rounded rectangle with the plane through ``p0``, unit normal ``nw``
@@ -54,6 +80,8 @@ def rect_plane(x, R, h, r, p0, nw, margin, normal, point, overlap, key):
     overlap ``r - d``, normal ``-nw``; key = corner id."""
     n = 0
     for k in range(4):
+        if not distinct_corner(h, k):
+            continue
         v0, v2 = _corner(x, R, h, k)
         d = (v0 - p0[0]) * nw[0] + (x[1] - p0[1]) * nw[1] + (v2 - p0[2]) * nw[2]
         if d < r + margin:  # (no y in the normal: the point's y is the body's own, x[1] + 0)
@@ -160,6 +188,8 @@ def _nearest_corners(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, out):
     x, R, h, r_own, xo, Ro, ho, r_other, sign = owner_first(owner, xi, Ri, hi, ri, xj, Rj, hj, rj)
     n = 0
     for k in range(4):
+        if not distinct_corner(h, k):
+            continue
         v0, v2 = _corner(x, R, h, k)
         g, u0, _, u2, c0, _, c2 = point_box_distance(xo, Ro, ho, v0, xo[1], v2)
         if g > best + tol:
