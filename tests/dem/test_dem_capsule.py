@@ -124,6 +124,67 @@ def test_validate_capsule_pair_deepest_point_against_exact_distance(partner, see
     assert gaps.min() > 1e-6 * (ri + rj)
 
 
+def _lying(axis, centre):
+    """A capsule's (R, x) with its axis along the unit ``axis`` (in the xy plane)."""
+    R = Rotation.align_vectors([axis], [[0.0, 0.0, 1.0]])[0].as_matrix()
+    return R, np.asarray(centre, float)
+
+
+# (body i: a capsule lying along x, c = 0.02, r = 0.005, its lowest core line at z = 0;
+# partner j; the expected points as (x, y) of each and the overlap)
+_FACE = np.array([0.03, 0.01, 0.01])  # a box's core, rounding 0.002
+_DEPTH = 1e-5
+_CASES = {
+    "on a box face": (
+        (_FACE, 0.002, np.eye(3), [0.0, 0.0, -0.007 - 0.01 + _DEPTH]),
+        [(-0.02, 0.0), (0.02, 0.0)],
+    ),
+    "across a box face": (
+        (np.array([0.01, 0.03, 0.01]), 0.002, np.eye(3), [0.0, 0.0, -0.007 - 0.01 + _DEPTH]),
+        [(-0.01, 0.0), (0.01, 0.0)],
+    ),
+    "crossing a capsule": (
+        (_core(0.02), 0.002, _lying([0.0, 1.0, 0.0], [0, 0, 0])[0], [0.0, 0.0, -0.007 + _DEPTH]),
+        [(0.0, 0.0)],
+    ),
+    "parallel to a capsule": (
+        (_core(0.02), 0.002, np.eye(3)[:, [1, 2, 0]], [0.015, 0.0, -0.007 + _DEPTH]),
+        [(-0.005, 0.0), (0.02, 0.0)],
+    ),
+    "on a box edge": (  # (the box turned by 45 deg about x: an edge along the capsule)
+        (
+            np.array([0.03, 0.01, 0.01]),
+            0.002,
+            Rotation.from_rotvec([np.pi / 4, 0, 0]).as_matrix(),
+            [0.0, 0.0, -0.007 + _DEPTH - 0.01 * np.sqrt(2.0)],
+        ),
+        [(-0.02, 0.0), (0.02, 0.0)],
+    ),
+}
+
+
+@pytest.mark.parametrize("roll", [0.0, 0.3, np.pi / 4, np.pi / 2])
+@pytest.mark.parametrize("swap", [False, True])
+@pytest.mark.parametrize("case", _CASES)
+def test_validate_capsule_lying_on_a_face_or_a_capsule_gets_its_exact_points(case, swap, roll):
+    """A capsule lying on a box face, across a narrow one, across a capsule, along one
+    (offset by 15 mm) and along a box edge: each touching place once -- the two caps on
+    a face; the two places over the edges across a narrow face; the crossing point; the
+    two ends of the overlap of two parallel segments or of the edge -- with the overlap
+    of its depth (1e-5 m), whichever body is i, however the capsule's frame is turned
+    about its axis (``roll``: the same body, other face axes in the separating-axis test)."""
+    (hj, rj, Rj, xj), expected = _CASES[case]
+    Ri, xi = _lying([1.0, 0.0, 0.0], [0.0, 0.0, 0.0])
+    Ri = Ri @ Rotation.from_rotvec([0.0, 0.0, roll]).as_matrix()
+    pair = (xi, Ri, _core(0.02), 0.005), (np.array(xj, float), Rj, hj, rj)
+    normal, point, overlap, _ = _manifold(*pair[swap], *pair[not swap])
+    order = np.argsort(point[:, 0])
+    np.testing.assert_allclose(point[order, :2], expected, atol=1e-12)
+    np.testing.assert_allclose(overlap, _DEPTH, atol=1e-12)
+    down = -1.0 if not swap else 1.0  # (from i to j)
+    np.testing.assert_allclose(normal, [[0.0, 0.0, down]] * len(expected), atol=1e-12)
+
+
 def test_validate_capsule_and_sphere_against_the_point_segment_distance():
     """A sphere near a capsule: one point, overlap ``r + R - d`` with d the distance of the
     sphere's centre from the axis segment (clamped projection)."""
@@ -264,6 +325,55 @@ def test_validate_planar_path_equals_general_path_for_capsules():
     np.testing.assert_allclose(out[0][1], out[1][1], rtol=0, atol=1e-10)
 
 
+def _standing_on_a_box(capsule_first):
+    """A capsule standing upright on a box that rests on the floor, in a planar scene
+    (the capsule added before or after the box)."""
+    scene = Scene(gravity=(0.0, 0.0, -G))
+    m = scene.add_material(Material(density=RHO, kn=1e5, friction=0.5, restitution=0.4))
+    scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), m)
+    box = dict(centre=(0.0, 0.0, 0.01 - 1e-6), half_extents=(0.02, 0.01, 0.01), rounding=0.001)
+
+    def capsule():
+        return scene.add_capsule((0.0, 0.0, 0.05), 0.02, 0.01, m, blocked="y rx rz")
+
+    body = capsule() if capsule_first else None
+    scene.add_box(material=m, blocked="y rx rz", **box)
+    return scene, capsule() if body is None else body
+
+
+@pytest.mark.parametrize("capsule_first", [True, False])
+def test_validate_capsule_standing_on_a_box_touches_at_one_point(capsule_first):
+    """A capsule standing on its cap on a box (both moving in the xz plane) rests on one
+    point carrying its weight, with the planar kernels (the end of its core, a zero
+    extent, clips a box face to one point, whichever body is the reference) and the
+    general ones alike, in either order of the bodies: the same trajectory."""
+    out = []
+    for kernels in (True, False):
+        scene, body = _standing_on_a_box(capsule_first)
+        sim = scene.build(safety=0.05)
+        sim.planar_kernels = kernels
+        res = sim.run(until=0.3, trajectory_every=1000)
+        assert sim.settings.planar == kernels
+        rows = sim.boxes.rows
+        n = rows.n[0]
+        pair = (rows.j[:n] >= 0) & (rows.j[:n] < 2)
+        assert pair.sum() == 1
+        assert rows.mult[:n][pair][0] == 1.0
+        weight = sim.bodies.mass[body] * G
+        assert rows.fn[:n][pair][0] == pytest.approx(weight, rel=1e-6)
+        out.append(res.positions[:, body].copy())
+    np.testing.assert_allclose(out[0], out[1], rtol=0, atol=1e-12)
+
+
+def test_hertz_contacts_refuse_capsules():
+    scene = Scene(normal_law="hertz")
+    m = scene.add_material(Material(density=RHO, young=1e9, poisson=0.3))
+    scene.add_wall((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), m)
+    scene.add_capsule((0.0, 0.0, 0.02), 0.03, 0.01, m)
+    with pytest.raises(ValueError, match="this scene has capsules"):
+        scene.build()
+
+
 def test_a_capsule_along_y_runs_the_general_kernels():
     """A capsule whose axis is world y has its body axis 1 off y: the scene is not planar
     (its planar geometry would take the axis out of the plane), whatever it blocks."""
@@ -277,8 +387,9 @@ def test_a_capsule_along_y_runs_the_general_kernels():
 @pytest.mark.parametrize(
     "args, options, fragment",
     [
-        ((0.0, 0.01), {}, "half_length = 0"),
-        ((0.02, -0.01), {}, "radius = -0.01"),
+        ((0.0, 0.01), {}, "half_length of body 0 = 0 is outside the valid range (0, inf)"),
+        ((np.inf, 0.01), {}, "half_length of body 0 = inf is outside the valid range (0, inf)"),
+        ((0.02, -0.01), {}, "radius of body 0 = -0.01 is outside the valid range (0, inf)"),
         ((0.02, 0.01), {"axis": (0.0, 0.0, 0.0)}, "axis = (0.0, 0.0, 0.0) has no direction"),
         ((0.02, 0.01), {"axis": (1.0, 0.0)}, "axis = (1.0, 0.0) must have 3 components"),
         ((0.02, 0.01), {"mass": 0.0}, "mass = 0"),

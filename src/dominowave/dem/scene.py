@@ -288,11 +288,11 @@ class Scene:
         for k, h in enumerate(half):
             check_positive(f"half_extents[{k}] of body {len(self._bodies)}", h)
         check_in_range("rounding", rounding, 0.0, float(half.min()), lo_inclusive=True)
+        mat = self._material_id("material", material)
         R = np.eye(3) if orientation is None else _rotation("orientation", orientation)
-        density = self.materials[self._material_id("material", material)].density
         return self._add_rounded(
-            centre, half - float(rounding), rounding, material, R,
-            cuboid_mass_properties(half, density), mass, inertia,
+            centre, half - float(rounding), rounding, mat, R,
+            cuboid_mass_properties(half, self.materials[mat].density), mass, inertia,
             blocked, velocity, angular_velocity, held,
         )  # fmt: skip
 
@@ -316,7 +316,9 @@ class Scene:
         The capsule is the rounded cuboid of :meth:`add_box` whose core is a segment: core
         half-extents ``(0, 0, c)`` along its axes, rounding ``r``.  Its contacts are the
         cuboid's (dem/shapes/cuboid.py; a core vertex of zero extent is one point), so it
-        meets boxes, capsules, spheres and walls with the same law.
+        meets boxes, capsules, spheres and walls with the same law (the linear one: the
+        Hertz law's radius of curvature is the boxes', ``Scene.build`` refuses capsules
+        with it).
 
         Parameters
         ----------
@@ -327,9 +329,10 @@ class Scene:
         radius : radius r of the cylinder and the caps [m], ``r > 0``.
         material : material id (its density gives the default mass).
         axis : (3,) direction of the capsule's axis in the world frame (default z); it is
-            body axis 2, and body axis 1 is the part of world y normal to it (world x if the
-            axis is along y): a capsule whose axis lies in the xz plane may move in a planar
-            scene (blocked "y rx rz"), where it touches at one point, not along y.
+            body axis 2, and body axis 1 is the part of world y normal to it (of world x
+            if the axis is within 26 deg of y): a capsule whose axis lies in the xz plane
+            may move in a planar scene (blocked "y rx rz"), where it touches at one point,
+            not along y.
         mass, inertia : the body's mass [kg] and principal moments (3,) about the body axes
             [kg m^2]; default those of a uniform solid capsule
             (shapes.cuboid.capsule_mass_properties).
@@ -337,24 +340,24 @@ class Scene:
         """
         from dominowave.dem.shapes.cuboid import capsule_mass_properties
 
-        check_positive("half_length", half_length)
-        check_positive("radius", radius)
-        density = self.materials[self._material_id("material", material)].density
+        centre = _vector("centre", centre)
+        body = len(self._bodies)
+        check_in_range(f"half_length of body {body}", half_length, 0.0, math.inf)
+        check_in_range(f"radius of body {body}", radius, 0.0, math.inf)
+        mat = self._material_id("material", material)
         return self._add_rounded(
-            centre, np.array([0.0, 0.0, float(half_length)]), radius, material,
-            _axis_frame(axis),
-            capsule_mass_properties(half_length, radius, density), mass, inertia,
-            blocked, velocity, angular_velocity, held,
+            centre, np.array([0.0, 0.0, float(half_length)]), radius, mat, _axis_frame(axis),
+            capsule_mass_properties(half_length, radius, self.materials[mat].density),
+            mass, inertia, blocked, velocity, angular_velocity, held,
         )  # fmt: skip
 
     def _add_rounded(
-        self, centre, core, rounding, material, R, mass_properties, mass, inertia,
+        self, centre, core, rounding, mat, R, mass_properties, mass, inertia,
         blocked, velocity, angular_velocity, held,
     ) -> int:  # fmt: skip
-        """A rounded body of core half-extents ``core`` (3,) [m] and rounding [m], body axes
-        the columns of ``R``; ``mass_properties`` the default (mass, moments) of its shape."""
-        centre = _vector("centre", centre)
-        mat = self._material_id("material", material)
+        """A rounded body at ``centre`` (3,) [m] of core half-extents ``core`` (3,) [m],
+        rounding [m] and material id ``mat`` (each checked), body axes the columns of
+        ``R``; ``mass_properties`` the default (mass, moments) of its shape."""
         m_default, i_default = mass_properties
         if mass is not None:
             check_positive("mass", mass)
@@ -605,6 +608,12 @@ class Scene:
                     " only; this scene has spheres (leave sleep_speed = 0)"
                 )
         boxes = self._boxes_arrays(spheres.body)
+        if NORMAL_LAWS[self.normal_law] == LAW_HERTZ and np.any(boxes.half == 0.0):
+            raise ValueError(
+                "normal_law = 'hertz' takes a box's rounding as the curvature of its contacts,"
+                " which a capsule's cap or side does not have; this scene has capsules (use"
+                " normal_law = 'linear')"
+            )
         if NORMAL_LAWS[self.normal_law] == LAW_HERTZ and spheres.radius.size:
             raise ValueError(
                 "normal_law = 'hertz' is implemented for box and wall contacts only; "

@@ -562,6 +562,7 @@ def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work,
     face_A = 2 * kA + (0 if sA > 0 else 1)
     face_B = 2 * kB + (0 if sB > 0 else 1)
     base = ((swap * 6 + face_A) * 6 + face_B) * 64
+    flat = _no_area(hA, kA)
     reach = rA + rB + margin
     n = 0
     for k in range(count):
@@ -586,7 +587,7 @@ def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work,
                 label_in, label_out = vertex - 1 if vertex > 0 else 3, vertex
                 if t < 1.0 and near < 0:  # (inside the edge: the crossing's own key)
                     label_in, label_out = edge, plane + 4
-                corner = base + min(label_in, label_out) * 8 + max(label_in, label_out)
+                corner = _corner_key(base, label_in, label_out, flat)
                 duplicate = False
                 for c in range(n):
                     duplicate = duplicate or key[c] == corner
@@ -616,9 +617,21 @@ def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work,
         point[n, 2] = c2 + src[k, 0] * RA[2, ku] + src[k, 1] * RA[2, kv] + lift * n2
         normal[n, 0], normal[n, 1], normal[n, 2] = sign * n0, sign * n1, sign * n2
         overlap[n] = rA + rB - pn
-        key[n] = base + min(label_in, label_out) * 8 + max(label_in, label_out)
+        key[n] = _corner_key(base, label_in, label_out, flat)
         n += 1
     return _merge_coincident(out, n, base, close)
+
+
+@inline_kernel()
+def _corner_key(base, label_in, label_out, flat):
+    """Key of a clipped corner where the polygon edges ``label_in``, ``label_out`` meet:
+    ``base + 8 lo + hi`` of the two labels.  On a reference face without area (``flat``:
+    a capsule's side, a segment) the polygon is cut down to a segment whose two ends meet
+    the same two labels in opposite order: the key keeps the order, ``base + 8 in + out``,
+    so that the two ends are two points."""
+    if flat:
+        return base + label_in * 8 + label_out
+    return base + min(label_in, label_out) * 8 + max(label_in, label_out)
 
 
 @inline_kernel()
@@ -697,12 +710,14 @@ def _segment_closest(r0, r1, r2, u0, u1, u2, v0, v1, v2):
     b = u0 * v0 + u1 * v1 + u2 * v2
     c = u0 * r0 + u1 * r1 + u2 * r2
     f = v0 * r0 + v1 * r1 + v2 * r2
+    if e == 0.0:  # (q a point: an edge of a zero extent, as a capsule's)
+        return (min(max(-c / a, -1.0), 1.0) if a > 0.0 else 0.0), 0.0
     denom = a * e - b * b
     s = min(max((b * f - c * e) / denom, -1.0), 1.0) if denom > 0.0 else 0.0
     t = (b * s + f) / e
     if t < -1.0 or t > 1.0:
         t = min(max(t, -1.0), 1.0)
-        s = min(max((t * b - c) / a, -1.0), 1.0)
+        s = min(max((t * b - c) / a, -1.0), 1.0) if a > 0.0 else 0.0
     return s, t
 
 
@@ -841,7 +856,8 @@ def box_box(
     meeting there: incident edges 0..3, reference side planes 4..7); edge contact
     ``KEY_EDGE + 12 edge_i + edge_j``; vertex ``KEY_VERTEX + 8 owner + vertex``.  A face of
     j is the reference only if it separates better than every face of i by a round-off
-    tolerance (so that ties -- parallel faces -- keep one choice).
+    tolerance (so that ties -- parallel faces -- keep one choice), or ties with a face of
+    i that has no area (a capsule's) while its own has.
     """
     out = (normal, point, overlap, key)
     tol = 1e-9 * (max(hi[0], hi[1], hi[2]) + max(hj[0], hj[1], hj[2]) + ri + rj)
@@ -850,7 +866,11 @@ def box_box(
     )
     if apart:
         return 0
-    if sep_j > sep_i + tol:
+    # (a face without area -- a capsule's side, a segment -- clips the incident face to a
+    # segment whose two ends share one key: it is the reference only if it separates
+    # better than the other body's face, not in a tie)
+    flat_tie = sep_j >= sep_i - tol and _no_area(hi, k_i) and not _no_area(hj, k_j)
+    if sep_j > sep_i + tol or flat_tie:
         n = _face_manifold(xj, Rj, hj, rj, k_j, xi, Ri, hi, ri, margin, -1.0, 1, work, out)
     else:
         n = _face_manifold(xi, Ri, hi, ri, k_i, xj, Rj, hj, rj, margin, 1.0, 0, work, out)
@@ -885,6 +905,13 @@ def box_box(
     else:
         first, count = v_row, m_v
     return merge_deepest(out, n, first, count, ri + rj, tol)
+
+
+@inline_kernel()
+def _no_area(h, k):
+    """True if the face of axis k of a core of half-extents ``h`` has no area (an
+    in-plane extent 0: a capsule's side is a segment, its end a point)."""
+    return h[(k + 1) % 3] == 0.0 or h[(k + 2) % 3] == 0.0
 
 
 @inline_kernel(python_entry=True)

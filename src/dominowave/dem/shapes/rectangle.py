@@ -22,6 +22,7 @@ from numba import njit
 
 from dominowave.dem.compiled import inline_kernel, inner_kernel
 from dominowave.dem.shapes.cuboid import (
+    distinct_vertex,
     manifold_is_deepest,
     merge_deepest,
     owner_first,
@@ -57,9 +58,9 @@ def _corner(x, R, h, k):
 
 @inline_kernel()
 def distinct_corner(h, k):
-    """False if corner k coincides with a corner of lower id (cuboid.distinct_vertex: a
-    core of zero extent along axis 0 or 2, a capsule's segment)."""
-    return not ((k & 1 and h[0] == 0.0) or (k & 2 and h[2] == 0.0))
+    """False if corner k coincides with a corner of lower id: cuboid.distinct_vertex of
+    the vertex whose bits 0 and 2 are those of the corner (a capsule's segment)."""
+    return distinct_vertex(h, (k & 1) | ((k & 2) << 1))
 
 
 @inline_kernel()
@@ -154,8 +155,13 @@ def _edge_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, out):
     face_A = (kA // 2) * 2 + (0 if sA > 0 else 1)
     face_B = (kB // 2) * 2 + (0 if sB > 0 else 1)
     base = ((swap * 4 + face_A) * 4 + face_B) * 4
+    # a zero extent (a capsule's end: its incident edge, or the reference edge it is cut
+    # to) leaves one point, not two in one place: the deeper
+    single = hB[mB] == 0.0 or hu == 0.0
+    if single and n_b < n_a:
+        u_a, n_a, sub_a = u_b, n_b, sub_b
     n = 0
-    for k in range(2):
+    for k in range(1 if single else 2):
         pu, pn, sub = (u_a, n_a, sub_a) if k == 0 else (u_b, n_b, sub_b)
         if pn >= rA + rB + margin:
             continue
