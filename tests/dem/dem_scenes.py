@@ -1,8 +1,10 @@
 """Geometry helpers and scenes shared by the DEM tests."""
 
 import numpy as np
+from scipy.optimize import lsq_linear
 
 from dominowave.dem import Material, Scene
+from dominowave.dem.shapes.cuboid import MAX_POINTS
 
 R = 0.005  # sphere radius of the test scenes [m]
 RHO = 1000.0
@@ -51,3 +53,37 @@ def spheres_in_a_box():
             velocity=rng.uniform(-0.2, 0.2, 3), angular_velocity=rng.uniform(-30, 30, 3),
         )  # fmt: skip
     return scene.build(safety=0.3, track_energy=True, record_pairs=True)
+
+
+def manifold_buffers():
+    """The output arrays of a contact manifold (dem.shapes): normal, point, overlap, key."""
+    return (
+        np.zeros((MAX_POINTS, 3)),
+        np.zeros((MAX_POINTS, 3)),
+        np.zeros(MAX_POINTS),
+        np.zeros(MAX_POINTS, np.int64),
+    )
+
+
+def core_distance(xi, Ri, hi, xj, Rj, hj):
+    """Distance [m] of two cores (boxes; a capsule's segment) ``x + R u``, ``|u_m| <= h_m``:
+    a bounded linear least-squares problem over the axes of nonzero extent, solved exactly
+    (BVLS)."""
+    hi, hj = np.asarray(hi, float), np.asarray(hj, float)
+    A = np.hstack([Ri[:, hi > 0], -Rj[:, hj > 0]])
+    lim = np.concatenate([hi[hi > 0], hj[hj > 0]])
+    res = lsq_linear(A, xj - xi, bounds=(-lim, lim), method="bvls", tol=1e-14)
+    return np.linalg.norm(A @ res.x - (xj - xi))
+
+
+def at_core_gap(xi, Ri, hi, Rj, hj, u, gap, far=0.2, steps=45):
+    """The centre of core j on the ray ``xi + s u`` (``u`` a unit vector, s in [0, far] m)
+    where it is ``gap`` [m] from core i (bisection on :func:`core_distance`)."""
+    lo = 0.0
+    for _ in range(steps):
+        mid = 0.5 * (lo + far)
+        if core_distance(xi, Ri, hi, xi + mid * u, Rj, hj) < gap:
+            lo = mid
+        else:
+            far = mid
+    return xi + far * u

@@ -4,13 +4,13 @@ boxes, the support function), symmetry, rotation invariance, the planar reductio
 
 import numpy as np
 import pytest
+from dem_scenes import at_core_gap, core_distance, manifold_buffers
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.optimize import lsq_linear
 from scipy.spatial.transform import Rotation
 
 from dominowave.dem.shapes.cuboid import (
-    MAX_POINTS,
     box_box,
     box_plane,
     box_sphere,
@@ -24,42 +24,11 @@ H_I = np.array([0.012, 0.004, 0.024])  # a domino-like core [m]
 H_J = np.array([0.010, 0.006, 0.020])
 
 
-def _out():
-    return (
-        np.zeros((MAX_POINTS, 3)),
-        np.zeros((MAX_POINTS, 3)),
-        np.zeros(MAX_POINTS),
-        np.zeros(MAX_POINTS, np.int64),
-    )
-
-
 def _box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin=0.0):
-    normal, point, overlap, key = _out()
+    normal, point, overlap, key = manifold_buffers()
     work = np.zeros((2, 9, 4))
     n = box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, work, normal, point, overlap, key)
     return normal[:n], point[:n], overlap[:n], key[:n]
-
-
-def core_distance(xi, Ri, hi, xj, Rj, hj):
-    """Distance of two solid boxes: min |xi + Ri u - xj - Rj w| over |u| <= hi, |w| <= hj,
-    a bounded linear least-squares problem solved exactly (BVLS)."""
-    A = np.hstack([Ri, -Rj])
-    lo = np.concatenate([-hi, -hj])
-    res = lsq_linear(A, xj - xi, bounds=(lo, -lo), method="bvls", tol=1e-14)
-    return np.linalg.norm(A @ res.x - (xj - xi))
-
-
-def _at_core_gap(xi, Ri, hi, Rj, hj, u, gap, steps=45):
-    """The centre of box j on the ray ``xi + s u`` (``u`` a unit vector, s in [0, 0.2] m)
-    where its core is ``gap`` [m] from box i's (bisection on the exact distance)."""
-    lo, far = 0.0, 0.2
-    for _ in range(steps):
-        mid = 0.5 * (lo + far)
-        if core_distance(xi, Ri, hi, xi + mid * u, Rj, hj) < gap:
-            lo = mid
-        else:
-            far = mid
-    return xi + far * u
 
 
 def _random_pair(rng, gap):
@@ -69,7 +38,7 @@ def _random_pair(rng, gap):
     xi = rng.normal(size=3) * 0.01
     u = rng.normal(size=3)
     u /= np.linalg.norm(u)
-    return xi, Ri, _at_core_gap(xi, Ri, H_I, Rj, H_J, u, gap, steps=50), Rj
+    return xi, Ri, at_core_gap(xi, Ri, H_I, Rj, H_J, u, gap, steps=50), Rj
 
 
 # ----------------------------------------------------------------------- mass properties
@@ -94,7 +63,7 @@ def test_validate_cuboid_inertia_against_quadrature():
 
 
 def test_box_flat_on_plane_gets_four_corners():
-    normal, point, overlap, key = _out()
+    normal, point, overlap, key = manifold_buffers()
     r = 0.001
     x = np.array([0.0, 0.0, H_I[2] + r - 1e-5])
     up = np.array([0, 0, 1.0])
@@ -120,7 +89,7 @@ def test_validate_box_plane_deepest_point_is_support_function():
         support = np.sum(H_I * np.abs(nw @ R)) + r
         depth = rng.uniform(1e-6, 2e-3)
         x = p0 + nw * (support - depth)
-        normal, point, overlap, key = _out()
+        normal, point, overlap, key = manifold_buffers()
         n = box_plane(x, R, H_I, r, p0, nw, 0.0, normal, point, overlap, key)
         assert n >= 1
         assert overlap[:n].max() == pytest.approx(depth, rel=1e-9, abs=1e-15)
@@ -139,7 +108,7 @@ def test_validate_box_sphere_against_least_squares():
         c = x + u * rng.uniform(0.0, 0.05)
         res = lsq_linear(R, c - x, bounds=(-H_I, H_I), method="bvls", tol=1e-14)
         dist = np.linalg.norm(R @ res.x - (c - x))
-        normal, point, overlap, key = _out()
+        normal, point, overlap, key = manifold_buffers()
         n = box_sphere(x, R, H_I, r, c, radius, 1.0, normal, point, overlap, key)
         assert n == 1
         local = R.T @ (c - x)
@@ -267,9 +236,9 @@ def test_box_box_takes_the_frame_left_by_faces_separate():
         work = np.zeros((2, 9, 4))
         if faces_separate(xi, Ri, H_I, xj, Rj, H_J, ri + rj + margin, work):
             continue
-        shared = _out()
+        shared = manifold_buffers()
         n = box_box(xi, Ri, H_I, ri, xj, Rj, H_J, rj, margin, work, *shared, True)
-        fresh = _out()
+        fresh = manifold_buffers()
         work[:] = np.nan
         assert box_box(xi, Ri, H_I, ri, xj, Rj, H_J, rj, margin, work, *fresh) == n
         for a, b in zip(shared, fresh, strict=True):
@@ -301,7 +270,7 @@ def test_box_box_symmetric_and_rotation_invariant(ai, aj, q, direction, gap):
     u = np.array([np.cos(6.0 * direction), np.sin(6.0 * direction), 0.5])
     u /= np.linalg.norm(u)
     xi = np.zeros(3)
-    xj = _at_core_gap(xi, Ri, H_I, Rj, H_J, u, gap)  # j along u
+    xj = at_core_gap(xi, Ri, H_I, Rj, H_J, u, gap)  # j along u
     r = 0.002
     ab = _box_box(xi, Ri, H_I, r, xj, Rj, H_J, r)
     ba = _box_box(xj, Rj, H_J, r, xi, Ri, H_I, r)
@@ -372,7 +341,7 @@ def _mirror_pairs(n_random):
         Ri = _about_y(ti) @ _rotation(rng.normal(size=3) * 1e-15)
         Rj = Rj @ _rotation(rng.normal(size=3) * 1e-15)
         u = np.array([np.cos(direction), 0.0, np.sin(direction)])
-        xj = _at_core_gap(np.zeros(3), Ri, CHAIN_CORE, Rj, hj, u, gap)
+        xj = at_core_gap(np.zeros(3), Ri, CHAIN_CORE, Rj, hj, u, gap)
         shift = np.array([0.0, y0, 0.0])
         yield shift, Ri, CHAIN_CORE, CHAIN_R, xj + shift, Rj, hj, rj, y0
 
@@ -442,7 +411,7 @@ def test_a_face_cut_down_to_one_vertex_keeps_the_vertex_key():
     keys = []
     for s in (-2.0 * close, -0.5 * close, 0.5 * close):
         xj = np.array([hi[0] + s - v[0], 0.003 - v[1], hi[2] + 2e-4 - v[2]])
-        normal, point, overlap, key = _out()
+        normal, point, overlap, key = manifold_buffers()
         n = _face_manifold(np.zeros(3), np.eye(3), hi, r, 2, xj, Rj, hj, r, 0.0, 1.0, 0,
                            np.zeros((2, 9, 4)), (normal, point, overlap, key))  # fmt: skip
         keys.append({(k % 64) // 8 * 10 + k % 8 for k in key[:n]})
@@ -473,7 +442,7 @@ def test_validate_sharp_limit_of_the_rounding():
     x = np.array([0.0, 0.0, support - 1e-4])  # the sharp box dips 1e-4 m
     previous = np.inf
     for r in (2e-4, 2e-5, 2e-6, 2e-7):
-        normal, point, overlap, key = _out()
+        normal, point, overlap, key = manifold_buffers()
         n = box_plane(x, R, outer - r, r, np.zeros(3), nw, 0.0, normal, point, overlap, key)
         err = abs(overlap[:n].max() - 1e-4)
         exact = r * (np.sum(np.abs(nw @ R)) - 1.0)
@@ -501,10 +470,10 @@ def test_validate_planar_rectangles_are_the_cuboid_pairs(ti, tj, direction, gap)
     h_j = np.array([0.010, 0.004, 0.020])
     u = np.array([np.cos(direction), 0.0, np.sin(direction)])
     xi = np.zeros(3)
-    xj = _at_core_gap(xi, Ri, h_i, Rj, h_j, u, gap)
+    xj = at_core_gap(xi, Ri, h_i, Rj, h_j, u, gap)
     r = 0.002
     n3, p3, o3, _ = _box_box(xi, Ri, h_i, r, xj, Rj, h_j, r)
-    normal, point, overlap, key = _out()
+    normal, point, overlap, key = manifold_buffers()
     n = rect_rect(xi, Ri, h_i, r, xj, Rj, h_j, r, 0.0, normal, point, overlap, key)
     assert overlap[:n].max() == pytest.approx(2 * r - gap, abs=1e-10)  # (exact distance)
     assert len(o3) == 2 * n
@@ -517,7 +486,7 @@ def test_validate_planar_rectangles_are_the_cuboid_pairs(ti, tj, direction, gap)
     nw = np.array([np.sin(0.2), 0.0, np.cos(0.2)])
     x = nw * (np.sum(h_i * np.abs(nw @ Ri)) + r - 1e-4)
     n2 = rect_plane(x, Ri, h_i, r, np.zeros(3), nw, 0.0, normal, point, overlap, key)
-    out3 = _out()
+    out3 = manifold_buffers()
     m3 = box_plane(x, Ri, h_i, r, np.zeros(3), nw, 0.0, *out3)
     assert m3 == 2 * n2
     np.testing.assert_allclose(np.sort(out3[2][:m3]), np.repeat(np.sort(overlap[:n2]), 2))

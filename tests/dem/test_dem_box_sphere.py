@@ -6,11 +6,12 @@ import math
 
 import numpy as np
 import pytest
+from dem_scenes import manifold_buffers
 from scipy.spatial.transform import Rotation
 
 from dominowave.dem import ONSET, Material, Scene, Simulation, timestep
 from dominowave.dem.boxes import empty_boxes
-from dominowave.dem.shapes.cuboid import MAX_POINTS, box_sphere
+from dominowave.dem.shapes.cuboid import box_sphere
 from dominowave.dem.shapes.rectangle import rect_sphere
 
 G = 9.81
@@ -19,15 +20,6 @@ HALF = np.array([0.01, 0.008, 0.015])
 R_BOX = 0.001
 R_BALL = 0.004
 PLANAR = "y rx rz"
-
-
-def _buffers():
-    return (
-        np.zeros((MAX_POINTS, 3)),
-        np.zeros((MAX_POINTS, 3)),
-        np.zeros(MAX_POINTS),
-        np.zeros(MAX_POINTS, np.int64),
-    )
 
 
 # ----------------------------------------------------------------------- geometry
@@ -43,7 +35,7 @@ def test_validate_planar_box_sphere_geometry_equals_the_3d_one():
         x = rng.uniform(-0.01, 0.01, 3)
         c = x + rng.uniform(-0.03, 0.03, 3)
         c[1] = x[1] + rng.choice([0.0, rng.uniform(-0.012, 0.012)])
-        out3, out2 = _buffers(), _buffers()
+        out3, out2 = manifold_buffers(), manifold_buffers()
         n3 = box_sphere(x, R, core, R_BOX, c, R_BALL, 1.0, *out3)
         n2 = rect_sphere(x, R, core, R_BOX, c, R_BALL, 1.0, *out2)
         assert n3 == n2 == 1

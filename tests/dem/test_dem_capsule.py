@@ -8,13 +8,12 @@ import math
 
 import numpy as np
 import pytest
+from dem_scenes import at_core_gap, core_distance, manifold_buffers
 from scipy.integrate import dblquad
-from scipy.optimize import lsq_linear
 from scipy.spatial.transform import Rotation
 
 from dominowave.dem import Material, Scene
 from dominowave.dem.shapes.cuboid import (
-    MAX_POINTS,
     box_box,
     box_plane,
     box_sphere,
@@ -24,15 +23,6 @@ from dominowave.dem.shapes.rectangle import rect_plane
 
 G = 9.81
 RHO = 1200.0
-
-
-def _out():
-    return (
-        np.zeros((MAX_POINTS, 3)),
-        np.zeros((MAX_POINTS, 3)),
-        np.zeros(MAX_POINTS),
-        np.zeros(MAX_POINTS, np.int64),
-    )
 
 
 def _core(c):
@@ -69,29 +59,8 @@ def test_validate_capsule_mass_properties_against_quadrature(c, r):
 # ----------------------------------------------------------------------- geometry
 
 
-def core_distance(xi, Ri, hi, xj, Rj, hj):
-    """Distance [m] of two cores (boxes, segments) ``x + R u``, ``|u_m| <= h_m``: a bounded
-    linear least-squares problem over the axes of nonzero extent, solved exactly (BVLS)."""
-    A = np.hstack([Ri[:, hi > 0], -Rj[:, hj > 0]])
-    lim = np.concatenate([hi[hi > 0], hj[hj > 0]])
-    res = lsq_linear(A, xj - xi, bounds=(-lim, lim), method="bvls", tol=1e-14)
-    return np.linalg.norm(A @ res.x - (xj - xi))
-
-
-def _at_core_gap(xi, Ri, hi, Rj, hj, u, gap):
-    """The centre of core j on the ray ``xi + s u`` where it is ``gap`` [m] from core i."""
-    lo, far = 0.0, 0.5
-    for _ in range(55):
-        mid = 0.5 * (lo + far)
-        if core_distance(xi, Ri, hi, xi + mid * u, Rj, hj) < gap:
-            lo = mid
-        else:
-            far = mid
-    return xi + far * u
-
-
 def _manifold(xi, Ri, hi, ri, xj, Rj, hj, rj):
-    normal, point, overlap, key = _out()
+    normal, point, overlap, key = manifold_buffers()
     work = np.zeros((2, 9, 4))
     n = box_box(xi, Ri, hi, ri, xj, Rj, hj, rj, 0.0, work, normal, point, overlap, key)
     return normal[:n], point[:n], overlap[:n], key[:n]
@@ -114,7 +83,7 @@ def test_validate_capsule_pair_deepest_point_against_exact_distance(partner, see
     u = rng.normal(size=3)
     u /= np.linalg.norm(u)
     gap = rng.uniform(0.1, 0.9) * (ri + rj)
-    xj = _at_core_gap(xi, Ri, hi, Rj, hj, u, gap)
+    xj = at_core_gap(xi, Ri, hi, Rj, hj, u, gap, far=0.5, steps=55)
     exact = core_distance(xi, Ri, hi, xj, Rj, hj)
     normal, point, overlap, _ = _manifold(xi, Ri, hi, ri, xj, Rj, hj, rj)
     assert overlap.size > 0
@@ -196,7 +165,7 @@ def test_validate_capsule_and_sphere_against_the_point_segment_distance():
         centre = x + rng.normal(size=3) * 0.02
         along = np.clip((centre - x) @ R[:, 2], -c, c)
         d = np.linalg.norm(centre - (x + along * R[:, 2]))
-        normal, point, overlap, key = _out()
+        normal, point, overlap, key = manifold_buffers()
         n = box_sphere(x, R, _core(c), r, centre, radius, 1.0, normal, point, overlap, key)
         assert n == 1
         assert overlap[0] == pytest.approx(r + radius - d, abs=1e-12)
@@ -213,7 +182,7 @@ def test_validate_capsule_on_a_plane_touches_at_its_caps(tilt):
     ends = x + np.outer([-c, c], R[:, 2])
     expected = sorted(r - ends[:, 2][ends[:, 2] < r + 1e-3])  # within reach 1 mm
     for geometry in (box_plane, rect_plane):
-        normal, point, overlap, key = _out()
+        normal, point, overlap, key = manifold_buffers()
         n = geometry(x, R, _core(c), r, np.zeros(3), np.array([0.0, 0.0, 1.0]), 1e-3,
                      normal, point, overlap, key)  # fmt: skip
         assert n == len(expected) == (2 if tilt == 0.0 else 1)
@@ -360,7 +329,7 @@ def test_validate_capsule_standing_on_a_box_touches_at_one_point(capsule_first):
         assert pair.sum() == 1
         assert rows.mult[:n][pair][0] == 1.0
         weight = sim.bodies.mass[body] * G
-        assert rows.fn[:n][pair][0] == pytest.approx(weight, rel=1e-6)
+        assert rows.fn[:n][pair][0] == pytest.approx(weight, rel=1e-12)
         out.append(res.positions[:, body].copy())
     np.testing.assert_allclose(out[0], out[1], rtol=0, atol=1e-12)
 

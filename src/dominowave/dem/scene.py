@@ -62,7 +62,8 @@ def _rotation(name, value) -> np.ndarray:
 
 def _axis_frame(axis) -> np.ndarray:
     """The body axes (columns) of a body of symmetry axis ``axis`` (3,): axis 2 along it,
-    axis 1 the part of world y normal to it (world x if it is along y), axis 0 = 1 x 2."""
+    axis 1 the part of world y normal to it (of world x if it is within 26 deg of y),
+    axis 0 = 1 x 2."""
     v = _vector("axis", axis)
     norm = float(np.linalg.norm(v))
     if norm == 0.0:
@@ -292,8 +293,9 @@ class Scene:
         R = np.eye(3) if orientation is None else _rotation("orientation", orientation)
         return self._add_rounded(
             centre, half - float(rounding), rounding, mat, R,
-            cuboid_mass_properties(half, self.materials[mat].density), mass, inertia,
-            blocked, velocity, angular_velocity, held,
+            cuboid_mass_properties(half, self.materials[mat].density), mass=mass,
+            inertia=inertia, blocked=blocked, velocity=velocity,
+            angular_velocity=angular_velocity, held=held,
         )  # fmt: skip
 
     def add_capsule(
@@ -304,12 +306,7 @@ class Scene:
         material: int,
         *,
         axis=(0.0, 0.0, 1.0),
-        mass: float | None = None,
-        inertia=None,
-        blocked="",
-        velocity=(0.0, 0.0, 0.0),
-        angular_velocity=(0.0, 0.0, 0.0),
-        held: bool = False,
+        **options,
     ) -> int:
         """A rigid capsule (a spherocylinder); returns the body id.
 
@@ -333,10 +330,10 @@ class Scene:
             if the axis is within 26 deg of y): a capsule whose axis lies in the xz plane
             may move in a planar scene (blocked "y rx rz"), where it touches at one point,
             not along y.
-        mass, inertia : the body's mass [kg] and principal moments (3,) about the body axes
-            [kg m^2]; default those of a uniform solid capsule
-            (shapes.cuboid.capsule_mass_properties).
-        blocked, velocity, angular_velocity, held : as :meth:`add_box`.
+        options : ``mass`` [kg] and ``inertia``, the principal moments (3,) about the body
+            axes [kg m^2] (default those of a uniform solid capsule,
+            shapes.cuboid.capsule_mass_properties); ``blocked``, ``velocity``,
+            ``angular_velocity``, ``held``: as :meth:`add_box`.
         """
         from dominowave.dem.shapes.cuboid import capsule_mass_properties
 
@@ -348,12 +345,12 @@ class Scene:
         return self._add_rounded(
             centre, np.array([0.0, 0.0, float(half_length)]), radius, mat, _axis_frame(axis),
             capsule_mass_properties(half_length, radius, self.materials[mat].density),
-            mass, inertia, blocked, velocity, angular_velocity, held,
+            **options,
         )  # fmt: skip
 
     def _add_rounded(
-        self, centre, core, rounding, mat, R, mass_properties, mass, inertia,
-        blocked, velocity, angular_velocity, held,
+        self, centre, core, rounding, mat, R, mass_properties, *, mass=None, inertia=None,
+        blocked="", velocity=(0.0, 0.0, 0.0), angular_velocity=(0.0, 0.0, 0.0), held=False,
     ) -> int:  # fmt: skip
         """A rounded body at ``centre`` (3,) [m] of core half-extents ``core`` (3,) [m],
         rounding [m] and material id ``mat`` (each checked), body axes the columns of

@@ -623,6 +623,13 @@ def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work,
 
 
 @inline_kernel()
+def _no_area(h, k):
+    """True if the face of axis k of a core of half-extents ``h`` has no area (an
+    in-plane extent 0: a capsule's side is a segment, its end a point)."""
+    return h[(k + 1) % 3] == 0.0 or h[(k + 2) % 3] == 0.0
+
+
+@inline_kernel()
 def _corner_key(base, label_in, label_out, flat):
     """Key of a clipped corner where the polygon edges ``label_in``, ``label_out`` meet:
     ``base + 8 lo + hi`` of the two labels.  On a reference face without area (``flat``:
@@ -856,8 +863,7 @@ def box_box(
     meeting there: incident edges 0..3, reference side planes 4..7); edge contact
     ``KEY_EDGE + 12 edge_i + edge_j``; vertex ``KEY_VERTEX + 8 owner + vertex``.  A face of
     j is the reference only if it separates better than every face of i by a round-off
-    tolerance (so that ties -- parallel faces -- keep one choice), or ties with a face of
-    i that has no area (a capsule's) while its own has.
+    tolerance (so that ties -- parallel faces -- keep one choice).
     """
     out = (normal, point, overlap, key)
     tol = 1e-9 * (max(hi[0], hi[1], hi[2]) + max(hj[0], hj[1], hj[2]) + ri + rj)
@@ -866,11 +872,7 @@ def box_box(
     )
     if apart:
         return 0
-    # (a face without area -- a capsule's side, a segment -- clips the incident face to a
-    # segment whose two ends share one key: it is the reference only if it separates
-    # better than the other body's face, not in a tie)
-    flat_tie = sep_j >= sep_i - tol and _no_area(hi, k_i) and not _no_area(hj, k_j)
-    if sep_j > sep_i + tol or flat_tie:
+    if sep_j > sep_i + tol:
         n = _face_manifold(xj, Rj, hj, rj, k_j, xi, Ri, hi, ri, margin, -1.0, 1, work, out)
     else:
         n = _face_manifold(xi, Ri, hi, ri, k_i, xj, Rj, hj, rj, margin, 1.0, 0, work, out)
@@ -905,13 +907,6 @@ def box_box(
     else:
         first, count = v_row, m_v
     return merge_deepest(out, n, first, count, ri + rj, tol)
-
-
-@inline_kernel()
-def _no_area(h, k):
-    """True if the face of axis k of a core of half-extents ``h`` has no area (an
-    in-plane extent 0: a capsule's side is a segment, its end a point)."""
-    return h[(k + 1) % 3] == 0.0 or h[(k + 2) % 3] == 0.0
 
 
 @inline_kernel(python_entry=True)
