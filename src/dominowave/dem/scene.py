@@ -65,10 +65,10 @@ def _axis_frame(axis) -> np.ndarray:
     axis 1 the part of world y normal to it (of world x if it is within 26 deg of y),
     axis 0 = 1 x 2."""
     v = _vector("axis", axis)
-    norm = float(np.linalg.norm(v))
-    if norm == 0.0:
+    if not np.any(v):
         raise ValueError(f"axis = {axis!r} has no direction; give a nonzero vector")
-    e2 = v / norm
+    v = v / np.abs(v).max()  # (no overflow in the norm of a huge vector)
+    e2 = v / np.linalg.norm(v)
     ref = np.array([0.0, 1.0, 0.0]) if abs(e2[1]) < 0.9 else np.array([1.0, 0.0, 0.0])
     e1 = ref - (ref @ e2) * e2
     e1 /= np.linalg.norm(e1)
@@ -353,8 +353,8 @@ class Scene:
         blocked="", velocity=(0.0, 0.0, 0.0), angular_velocity=(0.0, 0.0, 0.0), held=False,
     ) -> int:  # fmt: skip
         """A rounded body at ``centre`` (3,) [m] of core half-extents ``core`` (3,) [m],
-        rounding [m] and material id ``mat`` (each checked), body axes the columns of
-        ``R``; ``mass_properties`` the default (mass, moments) of its shape."""
+        rounding [m] and material id ``mat`` (checked by the caller), body axes the columns
+        of ``R``; ``mass_properties`` the default (mass, moments) of its shape."""
         m_default, i_default = mass_properties
         if mass is not None:
             check_positive("mass", mass)

@@ -575,33 +575,36 @@ def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work,
             plane = max(label_in, label_out) - 4
             near = _vertex_within(xB, RB, hB, kB, sB, edge, c0, c1, c2, RA, ku, kv, n0, n1, n2,
                                   src[k], close)  # fmt: skip
-            w = _beyond_side_plane(
-                xA, RA, hA, ku, kv, c0, c1, c2, n0, n1, n2, xB, RB, hB, kB, sB, src[k], edge,
-                plane, close,
-            )  # fmt: skip
-            if w[0] >= 0:  # the incident edge dips beyond the side plane: see below
-                t, d, u0, u1, u2, q0, q1, q2 = w[1], w[2], w[3], w[4], w[5], w[6], w[7], w[8]
-                if d >= reach:
+            # (a face without area -- a capsule's side -- has no side planes to dip beyond:
+            # its clipped corners are exact, their height over it their core distance)
+            if not flat:
+                w = _beyond_side_plane(
+                    xA, RA, hA, ku, kv, c0, c1, c2, n0, n1, n2, xB, RB, hB, kB, sB, src[k], edge,
+                    plane, close,
+                )  # fmt: skip
+                if w[0] >= 0:  # the incident edge dips beyond the side plane: see below
+                    t, d, u0, u1, u2, q0, q1, q2 = w[1], w[2], w[3], w[4], w[5], w[6], w[7], w[8]
+                    if d >= reach:
+                        continue
+                    vertex = int(w[0])
+                    label_in, label_out = vertex - 1 if vertex > 0 else 3, vertex
+                    if t < 1.0 and near < 0:  # (inside the edge: the crossing's own key)
+                        label_in, label_out = edge, plane + 4
+                    corner = _corner_key(base, label_in, label_out, False)
+                    duplicate = False
+                    for c in range(n):
+                        duplicate = duplicate or key[c] == corner
+                    if duplicate:  # (both edges of the vertex dip to it)
+                        continue
+                    lift = 0.5 * (rA + d - rB)
+                    point[n, 0] = q0 + lift * u0
+                    point[n, 1] = q1 + lift * u1
+                    point[n, 2] = q2 + lift * u2
+                    normal[n, 0], normal[n, 1], normal[n, 2] = sign * u0, sign * u1, sign * u2
+                    overlap[n] = rA + rB - d
+                    key[n] = corner
+                    n += 1
                     continue
-                vertex = int(w[0])
-                label_in, label_out = vertex - 1 if vertex > 0 else 3, vertex
-                if t < 1.0 and near < 0:  # (inside the edge: the crossing's own key)
-                    label_in, label_out = edge, plane + 4
-                corner = _corner_key(base, label_in, label_out, flat)
-                duplicate = False
-                for c in range(n):
-                    duplicate = duplicate or key[c] == corner
-                if duplicate:  # (both edges of the vertex dip to it)
-                    continue
-                lift = 0.5 * (rA + d - rB)
-                point[n, 0] = q0 + lift * u0
-                point[n, 1] = q1 + lift * u1
-                point[n, 2] = q2 + lift * u2
-                normal[n, 0], normal[n, 1], normal[n, 2] = sign * u0, sign * u1, sign * u2
-                overlap[n] = rA + rB - d
-                key[n] = corner
-                n += 1
-                continue
         if pn >= reach:
             continue
         if label_in == label_out:  # (a polygon cut down to one corner on a side plane)
@@ -669,9 +672,9 @@ def _merge_coincident(out, n, base, close):
     are that configuration all along, and round-off decides, step by step, whether the
     corner is one point or two; each copy doubles the corner's stiffness and brings its
     elastic energy with it.  The merged point is the deeper of the two (the exact one of
-    the pair) and keeps the key of the incident vertex if either is one (corner keys
-    ``base + 8 lo + hi`` with both labels ``< 4``), so the key persists whichever side
-    of the plane round-off puts the vertex on."""
+    the pair) and keeps the key of the incident vertex if either is one (a corner key
+    whose two labels are ``< 4``, :func:`_corner_key`), so the key persists whichever
+    side of the plane round-off puts the vertex on."""
     _, point, overlap, key = out
     m = 0
     for k in range(n):
@@ -689,7 +692,8 @@ def _merge_coincident(out, n, base, close):
             m += 1
             continue
         kept = key[twin]
-        if (key[k] - base) % 8 < 4 and (kept - base) % 8 >= 4:  # (k is an incident vertex)
+        # (k an incident vertex, twin not: both labels of k < 4, of twin not)
+        if (key[k] - base) & 0o44 == 0 and (kept - base) & 0o44 != 0:
             kept = key[k]
         if overlap[k] > overlap[twin]:
             _copy_row(out, k, twin)
@@ -711,10 +715,12 @@ def _edge_id(R, x, n0, n1, n2, a, s):
 def _segment_closest(r0, r1, r2, u0, u1, u2, v0, v1, v2):
     """Parameters (s, t) of the closest points ``p + s u``, ``q + t v`` of two segments with
     s, t in [-1, 1] (``u``, ``v`` half-length vectors, ``r = p - q``; Ericson 2005, sec.
-    5.1.9).  A segment ``v`` of zero length (the edge of a zero extent, a capsule's) gives
-    ``t`` NaN and ``s = 0``: the edge-edge contact rejects it (a vertex pair is found by
-    the vertex search), the dip beyond a side plane takes the midpoint as a candidate.
-    (A branch for that case cost the 3D box chain 7 %: benchmarks/README.md.)"""
+    5.1.9).  A segment of zero length (the edge of a zero extent, a capsule's) gives a
+    NaN parameter: ``v`` gives ``t`` NaN and ``s = 0``, ``u`` (if ``t`` is clamped) ``s``
+    NaN.  The edge-edge contact rejects both (the vertex search finds such a pair), and
+    the dip beyond a side plane, which uses ``s`` of a zero-length ``v``, takes the
+    midpoint as a candidate.  (A branch for these cases cost the 3D box chain 8 %:
+    benchmarks/README.md.)"""
     a = u0 * u0 + u1 * u1 + u2 * u2
     e = v0 * v0 + v1 * v1 + v2 * v2
     b = u0 * v0 + u1 * v1 + u2 * v2
