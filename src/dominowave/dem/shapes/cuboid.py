@@ -677,7 +677,7 @@ def _merge_coincident(out, n, base, close):
     the vertex on.  The ordered keys of a face without area (:func:`_corner_key`) are
     read the same way, so there a crossing may keep its key over a vertex's; the
     continuation by distance (boxes._continued_row) carries the shear history either
-    way.  (Reading both labels cost the 3D box chain 5-9 %: benchmarks/README.md.)"""
+    way."""
     _, point, overlap, key = out
     m = 0
     for k in range(n):
@@ -721,8 +721,8 @@ def _segment_closest(r0, r1, r2, u0, u1, u2, v0, v1, v2):
     NaN parameter: ``v`` gives ``t`` NaN and ``s = 0``, ``u`` (if ``t`` is clamped) ``s``
     NaN.  The edge-edge contact rejects both (the vertex search finds such a pair), and
     the dip beyond a side plane, which uses ``s`` of a zero-length ``v``, takes the
-    midpoint as a candidate.  (A branch for these cases cost the 3D box chain 8 %:
-    benchmarks/README.md.)"""
+    midpoint as a candidate.  (No branch for these rare cases: the function is on the
+    path of every face contact.)"""
     a = u0 * u0 + u1 * u1 + u2 * u2
     e = v0 * v0 + v1 * v1 + v2 * v2
     b = u0 * v0 + u1 * v1 + u2 * v2

@@ -161,7 +161,7 @@ def _edge_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, out):
     if single and n_b < n_a:
         u_a, n_a, sub_a = u_b, n_b, sub_b
     n = 0
-    for k in range(2):  # (a constant count: the loop is unrolled)
+    for k in range(2):  # (a constant count, as before capsules: the compiler may unroll it)
         if k == 1 and single:
             break
         pu, pn, sub = (u_a, n_a, sub_a) if k == 0 else (u_b, n_b, sub_b)
