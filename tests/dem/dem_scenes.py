@@ -87,3 +87,12 @@ def at_core_gap(xi, Ri, hi, Rj, hj, u, gap, far=0.2, steps=45):
         else:
             far = mid
     return xi + far * u
+
+
+def momenta(sim):
+    """Total linear [kg m/s] and angular momentum about the origin [kg m^2/s] of the
+    bodies of ``sim`` at the full step, each (3,)."""
+    b = sim.bodies
+    p = (b.mass[:, None] * b.vel_full).sum(axis=0)
+    L = (np.cross(b.pos, b.mass[:, None] * b.vel_full) + b.angmom_full).sum(axis=0)
+    return p, L

@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import pytest
+from dem_scenes import momenta
 from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
@@ -158,24 +159,17 @@ def _two_box_collision(mu=0.0, restitution=None, n_steps=100_000):
     return sim
 
 
-def _momenta(sim):
-    b = sim.bodies
-    p = (b.mass[:, None] * b.vel_full).sum(axis=0)
-    L = (np.cross(b.pos, b.mass[:, None] * b.vel_full) + b.angmom_full).sum(axis=0)
-    return p, L
-
-
 def test_validate_elastic_box_collision_conserves_energy_and_momenta():
     """Two rotating cuboids collide obliquely (elastic, frictionless): total energy to
     < 1e-5 over 1e5 steps, linear and angular momentum to round-off."""
     sim = _two_box_collision()
     e0 = sim.energy()["total"]
-    p0, L0 = _momenta(sim)
+    p0, L0 = momenta(sim)
     res = sim.run(n_steps=100_000, energy_every=1000)
     assert res.n_steps == 100_000
     # the boxes did collide: their velocities changed
     assert abs(sim.bodies.vel_full[0, 0] - 0.4) > 0.1
-    p1, L1 = _momenta(sim)
+    p1, L1 = momenta(sim)
     e1 = sim.energy()["total"]
     assert abs(e1 - e0) < 1e-5 * e0
     scale_p = np.abs(sim.bodies.mass[:, None] * sim.bodies.vel_full).sum()
@@ -188,12 +182,12 @@ def test_validate_elastic_box_collision_with_friction_closes_the_energy_ledger()
     to < 1e-5 as well; momenta to round-off."""
     sim = _two_box_collision(mu=0.4)
     e0 = sim.energy()["total"]
-    p0, L0 = _momenta(sim)
+    p0, L0 = momenta(sim)
     sim.run(n_steps=100_000)
     energy = sim.energy()
     assert energy["dissipated_friction"] > 1e-4 * e0  # it slid
     assert abs(energy["total"] - e0) < 1e-5 * e0
-    p1, L1 = _momenta(sim)
+    p1, L1 = momenta(sim)
     scale_p = np.abs(sim.bodies.mass[:, None] * sim.bodies.vel_full).sum()
     np.testing.assert_allclose(p1, p0, atol=1e-13 * scale_p)
     np.testing.assert_allclose(L1, L0, atol=1e-12 * (np.abs(L0).sum() + scale_p * 0.05))

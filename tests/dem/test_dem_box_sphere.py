@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from dem_scenes import manifold_buffers
+from dem_scenes import manifold_buffers, momenta
 from scipy.spatial.transform import Rotation
 
 from dominowave.dem import ONSET, Material, Scene, Simulation, timestep
@@ -111,13 +111,6 @@ def _oblique(planar, mu, skin=None, balls=1):
     return scene.build(safety=0.02, skin=skin)
 
 
-def _momenta(sim):
-    b = sim.bodies
-    p = (b.mass[:, None] * b.vel_full).sum(axis=0)
-    L = (np.cross(b.pos, b.mass[:, None] * b.vel_full) + b.angmom_full).sum(axis=0)
-    return p, L
-
-
 @pytest.mark.parametrize("planar", [False, True])
 @pytest.mark.parametrize("mu", [0.0, 0.5])
 def test_validate_elastic_ball_box_collision_conserves_energy_and_momenta(planar, mu):
@@ -126,7 +119,7 @@ def test_validate_elastic_ball_box_collision_conserves_energy_and_momenta(planar
     round-off, angular momentum to round-off (3D: all components; planar: about y)."""
     sim = _oblique(planar, mu)
     e0 = sim.energy()["total"]
-    p0, L0 = _momenta(sim)
+    p0, L0 = momenta(sim)
     v0 = sim.bodies.vel_full[1].copy()
     res = sim.run(n_steps=100_000)
     assert res.n_steps == 100_000
@@ -135,7 +128,7 @@ def test_validate_elastic_ball_box_collision_conserves_energy_and_momenta(planar
     if mu > 0:
         assert energy["dissipated_friction"] > 1e-4 * e0  # it slid
     assert abs(energy["total"] - e0) < 1e-5 * e0
-    p1, L1 = _momenta(sim)
+    p1, L1 = momenta(sim)
     scale_p = np.abs(sim.bodies.mass[:, None] * sim.bodies.vel_full).sum()
     np.testing.assert_allclose(p1, p0, atol=1e-13 * scale_p)
     axes = [1] if planar else [0, 1, 2]
