@@ -7,29 +7,14 @@ in its principal frame and rounding radius ``r``.  Each step :func:`box_forces` 
 contact manifold of every box-box and box-wall pair within reach (``shapes.cuboid`` in 3D,
 ``shapes.rectangle`` in a planar scene, each of whose points counts twice: the two ends
 of a cuboid edge along y), then the one point of every box-sphere pair
-(:func:`_box_sphere_pass`), and applies to every point the contact law of the spheres
-(laws.point.point_law, one pure per-point function, built from the per-pair functions
-of contact.py):
-
-* normal ``F_n = k_n delta - c_n v_n`` (linear), with the onset average of the overlap
-  (laws.linear.onset_averaged_overlap) and the end impulse (laws.linear.end_impulse); or,
-  in a scene with ``normal_law="hertz"``, ``K delta^{3/2} - c_n delta^{1/4} v_n``
-  (laws/hertz.py: the rounding radius as curvature, the Tsuji dashpot);
-* tangential Cundall-Strack (laws.tangential.rotate_shear,
-  laws.tangential.cundall_strack), one shear history per contact point, carried from
-  step to step by the point's feature key (a touching point with a new key continues the
-  nearest unmatched old point of its pair, so that a contact keeps its history when its
-  touching feature pair changes);
-* the dashpot ``c_n`` from the pair's restitution (material_pairs.material_pair: its own
-  value, or ``min(e_i, e_j)``; laws.linear.viscous_coefficient) and the effective mass
-  AT THE CONTACT POINT along the normal,
-  ``1/m_eff = 1/m_i + 1/m_j + (r_i x n) . I_i^-1 (r_i x n) + (r_j x n) . I_j^-1 (r_j x n)``
-  (the impulse-response of two rigid bodies at a point, e.g. Brach, Mechanical Impact
-  Dynamics (1991); Stronge, Impact Mechanics (2000) ch. 5), fixed at the point's onset;
-  so a single-point impact has the restitution set, eccentric or not (a blocked degree
-  of freedom takes no share: :func:`inverse_mass_at`);
-* stiffness, friction and restitution from the materials as for spheres, with the
-  rounding radius as the sphere radius (material_pairs.material_pair).
+(:func:`_box_sphere_pass`), and applies to every point the one law of every contact
+point (laws/point.py: the linear or Hertz normal force, Cundall-Strack friction, the
+dashpot fixed at the point's onset from the two bodies' effective mass at the point,
+:func:`inverse_mass_at`), with the constants of the pair's materials and the rounding
+radius as the sphere radius (material_pairs.material_pair).  A point carries its shear
+history from step to step by its feature key: a touching point with a new key continues
+the nearest unmatched old point of its pair, so that a contact keeps its history when its
+touching feature pair changes.
 
 Contact rows are kept in pair order (box i, then partner: boxes j > i, then walls; then
 the box-sphere rows, box then sphere, partner ``j = nx + s``) in one table and rebuilt
@@ -1057,12 +1042,10 @@ def _box_driver(PLANAR, SPHERES):  # (capitals: constants of the compiled kernel
         # (the old rows of the box pairs end where those of the sphere partners begin)
         o = _drop_before(bodies, old, boxes, o, nx * (nx + nw), nx, nw, ledger)
         if SPHERES:
-            if PLANAR:
-                n_new = _sphere_pass_planar(bodies, spheres, boxes, mats, old, new, o, n_new,
-                                            dt, ledger, first_step)  # fmt: skip
-            else:
-                n_new = _sphere_pass_general(bodies, spheres, boxes, mats, old, new, o, n_new,
-                                             dt, ledger, first_step)  # fmt: skip
+            sphere_pass = _sphere_pass_planar if PLANAR else _sphere_pass_general
+            n_new = sphere_pass(
+                bodies, spheres, boxes, mats, old, new, o, n_new, dt, ledger, first_step
+            )
         _copy_rows(new, old, n_new)
 
     return forces

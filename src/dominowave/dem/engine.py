@@ -728,34 +728,21 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
                             break
             first = step == 0
             if SPHERES and contacts.n[0] > 0:
-                if PLANAR:
-                    n_changes = compute_forces_planar(
-                        bodies, spheres, walls, contacts, dt, ledger, changes, change_lag,
-                        first, shear_kinematics,
-                    )  # fmt: skip
-                else:
-                    n_changes = compute_forces(
-                        bodies, spheres, walls, contacts, dt, ledger, changes, change_lag,
-                        first, shear_kinematics,
-                    )  # fmt: skip
+                sphere_forces = compute_forces_planar if PLANAR else compute_forces
+                n_changes = sphere_forces(
+                    bodies, spheres, walls, contacts, dt, ledger, changes, change_lag, first,
+                    shear_kinematics,
+                )  # fmt: skip
             else:  # (no sphere pairs listed, or no spheres at all)
                 _zero_forces(bodies)  # (compute_forces' first act: a call costs more)
                 n_changes = 0
             released = False
-            if BOXES:
-                if PLANAR:
-                    if SPHERES:
-                        box_forces_planar_spheres(
-                            bodies, spheres, boxes, walls, mats, dt, ledger, first
-                        )
-                    else:
-                        box_forces_planar(bodies, spheres, boxes, walls, mats, dt, ledger, first)
-                elif SPHERES:
-                    box_forces_general_spheres(
-                        bodies, spheres, boxes, walls, mats, dt, ledger, first
-                    )
+            if BOXES:  # (the choice inside: a loop without boxes compiles no box driver)
+                if SPHERES:
+                    box_forces = box_forces_planar_spheres if PLANAR else box_forces_general_spheres
                 else:
-                    box_forces_general(bodies, spheres, boxes, walls, mats, dt, ledger, first)
+                    box_forces = box_forces_planar if PLANAR else box_forces_general
+                box_forces(bodies, spheres, boxes, walls, mats, dt, ledger, first)
                 if boxes.n_changes[0] > 0:
                     released = _bookkeep(
                         bodies, spheres, contacts, rec, settings, boxes.changes,
@@ -795,20 +782,14 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
             check_due = sleep_due or last or code >= 0
             if not (traj_due or energy_due or check_due or settings.track_energy):
                 # nothing reads the state between kick and drift: one pass over the bodies
-                if PLANAR:
-                    rebuild_due = _advance_planar(bodies, settings, first_moving, stop_moving)
-                else:
-                    rebuild_due = _advance_general(bodies, settings, first_moving, stop_moving)
+                advance = _advance_planar if PLANAR else _advance_general
+                rebuild_due = advance(bodies, settings, first_moving, stop_moving)
             else:
                 g, damp_gravity = settings.gravity, settings.damp_gravity
-                if PLANAR:
-                    p_damping = kick_planar(
-                        bodies, g, dt, settings.damping, damp_gravity, first_moving, stop_moving
-                    )
-                else:
-                    p_damping = kick_general(
-                        bodies, g, dt, settings.damping, damp_gravity, first_moving, stop_moving
-                    )
+                kick = kick_planar if PLANAR else kick_general
+                p_damping = kick(
+                    bodies, g, dt, settings.damping, damp_gravity, first_moving, stop_moving
+                )
                 if settings.track_energy:
                     p_contacts[POWER_VISCOUS] = 0.0
                     p_contacts[POWER_FRICTION] = 0.0
@@ -879,10 +860,8 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
                         first_moving, stop_moving = _moving_range(bodies)
                         _widen_span(rec, first_moving, stop_moving)
                         held_flags_changed(bodies, boxes)
-                if PLANAR:
-                    drift_planar(bodies, dt, first_moving, stop_moving)
-                else:
-                    drift_general(bodies, dt, first_moving, stop_moving)
+                drift = drift_planar if PLANAR else drift_general
+                drift(bodies, dt, first_moving, stop_moving)
                 rebuild_due = needs_rebuild_after_drift(
                     bodies, skin, contacts.n[0], first_moving, stop_moving
                 )

@@ -805,11 +805,11 @@ def owner_first(owner, xi, Ri, hi, ri, xj, Rj, hj, rj):
 
 
 @inner_kernel(_nrt=False)
-def _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, ties, out):
+def _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, out):
     """The vertices of one box nearest the other core, as contact points: the box owning
-    the vertex of least distance, and (``ties``) its vertices within a round-off tolerance
-    of it (a symmetric pair of parallel edges gives both ends); key ``KEY_VERTEX + 8 owner
-    + k``.  Returns the number of points (0 if out of reach)."""
+    the vertex of least distance, and its vertices within a round-off tolerance of it (a
+    symmetric pair of parallel edges gives both ends); key ``KEY_VERTEX + 8 owner + k``.
+    Returns the number of points (0 if out of reach)."""
     normal, point, overlap, key = out
     best_i = best_j = np.inf
     for k in range(8):
@@ -823,8 +823,6 @@ def _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, ties, out):
     x, R, h, r_own, xo, Ro, ho, r_other, sign = owner_first(owner, xi, Ri, hi, ri, xj, Rj, hj, rj)
     n = 0
     for k in range(8):
-        if n > 0 and not ties:
-            break
         if not distinct_vertex(h, k):
             continue
         v0, v1, v2 = _vertex(x, R, h, k)
@@ -890,27 +888,13 @@ def box_box(
     if manifold_is_deepest(overlap, n, ri + rj, sure, tol):
         return n
     v_row, e_row = 16, 24
-    m_v = _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, True, rows_from(out, v_row))
+    m_v = _nearest_vertices(xi, Ri, hi, ri, xj, Rj, hj, rj, margin, rows_from(out, v_row))
     m_e = 0
     if sep_e > -np.inf:
         m_e = _edge_manifold(
-            xi,
-            Ri,
-            hi,
-            ri,
-            a_e,
-            xj,
-            Rj,
-            hj,
-            rj,
-            b_e,
-            e0,
-            e1,
-            e2,
-            sep_e,
-            margin,
+            xi, Ri, hi, ri, a_e, xj, Rj, hj, rj, b_e, e0, e1, e2, sep_e, margin,
             rows_from(out, e_row),
-        )
+        )  # fmt: skip
     if m_e == 1 and (m_v == 0 or overlap[e_row] > overlap[v_row]):
         first, count = e_row, 1
     else:
