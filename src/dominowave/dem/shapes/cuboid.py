@@ -432,6 +432,10 @@ def _incident_corner(xB, RB, hB, kB, sB, k):
     return e0, e1, e2
 
 
+_NO_DIP = (-1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+"""What :func:`_beyond_side_plane` returns where the clipped corner is the contact."""
+
+
 # (inlined: a call passes its 19 arguments, the arrays as several words each, for every
 # corner where an incident edge crosses a side plane -- two per pair of fallen dominoes)
 @inline_kernel()
@@ -476,17 +480,16 @@ def _beyond_side_plane(xA, RA, hA, ku, kv, c0, c1, c2, n0, n1, n2, xB, RB, hB, k
     if beyond_b > beyond_a:  # the edge's outer end is corner edge + 1
         vertex = (edge + 1) % 4
         a0, a1, a2 = b0, b1, b2
-    keep = (-1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     # An edge lying on the side plane (an edge of a face as wide as the reference face, or
     # beside it) does not leave the face, whichever end round-off puts farther out.  Taken
     # for a dip, its corner would become the other end of the edge, already a corner of
     # the polygon, and one end of the line contact would vanish -- on one side of a
     # symmetric pair, a torque from nothing that tips a symmetric chain out of its plane.
     if max(beyond_a, beyond_b) <= close:
-        return keep
+        return _NO_DIP
     height = (a0 - c0) * n0 + (a1 - c1) * n1 + (a2 - c2) * n2
     if height >= row[2] or row[2] <= 0.0:  # (at or below the face: the edge enters A's core)
-        return keep
+        return _NO_DIP
     # the crossing p in world coordinates, the edge beyond it p + t g, t in [0, 1]
     p0 = c0 + row[0] * RA[0, ku] + row[1] * RA[0, kv] + row[2] * n0
     p1 = c1 + row[0] * RA[1, ku] + row[1] * RA[1, kv] + row[2] * n1
@@ -511,7 +514,7 @@ def _beyond_side_plane(xA, RA, hA, ku, kv, c0, c1, c2, n0, n1, n2, xB, RB, hB, k
         if near[0] < end[0]:
             end, t = near, te
     if end[0] <= 1e-9 * (hA[0] + hA[1] + hA[2]):  # (touching A's core: no normal)
-        return keep
+        return _NO_DIP
     return float(vertex), t, end[0], end[1], end[2], end[3], end[4], end[5], end[6]
 
 
@@ -575,13 +578,15 @@ def _face_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, work,
             plane = max(label_in, label_out) - 4
             near = _vertex_within(xB, RB, hB, kB, sB, edge, c0, c1, c2, RA, ku, kv, n0, n1, n2,
                                   src[k], close)  # fmt: skip
-            w = _beyond_side_plane(
-                xA, RA, hA, ku, kv, c0, c1, c2, n0, n1, n2, xB, RB, hB, kB, sB, src[k], edge,
-                plane, close,
-            )  # fmt: skip
             # (a face without area -- a capsule's side -- has no side planes to dip beyond:
             # its clipped corners are exact, their height over it their core distance)
-            if w[0] >= 0 and not flat:  # the incident edge dips beyond the side plane
+            w = _NO_DIP
+            if not flat:
+                w = _beyond_side_plane(
+                    xA, RA, hA, ku, kv, c0, c1, c2, n0, n1, n2, xB, RB, hB, kB, sB, src[k],
+                    edge, plane, close,
+                )  # fmt: skip
+            if w[0] >= 0:  # the incident edge dips beyond the side plane
                 t, d, u0, u1, u2, q0, q1, q2 = w[1], w[2], w[3], w[4], w[5], w[6], w[7], w[8]
                 if d >= reach:
                     continue
