@@ -80,11 +80,6 @@ from dominowave.dem.shapes.rectangle import (
 )
 from dominowave.dem.state import Spheres, empty_contacts
 
-# The per-step kernels are compiled without numba's reference counting (``_nrt=False``),
-# as those of contact.py and the small functions they inline (dem/compiled.py): they
-# allocate nothing, and with the counting every access to a field of the box state cost
-# atomic increments and decrements (a box chain step took 2-3 times as long).
-
 __all__ = [
     "Boxes",
     "box_contact_forces",
@@ -243,8 +238,7 @@ def _reach_of(boxes, x):
     return math.sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]) + boxes.radius[x]
 
 
-# (allocates: compiled with numba's reference counting even when called from the
-# run loop, which is compiled without it and whose callees inherit that setting)
+# (allocates: compiled with numba's reference counting, dem/compiled.py)
 @inner_kernel(_nrt=True)
 def build_box_candidates(bodies, boxes, walls, skin):
     """The neighbour list of the box contacts: the box-box and box-wall pairs whose

@@ -56,6 +56,7 @@ __all__ = [
     "point_velocity_in_plane",
     "sphere_sphere",
     "sphere_wall",
+    "start_gaps",
 ]
 
 
@@ -228,11 +229,8 @@ def _candidate_pairs(spheres, walls, skin, active=None):
     return keys, first
 
 
-# The loops of the search and sort are compiled without numba's reference counting
-# (``_nrt=False``): they allocate nothing, and with it the loops paid atomic increments and
-# decrements of the arrays' reference counts that numba could not prune (a list build of
-# the paper chain took 28 us, now 14 us).  The per-step kernels are compiled the same way
-# for the same reason (engine.run_loop).
+# (the search and the sort allocate nothing: compiled without numba's reference counting,
+# dem/compiled.py)
 
 
 @inner_kernel(_nrt=False)
@@ -554,6 +552,27 @@ def contact_point(xi0, xi1, xi2, radius, n0, n1, n2, overlap):
     its partner and overlap ``delta`` [m]."""
     reach = radius - 0.5 * overlap
     return xi0 + reach * n0, xi1 + reach * n1, xi2 + reach * n2
+
+
+def start_gaps(spheres, walls):
+    """The spheres' distances [m] as a scene is built (NumPy, for the checks of the set-up).
+
+    Returns ``(height, i, j, gap)``: ``height`` (nw, ns) the height of each sphere's centre
+    over each wall, along its normal (an overlap where it is below the radius); ``i, j``
+    (np,) the pairs of spheres of different bodies whose centres are within twice the
+    largest radius (scipy's cKDTree), and ``gap`` (np,) their surface distance (negative:
+    an overlap)."""
+    from scipy.spatial import cKDTree
+
+    pos, radius, body = spheres.pos, spheres.radius, spheres.body
+    height = np.array([(pos - p) @ n for p, n in zip(walls.point, walls.normal, strict=True)])
+    height = height.reshape(walls.point.shape[0], pos.shape[0])
+    pairs = cKDTree(pos).query_pairs(2.0 * float(radius.max()), output_type="ndarray")
+    i, j = pairs.reshape(-1, 2).T
+    other = body[i] != body[j]
+    i, j = i[other], j[other]
+    gap = np.linalg.norm(pos[i] - pos[j], axis=1) - (radius[i] + radius[j])
+    return height, i, j, gap
 
 
 @inline_kernel()

@@ -650,10 +650,8 @@ def _compile_run_loop(PLANAR, BOXES, SPHERES):  # (capitals: constants of the co
         steps place only those of the Verlet list).
         ``rec.energy_now`` holds the energies of the last step done (time
         ``clock[CLOCK_TIME] - dt``).
-
-        Compiled without numba's reference counting, as the kernels it calls every step
-        (contact.py): it allocates nothing itself, and every pass through the loop would
-        otherwise pay atomic reference-count updates of the ~100 state arrays.
+        Compiled without numba's reference counting (dem/compiled.py): it allocates
+        nothing, and it holds about 100 state arrays.
         """
         dt, skin = settings.dt, settings.skin
         ledger, changes, change_lag = rec.ledger, rec.changes, rec.change_lag

@@ -8,6 +8,7 @@ import numpy as np
 
 from dominowave.checks import check_finite, check_in_range, check_nonnegative, check_positive
 from dominowave.dem.boxes import empty_boxes
+from dominowave.dem.contact import start_gaps
 from dominowave.dem.integrate import (
     ROT_AXIS,
     ROT_FREE,
@@ -693,11 +694,9 @@ class Scene:
 
 def _check_initial_overlaps(spheres, walls, tolerance):
     """ValueError naming the first body that overlaps a wall or another body at start."""
-    from scipy.spatial import cKDTree
-
-    pos, radius, body = spheres.pos, spheres.radius, spheres.body
-    for w in range(walls.point.shape[0]):
-        dist = (pos - walls.point[w]) @ walls.normal[w]
+    radius, body = spheres.radius, spheres.body
+    height, i, j, gap = start_gaps(spheres, walls)
+    for w, dist in enumerate(height):
         bad = np.flatnonzero(dist < radius * (1.0 - tolerance))
         if bad.size:
             s = bad[0]
@@ -705,17 +704,10 @@ def _check_initial_overlaps(spheres, walls, tolerance):
                 f"body {body[s]} (sphere {s}) overlaps wall {w} at start by "
                 f"{radius[s] - dist[s]:.6g} m; move it to the wall's positive side"
             )
-    tree = cKDTree(pos)
-    pairs = tree.query_pairs(2.0 * float(radius.max()), output_type="ndarray")
-    if pairs.size:
-        i, j = pairs[:, 0], pairs[:, 1]
-        other = body[i] != body[j]
-        i, j = i[other], j[other]
-        gap = np.linalg.norm(pos[i] - pos[j], axis=1) - (radius[i] + radius[j])
-        bad = np.flatnonzero(gap < -tolerance * np.minimum(radius[i], radius[j]))
-        if bad.size:
-            k = bad[0]
-            raise ValueError(
-                f"body {body[i[k]]} (sphere {i[k]}) overlaps body {body[j[k]]} (sphere {j[k]}) "
-                f"at start by {-gap[k]:.6g} m"
-            )
+    bad = np.flatnonzero(gap < -tolerance * np.minimum(radius[i], radius[j]))
+    if bad.size:
+        k = bad[0]
+        raise ValueError(
+            f"body {body[i[k]]} (sphere {i[k]}) overlaps body {body[j[k]]} (sphere {j[k]}) "
+            f"at start by {-gap[k]:.6g} m"
+        )

@@ -49,6 +49,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from dominowave.dem.contact import start_gaps
 from dominowave.dem.integrate import ROT_AXIS, ROT_NONE
 from dominowave.dem.laws.hertz import LAW_HERTZ, hertz_coefficient, hertz_modulus
 from dominowave.dem.material_pairs import pair_stiffness, particle_stiffness
@@ -266,17 +267,10 @@ def _rotational_coupling(bodies, spheres):
 
 def _touching_pairs(spheres, walls):
     """(sphere, partner) pairs in contact at start; partner = sphere or -(wall + 1)."""
-    from scipy.spatial import cKDTree
-
-    pos, radius, body = spheres.pos, spheres.radius, spheres.body
+    height, i, j, gap = start_gaps(spheres, walls)
     out = []
-    for w in range(walls.point.shape[0]):
-        dist = (pos - walls.point[w]) @ walls.normal[w]
-        out += [(int(s), -w - 1) for s in np.flatnonzero(dist <= radius)]
-    pairs = cKDTree(pos).query_pairs(2.0 * float(radius.max()), output_type="ndarray")
-    if pairs.size:
-        i, j = pairs[:, 0], pairs[:, 1]
-        gap = np.linalg.norm(pos[i] - pos[j], axis=1) - (radius[i] + radius[j])
-        keep = (body[i] != body[j]) & (gap <= 0.0)
-        out += [(int(a), int(b)) for a, b in zip(i[keep], j[keep], strict=True)]
+    for w, dist in enumerate(height):
+        out += [(int(s), -w - 1) for s in np.flatnonzero(dist <= spheres.radius)]
+    keep = gap <= 0.0
+    out += [(int(a), int(b)) for a, b in zip(i[keep], j[keep], strict=True)]
     return out
