@@ -5,8 +5,9 @@ A box body is a rigid body of ``Bodies`` (mass, inertia, quaternion, the same in
 as a clump) whose shape is a rounded cuboid (``shapes.cuboid``): core half-extents ``h``
 in its principal frame and rounding radius ``r``.  Each step :func:`box_forces` finds the
 contact manifold of every box-box and box-wall pair within reach (``shapes.cuboid`` in 3D,
-``shapes.rectangle`` in a planar scene, each of whose points counts twice: the two ends
-of a cuboid edge along y), then the one point of every box-sphere pair
+``shapes.rectangle`` in a planar scene, each of whose points stands for the two ends of a
+cuboid edge along y, or one point of a core without extent along y:
+shapes.rectangle.multiplicity), then the one point of every box-sphere pair
 (:func:`_box_sphere_pass`), and applies to every point the one law of every contact
 point (laws/point.py: the linear or Hertz normal force, Cundall-Strack friction, the
 dashpot fixed at the point's onset from the two bodies' effective mass at the point,
@@ -503,7 +504,7 @@ def _pair_code(i, j, nx, nw):
 
 
 @inner_kernel()
-def _point_properties(bodies, boxes, walls, mats, a, j, out):
+def _point_properties(boxes, walls, mats, a, j, out):
     """kn (Hertz: K), kt, mu, restitution, Tsuji alpha of a point of box a with partner j
     into ``out[0:5]``."""
     ma = boxes.material[a]
@@ -709,8 +710,8 @@ def _box_geometry(PLANAR):  # (capital: a constant of the compiled kernels)
     Returns ``(within_reach, manifold)``."""
 
     # (inlined, as the other helpers box_forces calls for every pair or step: a call of a
-    # compiled function passes every array of its tuple arguments one by one, about 0.5 us
-    # for the bodies and the box state)
+    # compiled function passes every array of its tuple arguments one by one,
+    # benchmarks/README.md, "Rounded-cuboid contacts", item (8))
     @inline_kernel()
     def manifold(bodies, boxes, walls, a, j, margin, frame_ready):
         """Contact points of box a with partner j (box, or -(wall + 1)) into boxes.m_*;
@@ -930,7 +931,7 @@ def _box_driver(PLANAR, SPHERES):  # (capitals: constants of the compiled kernel
     compile them."""
 
     # (inlined into the engine's loop: a call passes every array of the bodies and the box
-    # state one by one, about 0.5 us per step; see manifold)
+    # state one by one; see manifold)
     @inline_kernel()
     def forces(bodies, spheres, boxes, walls, mats, dt, ledger, first_step):
         """Add the forces and torques of every box contact to the bodies (after
@@ -1013,7 +1014,7 @@ def _box_driver(PLANAR, SPHERES):  # (capitals: constants of the compiled kernel
                     n_new += 1
                     _open_row(new, c, a, j, key, mult, boxes.m_normal[k], boxes.m_point[k])
                     if q < 0:
-                        _point_properties(bodies, boxes, walls, mats, a, j, props)
+                        _point_properties(boxes, walls, mats, a, j, props)
                     else:
                         used[q] = 1
                     _point_row(bodies, old, new, c, q, props, ba, bj, wall, overlap, dt, first_step,

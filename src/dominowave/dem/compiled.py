@@ -23,7 +23,7 @@ reorder a floating-point operation); the second compiles a box chain's kernels i
 half the time, and they run faster (benchmarks/README.md, "First run").
 
 numba compiles a function once per tuple of argument types, and a constant argument
-(``log_change(..., ONSET, lag)``, ``_place_spheres(..., True, PLANAR)``) has a
+(``log_change(..., ONSET, lag)``, ``_place_spheres(..., True, planar)``) has a
 literal type of its own value: each constant at each call site would be one more
 compilation of the callee.  Such a version buys nothing: numba removes a branch on a
 constant it finds in the function (a global, or a closure's variable, as the time
@@ -34,9 +34,9 @@ therefore compiled for the plain types of constant arguments (:class:`OneVersion
 numba counts the references to the arrays a compiled function holds, with atomic
 increments and decrements that it cannot all remove from a loop.  A kernel that allocates
 nothing is compiled without the counting (numba's ``_nrt=False``): the time loop, the
-kernels of each step and the inlined functions.  With it, a box chain's step took 2-3
-times as long, and a Verlet-list build of the paper's chain 28 us instead of 14 us.  A
-kernel inherits the setting of the kernel that calls it, so one that allocates (the build
+kernels of each step and the inlined functions (with the counting, a box chain's step
+takes several times as long: benchmarks/README.md, "Rounded-cuboid contacts").  A kernel
+inherits the setting of the kernel that calls it, so one that allocates (the build
 of a neighbour list) is compiled with ``_nrt=True``.
 """
 

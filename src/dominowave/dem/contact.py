@@ -424,8 +424,8 @@ def _merge_history(spheres, walls, bodies, mats, contacts, keys, first, src, pro
     n_new = keys.shape[0]
     _old_slots(contacts, keys, ns, stride, src)
     # (a pair moves with its whole row: the dashpot extrapolates vn, an ending contact needs
-    # its last overlap (end_impulse); the properties of a listed pair are kept -- whoever
-    # edits the materials mid-run must edit contacts.kn/kt/mu/cn too)
+    # its last overlap (end_impulse); the properties of a listed pair are kept: state.py,
+    # MaterialTable)
     for c in range(n_new - 1, -1, -1):
         if 0 <= src[c] < c:
             copy_row(contacts, src[c], contacts, c)
@@ -500,9 +500,7 @@ def _list_spheres(spheres, contacts, seen):
 # the contact normal and overlap out; the drivers below map them over the Verlet list.
 # Vectors pass as scalar triples: kept in registers, whereas through a scratch array
 # every component is a store and a reload (the compiler cannot rule out that the
-# scratch array aliases the state arrays it reads).  The planar kernels (a planar scene,
-# planar.py) pass the components that are zero in the plane as 0.0 and drop those of the
-# results.
+# scratch array aliases the state arrays it reads).
 
 
 @inline_kernel(python_entry=True)

@@ -15,7 +15,7 @@ onset/end bookkeeping (held bodies, events, pair statistics) -> stop conditions 
 kick -> recorders and checks at t_n -> drift -> place the listed spheres.  In the steps
 where no recorder, check or energy ledger reads the state between kick and drift, kick
 and drift are one pass over the bodies that also tests the Verlet list for the next step
-(:func:`_advance_bodies`; the same arithmetic).  The optional contact-force recorder
+(:func:`_body_pass`; the same arithmetic).  The optional contact-force recorder
 (``rec.cf_on``) copies the forces of the active contacts at each trajectory frame; off, it
 costs one test per frame.
 """
@@ -159,12 +159,13 @@ Recorder = namedtuple(
         "changes",  # (C, 3) int64 scratch: the sphere contacts that started or ended in
         #   this step (contact_rows.log_change: body i, body j or -(wall + 1), ONSET / END)
         "change_lag",  # (C,) scratch: how long before the step's time each did [s]
-        "pair_count",  # (nb, nb) int32 active sphere contacts per body pair (i < j)
-        "wall_count",  # (nb, nw) int32 active sphere contacts per body-wall pair
+        "pair_count",  # (nb, nb) int32 touching contacts per body pair (i < j; a sphere
+        #   contact each, a box body pair one: _bookkeep)
+        "wall_count",  # (nb, nw) int32 touching contacts per body-wall pair (likewise)
         "first_contact",  # (nb, nb) [s], nan
         "last_separation",  # (nb, nb) [s], nan
         "n_contacts",  # (nb, nb) int64 distinct body-body contacts
-        "peak_force",  # (nb, nb) largest sphere-contact normal force [N]
+        "peak_force",  # (nb, nb) largest normal force of a sphere contact or box point [N]
         "ev_n",  # (1,) int64 events logged
         "ev_time",  # (E,)
         "ev_i",  # (E,) int64
@@ -184,8 +185,9 @@ Recorder = namedtuple(
         "cf_on",  # (1,) int64: 1 = record the contact forces at trajectory frames
         "cf_n",  # (1,) int64 contact rows recorded
         "cf_start",  # (F,) int64 first contact row of each trajectory frame
-        "cf_first",  # (K,) int64 sphere i, or -(wall + 1)
-        "cf_second",  # (K,) int64 sphere j (or i for a wall contact): the force acts on it
+        "cf_first",  # (K,) int64 shape id (spheres, then boxes: ContactFrames), or -(wall + 1)
+        "cf_second",  # (K,) int64 shape id (for a wall contact, the shape on the wall): the
+        #   force acts on it
         "cf_point",  # (K, 3) contact point [m]
         "cf_force",  # (K, 3) total contact force on `cf_second` [N]
         "energy_every",  # (1,) int64, 0 = off
@@ -454,8 +456,8 @@ def _record_box_contact_forces(rec, boxes):
 def _zero_forces(bodies):
     """Zero the force and torque of every body, as compute_forces does first.  For the
     steps without sphere pairs the loop does this itself: a call of a compiled function
-    passes every array of its tuple arguments one by one (about 0.2-0.5 us for the state
-    of the bodies, spheres and contacts)."""
+    passes every array of its tuple arguments one by one (benchmarks/README.md,
+    "Rounded-cuboid contacts", item (8))."""
     bodies.force[:, :] = 0.0
     bodies.torque[:, :] = 0.0
 
@@ -540,7 +542,7 @@ def steps_until_quiet(t0: float, dt: float, since: float, quiet: float, limit: i
 def _moving_range(bodies):
     """``(first, stop)``: the bodies that are not held all lie in ``range(first, stop)``
     (empty if every body is held).  In a chain held until touched the moving dominoes
-    are the first ones, so the fused pass (:func:`_advance_bodies`) looks at those and
+    are the first ones, so the fused pass (:func:`_body_pass`) looks at those and
     not at every held domino after them."""
     held = bodies.held
     first, stop = held.shape[0], 0
@@ -595,7 +597,8 @@ _advance_planar = _body_pass(True)
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _advance_bodies(bodies, settings, first, stop):
     """The fused kick and drift of the scene's kind (``settings.planar``):
-    :func:`_advance_planar` or :func:`_advance_general`."""
+    :func:`_advance_planar` or :func:`_advance_general` (for the tests and benchmarks;
+    the time loop calls its kind's)."""
     if settings.planar:
         return _advance_planar(bodies, settings, first, stop)
     return _advance_general(bodies, settings, first, stop)
@@ -607,8 +610,7 @@ SceneKind = namedtuple("SceneKind", ["planar", "boxes", "spheres"], defaults=(Tr
 boxes._box_sphere_pass, or the general ones), ``boxes`` (rounded-cuboid contacts:
 boxes.py) and ``spheres`` (sphere contacts: contact.py, and with boxes the box-sphere
 points of boxes.py and their list, box_sphere.py; default True).  A scene of boxes
-alone (every box chain) compiles no sphere kernel: its first run is a tenth to a quarter shorter
-(benchmarks/README.md, "First run")."""
+alone (every box chain) compiles no sphere kernel (benchmarks/README.md, "First run")."""
 
 
 @functools.cache
@@ -617,8 +619,8 @@ def time_loop(kind: SceneKind):
     with the kernels of what the scene holds, and without the others.
 
     numba compiles a function with every function it calls, and in a loop that branches
-    on the scene at run time that is every kernel of the engine (4 min 15 s for a clump
-    chain on a 2-core machine, benchmarks/README.md).  Here the kind is a constant of the
+    on the scene at run time that is every kernel of the engine (benchmarks/README.md,
+    "First run").  Here the kind is a constant of the
     compiled function (a closure variable): numba removes the branches of the other
     kinds before it types the loop, so a clump chain compiles no box kernel and a planar
     scene no general one.  Each kind has its own entry in the disk cache (numba keys a

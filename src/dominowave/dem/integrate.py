@@ -486,7 +486,7 @@ def drift_body_planar(bodies, b, dt):
 @inline_kernel()
 def advance_body_planar(bodies, b, gravity, dt, damping, damp_gravity):
     """:func:`kick_body_planar` then :func:`drift_body_planar` in one go, for the steps in
-    which nothing reads the state between the two (engine._advance_bodies): the same
+    which nothing reads the state between the two (engine._body_pass): the same
     positions, velocities and orientations to the bit, without what only readers need --
     the full-step velocities (``vel_full``, ``omega_full``, ``angmom_full``), the half-step
     ``angmom``, the damping power, and row y of the rotation matrix (for a turn about e_y

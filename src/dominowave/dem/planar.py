@@ -4,7 +4,8 @@ A scene is *planar* (:func:`planar_violation` returns None) when every body has 
 translation and its x and z rotations blocked, with zero y velocity and zero x and z
 spin, all bodies lie in one plane ``y = y0`` and every member sphere's centre lies in
 it (both to round-off: COPLANAR_ULPS, IN_PLANE_TOLERANCE), and no wall normal has a y
-component.
+component; a scene with boxes also needs every box's axis 1 along y
+(simulation.Simulation.planar).
 This is YADE's and the paper's 2D model (DOFs "y rx rz" blocked), e.g. the 2D domino chain.
 
 Then every contact normal, contact point, relative velocity, shear displacement and force

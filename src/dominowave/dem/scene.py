@@ -276,7 +276,7 @@ class Scene:
             must be the world y axis.
         mass, inertia : the body's mass [kg] and principal moments (3,) about the box axes
             [kg m^2]; default those of a uniform cuboid of the outer size,
-            ``m = 8 a b c rho``, ``I_x = m (b^2 + c^2) / 3`` (shapes.cuboid_mass_properties).
+            ``m = 8 a b c rho``, ``I_x = m (b^2 + c^2) / 3`` (shapes.cuboid.cuboid_mass_properties).
         blocked, velocity, angular_velocity : as :meth:`add_clump`.
         held : keep the box fixed until a moving body touches it (as :meth:`add_clump`):
             while held it has no contact with other held boxes, nor with the walls until
@@ -563,10 +563,12 @@ class Scene:
             (docs/dem.md), so larger values (up to ~0.3) are fine for many purposes.
         damping : YADE local damping coefficient in [0, 1).
         damp_gravity : damp gravity as well (YADE 2023.02a default).
-        skin : Verlet skin [m]; default 0.3 x mean sphere radius.
+        skin : Verlet skin [m]; default 0.3 x mean sphere radius (a scene of boxes only:
+            of the boxes' smallest outer half-extent).
         record_pairs : body-pair statistics and the contact event log; default on for
             up to 2000 bodies.
-        record_peak_force : also keep the peak sphere-contact normal force per body pair.
+        record_peak_force : also keep the peak normal force of a sphere contact or box
+            contact point per body pair.
         check_every : steps between NaN / energy-runaway / kinetic-energy checks.
         overlap_tolerance : largest initial overlap allowed, relative to the radius.
         track_energy : keep the ledger of the energy dissipated by friction, dashpots and

@@ -524,12 +524,11 @@ class Simulation:
         on a copy, so that their elastic energy counts from t = 0 and no state changes:
         a scene with boxes takes them from the time loop's first step
         (:meth:`_first_step`: box_forces is inlined into the loop and has no entry from
-        Python; a call of its own from Python compiled it a second time, 83 s of a 3D box
-        chain's first run), a scene of
+        Python; a call of its own from Python would compile it a second time), a scene of
         spheres from the sphere kernel its first step will use (compiled on its own
-        before the loop that calls it, which the README's main job finds 4-5 s faster
-        than compiling it within the loop: benchmarks/README.md, "First run");
-        afterwards the contact state of the last step is used.
+        before the loop that calls it, which compiles faster than within the loop:
+        benchmarks/README.md, "First run"); afterwards the contact state of the last step
+        is used.
         """
         contacts, boxes = self.contacts, self.boxes
         spheres = self.kind.spheres

@@ -59,7 +59,8 @@ Bodies = namedtuple(
         "angmom_full",  # (nb, 3) full-step angular momentum of the last step [kg m^2/s]
         "force",  # (nb, 3) contact force of the current step [N]
         "torque",  # (nb, 3) contact torque about the COM, world frame [N m]
-        "extent",  # (nb,) largest distance of a member sphere's centre from the COM [m]
+        "extent",  # (nb,) largest distance of a member sphere's centre from the COM (a
+        #   box: its core's half-diagonal) [m]
         "pos_at_build",  # (nb, 3) COM at the last neighbour-list build [m]
         "quat_at_build",  # (nb, 4) orientation at the last neighbour-list build
     ],
@@ -148,12 +149,12 @@ def empty_contacts(capacity: int, n: int = 0) -> Contacts:
 
 @dataclass(frozen=True)
 class Material:
-    """Contact material of a sphere or wall.
+    """Contact material of a sphere, a box, a capsule or a wall.
 
     Parameters
     ----------
     density : float
-        Mass density [kg/m^3] (spheres only; ignored for walls).
+        Mass density [kg/m^3] (the default mass of a body; ignored for walls).
     young : float, optional
         Young's modulus E [Pa]; the pair stiffness follows the scene's ``stiffness_rule``.
     kn : float, optional

@@ -25,7 +25,7 @@ their stiffnesses on body ``b``, Gershgorin's bound on the stiffness matrix give
 ``omega^2 <= 2 K_b (1/m + rho^2/I)`` for bodies of similar mass, so ``dt_crit <=
 sqrt(2 / (K_b (1/m + rho^2/I)))`` as well (exact for two equal spheres; a packing built
 in contact gets a step ~sqrt(N/2) smaller).  E.g. 108 FCC spheres between 6 walls,
-kt_ratio 1: unstable at 0.99 of the former single-contact estimate, stable at 0.8; stable
+kt_ratio 1: unstable at 0.99 of the single-contact estimate alone, stable at 0.8; stable
 at 0.99 of this one.  An unstable run is detected at run time (energy runaway or NaN)
 and aborted.
 

@@ -709,9 +709,9 @@ def _merge_coincident(out, n, base, close):
 
 
 @inline_kernel()
-def _edge_id(R, x, n0, n1, n2, a, s):
-    """Centre (3 floats) and id (0..11) of the edge along axis ``a`` of a box that lies
-    farthest along ``s n``: id = 4 a + 2 [sign of axis a+1 > 0] + [sign of axis a+2 > 0]."""
+def _edge_id(R, n0, n1, n2, a, s):
+    """Signs ``(s1, s2)`` along the axes a+1, a+2 and id (0..11) of the edge along axis
+    ``a`` of a box that lies farthest along ``s n``: id = 4 a + 2 [s1 > 0] + [s2 > 0]."""
     k1, k2 = (a + 1) % 3, (a + 2) % 3
     s1 = unit_sign(s * (n0 * R[0, k1] + n1 * R[1, k1] + n2 * R[2, k1]))
     s2 = unit_sign(s * (n0 * R[0, k2] + n1 * R[1, k2] + n2 * R[2, k2]))
@@ -726,8 +726,7 @@ def _segment_closest(r0, r1, r2, u0, u1, u2, v0, v1, v2):
     NaN parameter: ``v`` gives ``t`` NaN and ``s = 0``, ``u`` (if ``t`` is clamped) ``s``
     NaN.  The edge-edge contact rejects both (the vertex search finds such a pair), and
     the dip beyond a side plane, which uses ``s`` of a zero-length ``v``, takes the
-    midpoint as a candidate.  (No branch for these rare cases: the function is on the
-    path of every face contact.)"""
+    midpoint as a candidate."""
     a = u0 * u0 + u1 * u1 + u2 * u2
     e = v0 * v0 + v1 * v1 + v2 * v2
     b = u0 * v0 + u1 * v1 + u2 * v2
@@ -748,8 +747,8 @@ def _edge_manifold(xi, Ri, hi, ri, a, xj, Rj, hj, rj, b, n0, n1, n2, sep, margin
     edge ``b`` of box j (farthest along -n).  Separated cores: the distance of the two
     segments; penetrating cores: the separation ``sep`` along the axis ``n``."""
     normal, point, overlap, key = out
-    s1, s2, id_i = _edge_id(Ri, xi, n0, n1, n2, a, 1.0)
-    t1, t2, id_j = _edge_id(Rj, xj, n0, n1, n2, b, -1.0)
+    s1, s2, id_i = _edge_id(Ri, n0, n1, n2, a, 1.0)
+    t1, t2, id_j = _edge_id(Rj, n0, n1, n2, b, -1.0)
     ai1, ai2 = (a + 1) % 3, (a + 2) % 3
     bj1, bj2 = (b + 1) % 3, (b + 2) % 3
     # edge centres p, q and half-length vectors u, v
@@ -868,11 +867,12 @@ def box_box(
 
     ``work``: (2, 9, 4) float64 scratch (relative frame, clipping buffers); with
     ``frame_ready``, ``work[0]`` holds the relative frame of the two boxes already, as
-    :func:`faces_separate` leaves it (the engine's bounding test, boxes._within_reach,
-    calls that just before; the frame is the same arithmetic either way).  Keys: face contact
-    ``((swap * 6 + face_ref) * 6 + face_inc) * 64 + corner`` (face = 2 axis + [negative
-    side], swap = 1 if the reference face is j's, corner = the pair of polygon edge labels
-    meeting there: incident edges 0..3, reference side planes 4..7); edge contact
+    :func:`faces_separate` leaves it (the engine's bounding test, ``within_reach`` of
+    boxes._box_geometry, calls that just before; the frame is the same arithmetic either
+    way).  Keys: face contact ``((swap * 6 + face_ref) * 6 + face_inc) * 64 + corner``
+    (face = 2 axis + [negative side], swap = 1 if the reference face is j's, corner = the
+    pair of polygon edge labels meeting there: incident edges 0..3, reference side planes
+    4..7); edge contact
     ``KEY_EDGE + 12 edge_i + edge_j``; vertex ``KEY_VERTEX + 8 owner + vertex``.  A face of
     j is the reference only if it separates better than every face of i by a round-off
     tolerance (so that ties -- parallel faces -- keep one choice).

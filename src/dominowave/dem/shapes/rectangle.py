@@ -5,7 +5,8 @@ rounding ``r``) turning about the world y axis only; its box axes 0 and 2 lie in
 plane.  Its contacts are those of the cuboid with every point taken at the body's own y:
 the 3D manifold of such a scene consists of pairs of points at the two ends (``y = +-b``)
 of each edge parallel to y, with equal overlaps and normals, and this module returns one
-point per pair -- the caller counts each twice (``PLANAR_MULTIPLICITY``).  The geometry is
+point per pair -- the caller counts each :func:`multiplicity` times (twice,
+``PLANAR_MULTIPLICITY``, or once where a core has no extent along y: a capsule's).  The geometry is
 the 2D version of the same method: separating axes over the 2 + 2 face normals, the
 incident edge clipped against the reference edge's two side lines (a face on a face: 2
 points), and the exact deepest point -- a corner-edge pair in 2D -- merged in as in 3D
@@ -161,7 +162,7 @@ def _edge_manifold(xA, RA, hA, rA, kA, xB, RB, hB, rB, margin, sign, swap, out):
     if single and n_b < n_a:
         u_a, n_a, sub_a = u_b, n_b, sub_b
     n = 0
-    for k in range(2):  # (a constant count, as before capsules: the compiler may unroll it)
+    for k in range(2):  # (a constant count: the compiler may unroll it)
         if k == 1 and single:
             break
         pu, pn, sub = (u_a, n_a, sub_a) if k == 0 else (u_b, n_b, sub_b)
