@@ -322,7 +322,7 @@ def test_validate_pair_geometry_against_vector_algebra():
     """The per-pair geometry functions give the normal, overlap and contact point of
     NumPy's vector algebra, for spheres and for walls, and resolve a pair that is apart
     only when asked to (``keep``, an active contact's gap)."""
-    from dominowave.dem.contact import contact_point, sphere_sphere, sphere_wall
+    from dominowave.dem.shapes.sphere import contact_point, sphere_sphere, sphere_wall
 
     rng = np.random.default_rng(7)
     for _ in range(50):

@@ -1,4 +1,4 @@
-"""A general discrete-element engine: spheres, rigid clumps of spheres, rounded cuboids,
+"""A general discrete-element engine: spheres, rigid clumps of spheres, rounded cuboids, capsules,
 plane walls, linear and Hertz contacts with Cundall-Strack friction, YADE-style local
 damping, blocked DOFs, and a numba-compiled time loop with recorders, compiled for each
 kind of scene (:class:`SceneKind`).  Knows nothing about dominoes.

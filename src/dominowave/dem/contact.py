@@ -1,16 +1,14 @@
-"""Sphere contacts: the Verlet list, the pair geometry and the force driver.
+"""Sphere contacts: the Verlet list and the force driver.
 
-Each pair geometry is a small pure function of one pair (jax-md style):
-:func:`sphere_sphere` and :func:`sphere_wall` (normal and overlap), :func:`contact_point`.
-The driver :func:`compute_forces` maps them over the Verlet list and hands each contact
-point to the one law of every contact point of the engine (laws/point.py: the linear
-spring-dashpot of laws/linear.py with the Coulomb-limited shear spring of
-laws/tangential.py), and writes each pair's row of the contact table (point, normal,
-the law's state), which the bookkeeping of every table reads (contact_rows.py)
-(:func:`compute_forces_planar`, the same source compiled for a planar scene:
-:func:`_sphere_driver`).  A
-listed pair's constants come from its materials (:func:`pair_properties`, by
-material_pairs.material_pair).
+The driver :func:`compute_forces` maps the sphere's pair geometry (shapes/sphere.py:
+sphere_sphere and sphere_wall, the normal and overlap; contact_point) over the Verlet
+list, hands each contact point to the one law of every contact point of the engine
+(laws/point.py: the linear spring-dashpot of laws/linear.py with the Coulomb-limited
+shear spring of laws/tangential.py), and writes each pair's row of the contact table
+(point, normal, the law's state), which the bookkeeping of every table reads
+(contact_rows.py) (:func:`compute_forces_planar`, the same source compiled for a planar
+scene: :func:`_sphere_driver`).  A listed pair's constants come from its materials
+(:func:`pair_properties`, by material_pairs.material_pair).
 
 Sign convention: the unit normal ``n`` points from sphere ``i`` to its partner ``j``; the
 returned force acts on ``j`` (``-F`` on ``i``).
@@ -39,6 +37,7 @@ from dominowave.dem.laws.linear import end_impulse, viscous_coefficient
 from dominowave.dem.laws.point import point_law
 from dominowave.dem.laws.tangential import SHEAR_YADE, yade_shear_velocity
 from dominowave.dem.material_pairs import material_pair
+from dominowave.dem.shapes.sphere import contact_point, sphere_sphere, sphere_wall
 
 __all__ = [
     "apply_at_lever",
@@ -47,16 +46,12 @@ __all__ = [
     "build_verlet_list",
     "compute_forces",
     "compute_forces_planar",
-    "contact_point",
     "end_contact",
     "idle_pair",
     "mark_build",
     "needs_rebuild",
     "needs_rebuild_after_drift",
     "point_velocity_in_plane",
-    "sphere_sphere",
-    "sphere_wall",
-    "start_gaps",
 ]
 
 
@@ -493,84 +488,6 @@ def _list_spheres(spheres, contacts, seen):
             spheres.listed[k] = s
             k += 1
     spheres.n_listed[0] = k
-
-
-# --------------------------------------------------------------------------- pair geometry
-# Each shape pair has one pure per-pair function (jax-md style): positions and sizes in,
-# the contact normal and overlap out; the drivers below map them over the Verlet list.
-# Vectors pass as scalar triples: kept in registers, whereas through a scratch array
-# every component is a store and a reload (the compiler cannot rule out that the
-# scratch array aliases the state arrays it reads).
-
-
-@inline_kernel(python_entry=True)
-def sphere_sphere(xi0, xi1, xi2, xj0, xj1, xj2, rsum, keep):
-    """Contact geometry of two spheres with centres ``x_i``, ``x_j`` [m] and radii
-    summing to ``rsum`` = ``R_i + R_j`` [m].
-
-    ``n = (x_j - x_i) / |x_j - x_i|`` is the unit normal from i to j, ``delta = R_i +
-    R_j - |x_j - x_i|`` [m] the overlap (> 0 in contact; Cundall & Strack 1979, YADE's
-    Ig2_Sphere_Sphere_ScGeom).  Returns ``(near, n0, n1, n2, delta)``.  Spheres that are
-    apart, ``|x_j - x_i|^2 >= rsum^2`` (tested without a root: most listed pairs are),
-    are resolved only if ``keep`` (a contact that is on needs the normal and the gap at
-    which it ends); otherwise ``near`` is False and the rest is zero.
-    """
-    dx = xj0 - xi0
-    dy = xj1 - xi1
-    dz = xj2 - xi2
-    d2 = dx * dx + dy * dy + dz * dz
-    if d2 >= rsum * rsum and not keep:
-        return False, 0.0, 0.0, 0.0, 0.0
-    dist = math.sqrt(d2)
-    inv_dist = 1.0 / dist  # (one division per normal)
-    return True, dx * inv_dist, dy * inv_dist, dz * inv_dist, rsum - dist
-
-
-@inline_kernel(python_entry=True)
-def sphere_wall(xi0, xi1, xi2, radius, w0, w1, w2, nw0, nw1, nw2, keep):
-    """Contact geometry of a sphere (centre ``x_i`` [m], ``radius`` [m]) and a wall (the
-    plane through ``w`` [m] with unit normal ``nw`` pointing to the side of the spheres).
-
-    The sphere's centre lies ``dist = (x_i - w) . nw`` [m] from the plane; the normal
-    from the sphere to the wall is ``n = -nw`` and the overlap ``delta = radius - dist``
-    [m] (YADE's Ig2_Wall_Sphere_ScGeom).  Returns ``(near, n0, n1, n2, delta)``, as
-    :func:`sphere_sphere`: ``near`` is ``delta > 0 or keep``.
-    """
-    dist = (xi0 - w0) * nw0
-    dist += (xi1 - w1) * nw1
-    dist += (xi2 - w2) * nw2
-    delta = radius - dist
-    return delta > 0.0 or keep, -nw0, -nw1, -nw2, delta
-
-
-@inline_kernel(python_entry=True)
-def contact_point(xi0, xi1, xi2, radius, n0, n1, n2, overlap):
-    """Contact point [m] midway through the overlap (YADE's ScGeom): ``p = x_i + (R_i -
-    delta / 2) n`` for sphere i (centre ``x_i``, ``radius`` R_i), normal ``n`` from i to
-    its partner and overlap ``delta`` [m]."""
-    reach = radius - 0.5 * overlap
-    return xi0 + reach * n0, xi1 + reach * n1, xi2 + reach * n2
-
-
-def start_gaps(spheres, walls):
-    """The spheres' distances [m] as a scene is built (NumPy, for the checks of the set-up).
-
-    Returns ``(height, i, j, gap)``: ``height`` (nw, ns) the height of each sphere's centre
-    over each wall, along its normal (an overlap where it is below the radius); ``i, j``
-    (np,) the pairs of spheres of different bodies whose centres are within twice the
-    largest radius (scipy's cKDTree), and ``gap`` (np,) their surface distance (negative:
-    an overlap)."""
-    from scipy.spatial import cKDTree
-
-    pos, radius, body = spheres.pos, spheres.radius, spheres.body
-    height = np.array([(pos - p) @ n for p, n in zip(walls.point, walls.normal, strict=True)])
-    height = height.reshape(walls.point.shape[0], pos.shape[0])
-    pairs = cKDTree(pos).query_pairs(2.0 * float(radius.max()), output_type="ndarray")
-    i, j = pairs.reshape(-1, 2).T
-    other = body[i] != body[j]
-    i, j = i[other], j[other]
-    gap = np.linalg.norm(pos[i] - pos[j], axis=1) - (radius[i] + radius[j])
-    return height, i, j, gap
 
 
 @inline_kernel()

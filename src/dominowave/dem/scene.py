@@ -8,7 +8,6 @@ import numpy as np
 
 from dominowave.checks import check_finite, check_in_range, check_nonnegative, check_positive
 from dominowave.dem.boxes import empty_boxes
-from dominowave.dem.contact import start_gaps
 from dominowave.dem.integrate import (
     ROT_AXIS,
     ROT_FREE,
@@ -19,6 +18,7 @@ from dominowave.dem.integrate import (
 from dominowave.dem.laws.hertz import LAW_HERTZ, NORMAL_LAWS, hertz_damping_table
 from dominowave.dem.laws.tangential import SHEAR_CONTACT_POINT, SHEAR_YADE
 from dominowave.dem.material_pairs import RULE_GIVEN, RULE_PAPER, RULE_YADE
+from dominowave.dem.shapes.sphere import start_gaps
 from dominowave.dem.simulation import Simulation
 from dominowave.dem.state import (
     Bodies,

@@ -49,10 +49,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from dominowave.dem.contact import start_gaps
 from dominowave.dem.integrate import ROT_AXIS, ROT_NONE
 from dominowave.dem.laws.hertz import LAW_HERTZ, hertz_coefficient, hertz_modulus
 from dominowave.dem.material_pairs import pair_stiffness, particle_stiffness
+from dominowave.dem.shapes.sphere import start_gaps
 
 __all__ = ["critical_timestep"]
 
