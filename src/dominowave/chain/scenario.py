@@ -176,6 +176,23 @@ class ChainRun:
         return self.fidelity.error_at(speed)
 
     @property
+    def theory_window_gap(self) -> float:
+        """How far the theory's transient over the fitted dominoes still is from its
+        limit: ``theory_window_speed / theory_speed - 1`` [1] (negative: below it, the
+        theory's wave still accelerating there); NaN if the wave did not settle."""
+        return self.theory_window_speed / self.theory_speed - 1.0
+
+    @property
+    def settled_in_transient(self) -> bool:
+        """Whether the wave settled, by the data, over dominoes where by the theory it is
+        still in its transient: :attr:`theory_window_gap` is larger than twice the fit's
+        relative standard error, a change the fit could have resolved.  A short undamped
+        chain can show one plateau of its staircase profile (docs/chain.md, "Speed
+        jumps") as a settled stretch; a longer chain tells."""
+        w = self.wave
+        return w.settled and abs(self.theory_window_gap) > 2.0 * w.speed_err / w.speed
+
+    @property
     def contact_columns(self) -> dict[str, float]:
         """The run's contact as the columns of its tables and summary: ``contact_kn``
         the spring it ran with [N/m], ``material_kn`` the material's [N/m] (NaN for a

@@ -84,6 +84,15 @@ SLIP_NOTE = (
     " backwards); domino 0 has no neighbour behind it, so the chain's rebounds push it"
     " back the furthest"
 )
+COLUMNS_NOTE = (
+    "hits on n+1: collisions of domino n with the next (contacts closer than the collision"
+    " time merged), in passage: those that begin before the wave reaches n+2 (more than one:"
+    " the paper's multiple collisions, Fig 6E); Fig 5A: the motion right after the first"
+    " hit, rot (about the base edge, the base at rest), fwd+slip or back+slip (rotation"
+    " with the base sliding; the top ahead of or behind the base), transl (translation)"
+)
+SLIPPING = (2, 3, 4)
+"""The Fig 5A codes of a base that slides (theory.Regime: II, III, IV)."""
 
 
 def _percent(value: float, reference: float) -> str:
@@ -136,13 +145,45 @@ def _unsettled(ens: ChainEnsemble) -> str:
     return f" ({failed} of {failed + ens.speed.n} members did not settle and are left out)"
 
 
+def _limit_assumes(run: ChainRun) -> str:
+    """What eq 34 assumes, and how many bases of this run slid (Fig 5A)."""
+    mechanism = run.events.mechanism
+    hit = int(np.count_nonzero(mechanism))
+    slid = int(np.count_nonzero(np.isin(mechanism, SLIPPING)))
+    return (
+        "eq 34 is the theory's limit for an infinite chain whose bases turn about their"
+        " edge without sliding, each collision lasting T_c at this stiffness (clump"
+        f" mapping: docs/chain.md); here {slid} of the {hit} bases hit slid (Fig 5A)"
+    )
+
+
+def _transient_note(run: ChainRun) -> str:
+    """Say that by the theory the fitted dominoes are still in the wave's transient."""
+    w = run.wave
+    gap = 100.0 * run.theory_window_gap
+    side = "below" if gap < 0 else "above"
+    return (
+        f"by the theory the wave is still in its transient over dominoes {w.first}..{w.last}:"
+        f" its speed there is {abs(gap):.1f} % {side} the limit (eq 34), more than the fit's"
+        " error; the settled stretch may be one plateau of the staircase of an undamped chain"
+        ' (docs/chain.md, "Speed jumps"): a longer chain tells'
+    )
+
+
 def _what_to_quote(run: ChainRun, ens: ChainEnsemble | None) -> str:
     """One sentence: which of the printed speeds to quote, and why the others differ."""
-    limit = "eq 34 is the theory's limit for an infinite chain of rigid-limit collisions"
+    limit = _limit_assumes(run)
     if ens is not None and ens.speed.n >= 2:
         return (
             "quote the ensemble speed with its standard error: one run's speed depends on "
             f"chaotic details of its collisions; {limit}"
+        )
+    if run.settled_in_transient:
+        w = run.wave
+        return (
+            f"quote the steady speed as the speed over dominoes {w.first}..{w.last}, beside"
+            " the theory's transient over the same dominoes: by the theory the wave has not"
+            f" reached its limit there; {limit}"
         )
     if run.wave.settled:
         return (
@@ -303,7 +344,7 @@ def chain_command(**fields) -> None:
     table = Table(
         title=f"domino chain: N={n}, d/l={d_over_l:.4g}, k/k*={p.stiffness_over_kstar:.3g}",
         caption="-: not defined (domino 0 has no local speed, the last domino no rebound)"
-        f" or not reached by the wave; {SLIP_NOTE}",
+        f" or not reached by the wave; {SLIP_NOTE}; {COLUMNS_NOTE}",
     )
     cols = {
         "domino": "n",
@@ -366,6 +407,8 @@ def chain_command(**fields) -> None:
         f"theory: limit speed eq 34 (clump mapping) {_fmt(run.theory_speed)} m/s{window}; "
         f"measured push Omega_1 = {_fmt(run.omega_1)} rad/s"
     )
+    if run.settled_in_transient:
+        console.print(_transient_note(run))
     if run.secondary is not None and run.secondary.catching_up:
         merged = run.secondary.merged_pair
         where = "not merged within the chain" if merged is None else f"merged at pair {merged}"
