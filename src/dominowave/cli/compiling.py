@@ -27,16 +27,15 @@ __all__ = [
 ]
 
 FIRST_RUN: dict[str, str] = {
-    "DEM clumps": "35-50 s",
-    "DEM boxes": "about 100 s",
+    "DEM clumps": "20-50 s",
+    "DEM boxes": "1-2 min",
     "rods": "about 15 s",
 }
 """How long compiling takes on a 2-core machine with an empty cache, by kernel
-(benchmarks/README.md, "First run": 32-38 s for the main job and the 3D clump chain,
-about 45 s in a worker process, which compiles the loop itself,
-95-100 s for the box chains, 13 s for the rods): the DEM time loop of a scene of clumps
-or of boxes (each compiles only its own kernels, dem.engine.time_loop), the rod
-model's."""
+(benchmarks/README.md, "First run": about 21 s for the main job, 49 s for the 3D clump
+chain, about 45 s in a worker process, which compiles the loop itself; 45-111 s for the
+box chains; 13 s for the rods): the DEM time loop of a scene of clumps or of boxes (each
+compiles only its own kernels, dem.engine.time_loop), the rod model's."""
 HEARTBEAT_S = 30.0
 """Interval of the "still compiling" lines on a terminal [s]."""
 
