@@ -30,6 +30,7 @@ from dominowave.cli.compiling import notice_if_compiling
 from dominowave.cli.declared import PanelledCommand, option_name, parameter_options, with_options
 from dominowave.io.atomic import ensure_writable_dir
 from dominowave.params import parameter, parameter_specs, text
+from dominowave.theory import Regime
 from dominowave.units import speed_scale
 
 __all__ = ["register"]
@@ -91,8 +92,8 @@ COLUMNS_NOTE = (
     " hit, rot (about the base edge, the base at rest), fwd+slip or back+slip (rotation"
     " with the base sliding; the top ahead of or behind the base), transl (translation)"
 )
-SLIPPING = (2, 3, 4)
-"""The Fig 5A codes of a base that slides (theory.Regime: II, III, IV)."""
+SLIPPING = (Regime.FORWARD_ROTATION_SLIP, Regime.BACKWARD_ROTATION_SLIP, Regime.TRANSLATION)
+"""The Fig 5A mechanisms in which the base slides."""
 
 
 def _percent(value: float, reference: float) -> str:
