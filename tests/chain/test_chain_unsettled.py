@@ -126,3 +126,16 @@ def test_settled_in_transient_compares_the_theory_gap_with_twice_the_fit_error()
         for factor, expected in ((0.99, False), (1.01, True)):
             window = run.theory_speed * (1.0 + sign * factor * bound)
             assert replace(run, theory_window_speed=window).settled_in_transient is expected
+
+
+def test_cli_chain_says_in_transient_for_the_model_not_for_real_dominoes():
+    """The note is for chains of the paper's model; a preset's real dominoes form a leaning
+    train, which the paper's transient does not describe."""
+    from types import SimpleNamespace
+
+    from dominowave.cli.chain import _in_transient
+
+    for settled_in_transient in (True, False):
+        run = SimpleNamespace(settled_in_transient=settled_in_transient)
+        assert _in_transient(run, None) is settled_in_transient
+        assert _in_transient(run, "standard") is False

@@ -188,7 +188,9 @@ class ChainRun:
         still in its transient: :attr:`theory_window_gap` is larger than twice the fit's
         relative standard error, a change the fit could have resolved.  A short undamped
         chain can show one plateau of its staircase profile (docs/chain.md, "Speed
-        jumps") as a settled stretch; a longer chain tells."""
+        jumps") as a settled stretch; a longer chain tells.  Meaningful where the paper's
+        theory describes the chain; the wave of real dominoes with a small gap is a
+        leaning train (theory.leaning), far from the paper's transient."""
         w = self.wave
         return w.settled and abs(self.theory_window_gap) > 2.0 * w.speed_err / w.speed
 

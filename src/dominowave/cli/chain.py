@@ -158,6 +158,14 @@ def _limit_assumes(run: ChainRun) -> str:
     )
 
 
+def _in_transient(run: ChainRun, preset: str | None) -> bool:
+    """Whether to say that the wave settled where, by the theory, it is still in its
+    transient (ChainRun.settled_in_transient): for a chain of the paper's model, not for
+    a preset of real dominoes, whose wave is a leaning train (theory.leaning, compared
+    below it) that the paper's transient does not describe."""
+    return preset is None and run.settled_in_transient
+
+
 def _transient_note(run: ChainRun) -> str:
     """Say that by the theory the fitted dominoes are still in the wave's transient."""
     w = run.wave
@@ -171,15 +179,17 @@ def _transient_note(run: ChainRun) -> str:
     )
 
 
-def _what_to_quote(run: ChainRun, ens: ChainEnsemble | None) -> str:
-    """One sentence: which of the printed speeds to quote, and why the others differ."""
+def _what_to_quote(run: ChainRun, ens: ChainEnsemble | None, in_transient: bool) -> str:
+    """One sentence: which of the printed speeds to quote, and why the others differ;
+    ``in_transient``: the wave settled where, by the theory, it is still in its transient
+    (:func:`_in_transient`)."""
     limit = _limit_assumes(run)
     if ens is not None and ens.speed.n >= 2:
         return (
             "quote the ensemble speed with its standard error: one run's speed depends on "
             f"chaotic details of its collisions; {limit}"
         )
-    if run.settled_in_transient:
+    if in_transient:
         w = run.wave
         return (
             f"quote the steady speed as the speed over dominoes {w.first}..{w.last}, beside"
@@ -408,13 +418,14 @@ def chain_command(**fields) -> None:
         f"theory: limit speed eq 34 (clump mapping) {_fmt(run.theory_speed)} m/s{window}; "
         f"measured push Omega_1 = {_fmt(run.omega_1)} rad/s"
     )
-    if run.settled_in_transient:
+    in_transient = _in_transient(run, preset)
+    if in_transient:
         console.print(_transient_note(run))
     if run.secondary is not None and run.secondary.catching_up:
         merged = run.secondary.merged_pair
         where = "not merged within the chain" if merged is None else f"merged at pair {merged}"
         console.print(f"secondary wave catching up; {where}")
-    console.print(_what_to_quote(run, ens))
+    console.print(_what_to_quote(run, ens, in_transient))
     if preset is not None:
         from dominowave.chain.reconcile import reconcile_lines  # (the leaning train: scipy)
 
