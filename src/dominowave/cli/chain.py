@@ -484,9 +484,9 @@ def paper_fig6_command(
         str | None, typer.Option(help="address of an existing Dask scheduler (tcp://host:port)")
     ] = None,
 ) -> None:
-    """Reproduce the paper's Fig 6 B-E (a resumable DEM sweep): PNG + CSV in OUT.
+    """Reproduce the paper's Fig 6 B-E (a resumable DEM sweep): PNG + CSV in --out.
 
-    ``--shape box`` runs every configuration with rounded-cuboid dominoes (docs/shape.md).
+    --shape box runs every configuration with rounded-cuboid dominoes (docs/shape.md).
     """
     from dominowave.chain.paper_fig6 import CONFIGS
     from dominowave.cli.workflow import check_cluster_options

@@ -57,10 +57,13 @@ def predict_command(
         "standard"
     ),
     samples: Annotated[
-        int, typer.Option(help="Saltelli base size N (power of 2): N (D + 2) runs")
+        int,
+        typer.Option(
+            help="Saltelli base size N (power of 2): N (D + 2) runs, D the inputs varied"
+        ),
     ] = 4,
     n: Annotated[int, typer.Option("--n", help="dominoes in each chain")] = 12,
-    fit_from: Annotated[int, typer.Option(help="front speed fitted from domino K on")] = 3,
+    fit_from: Annotated[int, typer.Option(help="first domino of the front speed's fit")] = 3,
     seed: Annotated[int, typer.Option(help="scramble seed of the Sobol' sequence")] = 0,
     model: Annotated[str, typer.Option(help="3d | 2d")] = "3d",
     fidelity: Annotated[

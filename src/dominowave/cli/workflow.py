@@ -240,7 +240,7 @@ def _sweep(loaded, folder, scheduler, workers, retry_failed, quiet, force=False)
 def collect_cmd(
     folder: Annotated[Path, typer.Argument(help="Sweep folder.")],
     out: Annotated[
-        Path | None, typer.Option(help="netCDF file (default: DIR/collected.nc).")
+        Path | None, typer.Option(help="netCDF file (default: FOLDER/collected.nc).")
     ] = None,
 ) -> None:
     """Gather a sweep's points into one xarray Dataset (netCDF)."""
@@ -261,7 +261,9 @@ def collect_cmd(
 
 def plot_cmd(
     folder: Annotated[Path, typer.Argument(help="Sweep or run folder.")],
-    out: Annotated[Path | None, typer.Option(help="Figure folder (default: DIR/figures).")] = None,
+    out: Annotated[
+        Path | None, typer.Option(help="Figure folder (default: FOLDER/figures).")
+    ] = None,
 ) -> None:
     """Speed vs d/l with the theory curves, arrival-time diagram, local speed profile."""
     from dominowave.plots.folder import plot_folder
@@ -316,7 +318,9 @@ def resume_cmd(
     scheduler: Annotated[
         str | None, typer.Option(help="Address of an existing Dask scheduler.")
     ] = None,
-    workers: Annotated[int | None, typer.Option(help="LocalCluster workers.")] = None,
+    workers: Annotated[
+        int | None, typer.Option(help="Workers of the LocalCluster (default: all cores).")
+    ] = None,
     retry_failed: Annotated[bool, typer.Option(help="Run failed points again.")] = False,
     quiet: Annotated[bool, _QUIET] = False,
 ) -> None:
