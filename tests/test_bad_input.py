@@ -327,27 +327,27 @@ def test_read_only_output_folder(tmp_path, cli):
         ),
         (["animate", "{tmp}", "--out", "{tmp}/a.gif"], ["trajectory.nc: not found"]),
         (["resume", "{tmp}"], ["nothing to resume"]),
-        (["chain", "--n", "4", "--seed", "-1"], ["seed = -1", "[0, inf)"]),
-        (["chain", "--n", "4", "--members", "-3"], ["members = -3", "[1, inf)"]),
+        (["chain", "--n", "4", "--seed", "-1"], ["--seed = -1", "[0, inf)"]),
+        (["chain", "--n", "4", "--members", "-3"], ["--members = -3", "[1, inf)"]),
         (
             ["chain", "--n", "4", "--shear-kinematics", "exact"],
-            ["shear_kinematics = 'exact' is not one of 'contact_point', 'yade'"],
+            ["--shear-kinematics = 'exact' is not one of 'contact_point', 'yade'"],
         ),
         (["chain", "--n", "4", "--stiffness-ratio", "1e-6"], ["k/k* = 1e-06) is too soft"]),
-        (["chain", "--n", "4", "--fit-from", "3"], ["fit_from = 3 is outside [1, 2]"]),
+        (["chain", "--n", "4", "--fit-from", "3"], ["--fit-from = 3 is outside [1, 2]"]),
         (  # the user's stiffness is named, not the time step it would give
             ["chain", "--n", "4", "--shape", "box", "--stiffness-ratio", "inf"],
-            ["stiffness_ratio = inf is outside the valid range (0, inf)"],
+            ["--stiffness-ratio = inf is outside the valid range (0, inf)"],
         ),
-        (["chain", "--n", "4", "--young", "inf"], ["young = inf is outside"]),
+        (["chain", "--n", "4", "--young", "inf"], ["--young = inf is outside"]),
         (  # the chain's length is named, not the fit that it leaves no room for
             ["predict", "--gap", "0.00938", "--floor", "felt", "--n", "1"],
             ["n_dominoes = 1 is outside the valid range [3, inf)"],
         ),
-        (["chain", "--n", "4", "--fit-from", "0"], ["fit_from = 0 is outside [1, 2]"]),
-        (["chain", "--n", "4", "--placement-along", "-1e-3"], ["placement_along = -0.001"]),
-        (["chain", "--n", "4", "--placement-across", "1e-3"], ["needs model = '3d'"]),
-        (["chain", "--n", "4", "--push-error", "-1"], ["push_error = -1", "[0, inf)"]),
+        (["chain", "--n", "4", "--fit-from", "0"], ["--fit-from = 0 is outside [1, 2]"]),
+        (["chain", "--n", "4", "--placement-along", "-1e-3"], ["--placement-along = -0.001"]),
+        (["chain", "--n", "4", "--placement-across", "1e-3"], ["needs --model = '3d'"]),
+        (["chain", "--n", "4", "--push-error", "-1"], ["--push-error = -1", "[0, inf)"]),
         (["chain", "--n", "4", "--stiffness-ratio", "1e308"], ["steps", "1e+10 allowed"]),
         (["chain", "--n", "4", "--shape", "cube"], ["shape = 'cube'", "'clump', 'box'"]),
         (
@@ -356,7 +356,7 @@ def test_read_only_output_folder(tmp_path, cli):
         ),
         (
             ["chain", "--n", "4", "--shape", "box", "--spheres-per-column", "20"],
-            ["spheres_per_column = 20", "shape = 'clump' only"],
+            ["--spheres-per-column = 20", "--shape = 'clump' only"],
         ),
         (["chain", "--n", "4", "--rounding", "1e-4"], ["rounding = 0.0001", "shape = 'box' only"]),
         (
@@ -365,19 +365,19 @@ def test_read_only_output_folder(tmp_path, cli):
         ),
         (
             ["chain", "--n", "4", "--shape", "box", "--restitution-floor", "2"],
-            ["restitution_floor = 2", "(0, 1]"],
+            ["--restitution-floor = 2", "(0, 1]"],
         ),
         (
             ["chain", "--n", "4", "--shape", "box", "--normal-law", "hooke", "--young", "1e9"],
-            ["normal_law = 'hooke' is not one of 'linear', 'hertz'"],
+            ["--normal-law = 'hooke' is not one of 'linear', 'hertz'"],
         ),
         (
             ["chain", "--n", "4", "--normal-law", "hertz", "--young", "1e9"],
-            ["normal_law = 'hertz' needs shape = 'box'"],
+            ["--normal-law = 'hertz' needs --shape = 'box'"],
         ),
         (
             HERTZ_CHAIN,
-            ["normal_law = 'hertz' needs young", "(0, inf) Pa"],
+            ["--normal-law = 'hertz' needs young", "(0, inf) Pa"],
         ),
         (
             [*HERTZ_CHAIN, "--young", "1e9", "--poisson", "0.5"],
@@ -389,7 +389,7 @@ def test_read_only_output_folder(tmp_path, cli):
         ),
         (
             ["chain", "--n", "4", "--shape", "box", "--poisson", "0.3"],
-            ["poisson = 0.3 is an option of normal_law = 'hertz' only"],
+            ["--poisson = 0.3 is an option of --normal-law = 'hertz' only"],
         ),
         (["rods", "--push", "1e9"], ["push = 1e+09", "(0, 100]"]),
         (["rods", "--d-over-l", "1e-300"], ["d_over_l = 1e-300", "[0.001, 1)"]),

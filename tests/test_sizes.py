@@ -27,7 +27,7 @@ def eight_gib(monkeypatch):
             ["theory", "--d-over-l", "0.01:0.99:10000000"],
             ["d_over_l (10000000 values) x stiffness_ratio (3 values)", "GiB for a table"],
         ),
-        (["chain", "--n", "30000"], ["n_dominoes = 30000", "trajectory frames"]),
+        (["chain", "--n", "30000"], ["--n = 30000", "trajectory frames"]),
     ],
     ids=["rods", "theory-grid", "chain"],
 )

@@ -271,21 +271,21 @@ def test_a_preset_takes_the_other_fields_given(built):
 @pytest.mark.parametrize(
     ("args", "fragment"),
     [
-        (["--height", "-0.05"], "height = -0.05 is outside the valid range (0, inf)"),
-        (["--g", "0"], "g = 0 is outside the valid range (0, inf)"),
-        (["--n", "1"], "n_dominoes = 1 is outside the valid range [2, 100000]"),
-        (["--kt-ratio", "0"], "kt_ratio = 0 is outside the valid range (0, inf]"),
-        (["--placement-seed", "-2"], "asymmetry_seed = -2 is outside the valid range [0, inf)"),
-        (["--model", "4d"], "model = '4d' is not one of '2d', '3d'"),
-        (["--base", "three"], "base = 'three' is not one of 'one', 'two'"),
+        (["--height", "-0.05"], "--height = -0.05 is outside the valid range (0, inf)"),
+        (["--g", "0"], "--g = 0 is outside the valid range (0, inf)"),
+        (["--n", "1"], "--n = 1 is outside the valid range [2, 100000]"),
+        (["--kt-ratio", "0"], "--kt-ratio = 0 is outside the valid range (0, inf]"),
+        (["--placement-seed", "-2"], "--placement-seed = -2 is outside the valid range [0, inf)"),
+        (["--model", "4d"], "--model = '4d' is not one of '2d', '3d'"),
+        (["--base", "three"], "--base = 'three' is not one of 'one', 'two'"),
         (["--density", "heavy"], "Invalid value for '--density'"),
-        (["--members", "0"], "members = 0 is outside the valid range [1, inf)"),
-        (["--seed", "-1"], "seed = -1 is outside the valid range [0, inf)"),
-        (["--impulse", "0"], "impulse = 0 is outside the valid range (0, inf)"),
-        (["--fit-from", "-1"], "fit_from = -1 is outside [1, 28]"),
-        (["--jitter", "-1"], "jitter = -1 is outside the valid range [0, inf)"),
-        (["--push", "0"], "push = 0 is outside the valid range (0, inf)"),
-        (["--preset", "tiny"], "preset = 'tiny' is not one of 'standard'"),
+        (["--members", "0"], "--members = 0 is outside the valid range [1, inf)"),
+        (["--seed", "-1"], "--seed = -1 is outside the valid range [0, inf)"),
+        (["--impulse", "0"], "--impulse = 0 is outside the valid range (0, inf)"),
+        (["--fit-from", "-1"], "--fit-from = -1 is outside [1, 28]"),
+        (["--jitter", "-1"], "--jitter = -1 is outside the valid range [0, inf)"),
+        (["--push", "0"], "--push = 0 is outside the valid range (0, inf)"),
+        (["--preset", "tiny"], "--preset = 'tiny' is not one of 'standard'"),
         (["--gap", "0.01", "--floor", "felt"], "--gap and --floor need --preset standard"),
         (["--fidelity", "loose"], "--fidelity 'loose' is not 'exact' or a tolerance"),
         (
@@ -323,3 +323,15 @@ def test_the_preset_and_numerics_are_those_of_a_study_file(help_80):
         assert study.json_schema_extra == {"unit": spec.unit}, name
         assert RUN_SPECS[name][1] == spec, name
         assert expected_help(name) in flat(help_80), name
+
+
+def test_an_error_names_the_options_of_the_fields_it_names():
+    """Each ``field = value`` of a declared field reads ``--option = value``; a renamed
+    field takes its option's name, other names and messages stay as they are."""
+    from dominowave.cli.declared import option_error
+
+    exc = ValueError("n_dominoes = 1 needs shape = 'box' (k_n = 3, pre_shape = 1)")
+    named = option_error(exc, {"n_dominoes", "shape"}, {"n_dominoes": "n"})
+    assert str(named) == "--n = 1 needs --shape = 'box' (k_n = 3, pre_shape = 1)"
+    plain = ValueError("--gap and --floor need --preset standard")
+    assert option_error(plain, {"gap", "floor"}) is plain

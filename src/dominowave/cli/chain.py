@@ -27,7 +27,13 @@ from dominowave.chain.scenario import ChainEnsemble, ChainRun, DominoChain, Push
 from dominowave.chain.settings import ChainSettings, numerics
 from dominowave.chain.wave import check_fit_from, fit_speed, local_speeds, unsettled_reason
 from dominowave.cli.compiling import notice_if_compiling
-from dominowave.cli.declared import PanelledCommand, option_name, parameter_options, with_options
+from dominowave.cli.declared import (
+    PanelledCommand,
+    option_error,
+    option_name,
+    parameter_options,
+    with_options,
+)
 from dominowave.io.atomic import ensure_writable_dir
 from dominowave.params import parameter, parameter_specs, text
 from dominowave.theory import Regime
@@ -316,26 +322,29 @@ def chain_command(**fields) -> None:
     given = {name: value for name, value in fields.items() if value is not None}
     if "fidelity" in given:  # (text on the command line: "exact" or a number)
         given["fidelity"] = parse_fidelity(given["fidelity"])
-    options = RunOptions(**{k: given.pop(k) for k in RUN_OPTIONS if k in given})
+    try:  # (an error names the option given, not the field it sets)
+        options = RunOptions(**{k: given.pop(k) for k in RUN_OPTIONS if k in given})
+        preset, gap, floor = options.preset, options.gap, options.floor
+        if preset is not None or gap is not None or floor is not None:
+            p = _preset_params(preset, gap, floor, given)
+        else:
+            p = ChainParams(**given)
+        fit_from = options.fit_from
+        if fit_from is not None:
+            check_fit_from(fit_from, p.n_dominoes)
+        chain = DominoChain(p, **numerics(options))  # (its checks of sizes and the step)
+    except ValueError as exc:
+        raise option_error(exc, fields, OPTION_NAMES) from None
     out = options.out
     if out is not None:
         ensure_writable_dir(out)  # before the run, not after it
-    preset, gap, floor = options.preset, options.gap, options.floor
-    if preset is not None or gap is not None or floor is not None:
-        p = _preset_params(preset, gap, floor, given)
-    else:
-        p = ChainParams(**given)
     n = p.n_dominoes
     d_over_l = p.d_over_l
-    fit_from = options.fit_from
-    if fit_from is not None:
-        check_fit_from(fit_from, n)
 
     if options.impulse is not None:
         push = Push(impulse=options.impulse, height=options.impulse_height)
     else:
         push = Push(omega=options.push * math.sqrt(p.g / p.height))
-    chain = DominoChain(p, **numerics(options))
     compiling = notice_if_compiling(scene_kind(p))
     start = time.perf_counter()
     ens = None

@@ -20,6 +20,7 @@ from __future__ import annotations
 import dataclasses
 import inspect
 import math
+import re
 import types
 import typing
 from collections.abc import Callable, Mapping
@@ -31,12 +32,35 @@ from typer.core import TyperCommand
 
 from dominowave.params import ParameterSpec, parameter_specs
 
-__all__ = ["PanelledCommand", "help_text", "option_name", "parameter_options", "with_options"]
+__all__ = [
+    "PanelledCommand",
+    "help_text",
+    "option_error",
+    "option_name",
+    "parameter_options",
+    "with_options",
+]
 
 
 def option_name(name: str, renamed: Mapping[str, str] | None = None) -> str:
     """``--field-name`` of field ``name`` (or its name in ``renamed``)."""
     return "--" + (renamed or {}).get(name, name).replace("_", "-")
+
+
+def option_error(
+    exc: ValueError, fields: typing.Collection[str], renamed: Mapping[str, str] | None = None
+) -> ValueError:
+    """``exc`` in the words of the command line: each ``name = value`` of one of the
+    ``fields`` in its message (as :mod:`dominowave.checks` writes them) reads
+    ``--name = value``, the option that sets it; any other message is kept."""
+    message = str(exc)
+
+    def as_option(match: re.Match) -> str:
+        name = match.group(1)
+        return f"{option_name(name, renamed)} = " if name in fields else match.group(0)
+
+    named = re.sub(r"(?<![\w-])([a-z_][a-z0-9_]*) = ", as_option, message)
+    return exc if named == message else ValueError(named)
 
 
 def _value_text(value: Any) -> str:

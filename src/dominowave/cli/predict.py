@@ -58,9 +58,7 @@ def predict_command(
     ),
     samples: Annotated[
         int,
-        typer.Option(
-            help="Saltelli base size N (power of 2): N (D + 2) runs, D the inputs varied"
-        ),
+        typer.Option(help="Saltelli base size N (power of 2): N (D + 2) runs, D the inputs varied"),
     ] = 4,
     n: Annotated[int, typer.Option("--n", help="dominoes in each chain")] = 12,
     fit_from: Annotated[int, typer.Option(help="first domino of the front speed's fit")] = 3,
