@@ -24,6 +24,9 @@ from dominowave.io.atomic import os_error_line
 __all__ = ["register"]
 
 _QUIET = typer.Option("--quiet", "-q", help="No progress bar (also off when not on a terminal).")
+_SCHEDULER = typer.Option(help="Address of an existing Dask scheduler (tcp://host:port).")
+_WORKERS = typer.Option(help="Workers of the LocalCluster (default: all cores).")
+_RETRY_FAILED = typer.Option(help="Run failed points again.")
 
 
 _ADDRESS = re.compile(r"((tcp|tls|ucx|ws|wss|inproc)://)?[\w.\-\[\]:]+:\d{1,5}")
@@ -175,13 +178,9 @@ def _speed_line(folder: Path) -> str:
 def sweep_cmd(
     study: Annotated[Path, typer.Argument(help="Study file with a [sweep] table.")],
     out: Annotated[Path | None, typer.Option(help="Sweep folder (default: output.dir).")] = None,
-    scheduler: Annotated[
-        str | None, typer.Option(help="Address of an existing Dask scheduler (tcp://host:port).")
-    ] = None,
-    workers: Annotated[
-        int | None, typer.Option(help="Workers of the LocalCluster (default: all cores).")
-    ] = None,
-    retry_failed: Annotated[bool, typer.Option(help="Run failed points again.")] = False,
+    scheduler: Annotated[str | None, _SCHEDULER] = None,
+    workers: Annotated[int | None, _WORKERS] = None,
+    retry_failed: Annotated[bool, _RETRY_FAILED] = False,
     force: Annotated[
         bool, typer.Option(help="Add the points to a folder that holds another study.")
     ] = False,
@@ -261,9 +260,7 @@ def collect_cmd(
 
 def plot_cmd(
     folder: Annotated[Path, typer.Argument(help="Sweep or run folder.")],
-    out: Annotated[
-        Path | None, typer.Option(help="Figure folder (default: FOLDER/figures).")
-    ] = None,
+    out: Annotated[Path | None, typer.Option(help="Figure folder (default FOLDER/figures)")] = None,
 ) -> None:
     """Speed vs d/l with the theory curves, arrival-time diagram, local speed profile."""
     from dominowave.plots.folder import plot_folder
@@ -315,13 +312,9 @@ def _which_point(sweep: Path) -> str:
 
 def resume_cmd(
     folder: Annotated[Path, typer.Argument(help="Sweep folder (or run folder with a checkpoint).")],
-    scheduler: Annotated[
-        str | None, typer.Option(help="Address of an existing Dask scheduler.")
-    ] = None,
-    workers: Annotated[
-        int | None, typer.Option(help="Workers of the LocalCluster (default: all cores).")
-    ] = None,
-    retry_failed: Annotated[bool, typer.Option(help="Run failed points again.")] = False,
+    scheduler: Annotated[str | None, _SCHEDULER] = None,
+    workers: Annotated[int | None, _WORKERS] = None,
+    retry_failed: Annotated[bool, _RETRY_FAILED] = False,
     quiet: Annotated[bool, _QUIET] = False,
 ) -> None:
     """Continue a killed sweep or checkpointed run (finished work is kept, the rest runs)."""
