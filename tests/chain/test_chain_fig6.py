@@ -114,7 +114,7 @@ def test_chain_command_names_units_and_which_speed_to_quote(cli):
 def test_chain_command_rejects_bad_input_in_one_line():
     res = _cli("chain", "--d-over-l", "1.5")
     assert res.returncode == 2
-    assert res.stderr.strip().startswith("dominowave: error: d_over_l = 1.5")
+    assert res.stderr.strip().startswith("dominowave: error: --d-over-l = 1.5")
     assert len(res.stderr.strip().splitlines()) == 1
 
 
